@@ -1,0 +1,21 @@
+# Every third-party dependency, found once. All come from Debian 12 packages
+# (scripts/debian-packages.txt); scripts/setup.sh installs them.
+
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(spectra 1.0 REQUIRED CONFIG PATHS /usr/share/spectra/cmake)
+find_package(OpenMesh REQUIRED CONFIG)
+find_package(Threads REQUIRED)
+find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets Network OpenGL OpenGLWidgets Test)
+
+# SuiteSparse 5.x ships no CMake package: find CHOLMOD by hand and wrap it in an imported target.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY cholmod REQUIRED)
+find_library(SUITESPARSE_CONFIG_LIBRARY suitesparseconfig REQUIRED)
+add_library(SuiteSparse::CHOLMOD INTERFACE IMPORTED)
+target_include_directories(SuiteSparse::CHOLMOD SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(SuiteSparse::CHOLMOD INTERFACE ${CHOLMOD_LIBRARY} ${SUITESPARSE_CONFIG_LIBRARY})
+
+if(SHAPECAST_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+endif()

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds with warnings as errors, and runs every test (ctest) under a real
+# X server (xvfb-run) so the GUI tests get a display. Extra arguments go to ctest (e.g. -R Harmonic).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+"$root/scripts/setup.sh" -DSHAPECAST_WERROR=ON
+cd "$root/build"
+xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"

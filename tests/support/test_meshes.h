@@ -1,0 +1,27 @@
+#pragma once
+// Meshes generated in code for the unit tests: exact, small and independent of any file.
+
+#include <Eigen/Core>
+
+namespace sc::testing {
+
+/// A mesh as (V, F): #V by 3 positions, #F by 3 counter-clockwise (outward) indices.
+struct GeneratedMesh {
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+};
+
+/// Icosahedron subdivided `subdivisions` times, every vertex projected onto the sphere (center, radius).
+/// 10·4^s + 2 vertices: s = 3 gives 642, s = 4 gives 2562.
+GeneratedMesh icosphere(int subdivisions, double radius = 1.0, const Eigen::Vector3d& center = {0, 0, 0});
+
+/// Torus around the z axis, major radius R, minor radius r, on a u × v grid (closed, genus 1).
+GeneratedMesh torus(int u, int v, double R = 1.0, double r = 0.3);
+
+/// Flat open square [0,1]² in the z = 0 plane, nx × ny quads each split into two triangles (has a boundary).
+GeneratedMesh grid(int nx, int ny);
+
+/// Two disjoint icospheres (unit radius, centres 3 apart): two connected components.
+GeneratedMesh twoSpheres(int subdivisions);
+
+}  // namespace sc::testing
