@@ -1,0 +1,144 @@
+#include "spectral/basis_cache.h"
+
+#include <array>
+#include <bit>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+namespace sc::spectral {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the cache format is little-endian; add byte swapping");
+
+constexpr std::array<char, 8> kMagic = {'S', 'C', 'M', 'H', 'B', '\0', '\r', '\n'};
+constexpr std::size_t kHeaderSize = 40;
+
+std::size_t fileSizeFor(std::size_t n, std::size_t m) { return kHeaderSize + 8 * m + 8 * n * m + 8; }
+
+/// Appends the raw bytes of a trivially copyable value.
+template <class T>
+void put(std::vector<std::byte>& out, const T& value) {
+  const auto* p = reinterpret_cast<const std::byte*>(&value);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+
+template <class T>
+T get(const std::vector<std::byte>& in, std::size_t offset) {
+  T value;
+  std::memcpy(&value, in.data() + offset, sizeof(T));
+  return value;
+}
+
+std::vector<std::byte> serialize(const BasisCacheKey& key, const HarmonicBasis& basis) {
+  std::vector<std::byte> out;
+  out.reserve(fileSizeFor(key.n, key.m));
+  for (char c : kMagic) out.push_back(static_cast<std::byte>(c));
+  put(out, kBasisCacheVersion);
+  put(out, key.n);
+  put(out, key.m);
+  put(out, std::uint32_t{0});
+  put(out, key.meshHash);
+  put(out, key.shift);
+  const auto* values = reinterpret_cast<const std::byte*>(basis.eigenvalues.data());
+  out.insert(out.end(), values, values + 8 * basis.eigenvalues.size());
+  const auto* vectors = reinterpret_cast<const std::byte*>(basis.vectors.data());
+  out.insert(out.end(), vectors, vectors + 8 * basis.vectors.size());
+  put(out, checksum64(out));
+  return out;
+}
+
+}  // namespace
+
+std::uint64_t checksum64(std::span<const std::byte> bytes) {
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  std::size_t i = 0;
+  for (; i + 8 <= bytes.size(); i += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, bytes.data() + i, 8);
+    h = (h ^ word) * kPrime;
+    h ^= h >> 29;
+  }
+  for (; i < bytes.size(); ++i) h = (h ^ std::to_integer<std::uint64_t>(bytes[i])) * kPrime;
+  return h;
+}
+
+std::uint64_t meshContentHash(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  std::vector<std::byte> bytes;
+  bytes.reserve(16 + 8 * static_cast<std::size_t>(V.size()) + 4 * static_cast<std::size_t>(F.size()));
+  put(bytes, static_cast<std::uint64_t>(V.rows()));
+  put(bytes, static_cast<std::uint64_t>(F.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i)  // row-major order, independent of Eigen's storage
+    for (Eigen::Index c = 0; c < V.cols(); ++c) put(bytes, V(i, c));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (Eigen::Index c = 0; c < F.cols(); ++c) put(bytes, static_cast<std::int32_t>(F(f, c)));
+  return checksum64(bytes);
+}
+
+std::filesystem::path basisCacheFileName(const BasisCacheKey& key) {
+  char name[64];
+  std::snprintf(name, sizeof name, "%016llx-n%u-m%u.mhb", static_cast<unsigned long long>(key.meshHash), key.n, key.m);
+  return name;
+}
+
+CacheReadStatus readBasisCache(const std::filesystem::path& file, const BasisCacheKey& expected, HarmonicBasis& basis) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return CacheReadStatus::Missing;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec || size < kHeaderSize + 8) return CacheReadStatus::Corrupt;
+  std::vector<std::byte> in(size);
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream.read(reinterpret_cast<char*>(in.data()), static_cast<std::streamsize>(size)))
+    return CacheReadStatus::Corrupt;
+
+  if (std::memcmp(in.data(), kMagic.data(), kMagic.size()) != 0) return CacheReadStatus::Corrupt;
+  if (get<std::uint32_t>(in, 8) != kBasisCacheVersion) return CacheReadStatus::Corrupt;
+  const BasisCacheKey key{get<std::uint64_t>(in, 24), get<std::uint32_t>(in, 12), get<std::uint32_t>(in, 16),
+                          get<double>(in, 32)};
+  if (size != fileSizeFor(key.n, key.m)) return CacheReadStatus::Corrupt;
+  if (get<std::uint64_t>(in, size - 8) != checksum64(std::span(in.data(), size - 8))) return CacheReadStatus::Corrupt;
+  if (!(key == expected)) return CacheReadStatus::Mismatch;
+
+  basis.shift = key.shift;
+  basis.eigenvalues.resize(key.m);
+  std::memcpy(basis.eigenvalues.data(), in.data() + kHeaderSize, 8 * key.m);
+  basis.vectors.resize(key.n, key.m);
+  std::memcpy(basis.vectors.data(), in.data() + kHeaderSize + 8 * key.m, 8 * std::size_t{key.n} * key.m);
+  return CacheReadStatus::Hit;
+}
+
+bool writeBasisCache(const std::filesystem::path& file, const BasisCacheKey& key, const HarmonicBasis& basis) {
+  if (basis.vectors.rows() != key.n || basis.vectors.cols() != key.m || basis.eigenvalues.size() != key.m) return false;
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) return false;
+  const std::vector<std::byte> bytes = serialize(key, basis);
+  std::filesystem::path temporary = file;
+  temporary += ".tmp";
+  {
+    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
+    if (!stream.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+      return false;
+  }
+  std::filesystem::rename(temporary, file, ec);
+  if (ec) std::filesystem::remove(temporary, ec);
+  return !ec;
+}
+
+const char* toString(CacheReadStatus status) {
+  switch (status) {
+    case CacheReadStatus::Hit:
+      return "hit";
+    case CacheReadStatus::Missing:
+      return "missing";
+    case CacheReadStatus::Corrupt:
+      return "corrupt";
+    case CacheReadStatus::Mismatch:
+      return "mismatch";
+  }
+  return "unknown";
+}
+
+}  // namespace sc::spectral

@@ -1,0 +1,98 @@
+#include "spectral/basis_cache.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace sc::spectral {
+namespace {
+
+/// A fresh empty folder per test, removed afterwards.
+class BasisCache : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    m_dir = std::filesystem::temp_directory_path() /
+            ("shapecast-cache-test-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
+    std::filesystem::create_directories(m_dir);
+    m_basis.eigenvalues = Eigen::VectorXd::LinSpaced(5, 0.0, 4.0);
+    m_basis.vectors = Eigen::MatrixXd::Random(50, 5);
+    m_basis.shift = -0.25;
+    m_key = {0x1234abcdULL, 50, 5, -0.25};
+  }
+  void TearDown() override { std::filesystem::remove_all(m_dir); }
+
+  std::filesystem::path file() const { return m_dir / basisCacheFileName(m_key); }
+
+  std::filesystem::path m_dir;
+  HarmonicBasis m_basis;
+  BasisCacheKey m_key;
+};
+
+TEST_F(BasisCache, MissThenWriteThenHitRoundTripsExactly) {
+  HarmonicBasis read;
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Missing);
+  ASSERT_TRUE(writeBasisCache(file(), m_key, m_basis));
+  ASSERT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Hit);
+  EXPECT_EQ(read.vectors, m_basis.vectors);
+  EXPECT_EQ(read.eigenvalues, m_basis.eigenvalues);
+  EXPECT_EQ(read.shift, m_basis.shift);
+  EXPECT_FALSE(std::filesystem::exists(file().string() + ".tmp")) << "the temporary file must be renamed away";
+}
+
+TEST_F(BasisCache, FlippedByteIsCorrupt) {
+  ASSERT_TRUE(writeBasisCache(file(), m_key, m_basis));
+  {
+    std::fstream stream(file(), std::ios::in | std::ios::out | std::ios::binary);
+    stream.seekp(200);
+    stream.put('\x5a');
+  }
+  HarmonicBasis read;
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Corrupt);
+  EXPECT_EQ(read.vectors.size(), 0) << "nothing may be returned from a corrupt file";
+}
+
+TEST_F(BasisCache, TruncatedAndGarbageFilesAreCorrupt) {
+  ASSERT_TRUE(writeBasisCache(file(), m_key, m_basis));
+  std::filesystem::resize_file(file(), std::filesystem::file_size(file()) - 100);
+  HarmonicBasis read;
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Corrupt);
+  std::filesystem::resize_file(file(), 7);
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Corrupt);
+  std::ofstream(file(), std::ios::trunc) << "this is not a basis file but it is long enough to have a header";
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Corrupt);
+}
+
+TEST_F(BasisCache, OtherMeshSizeOrShiftIsAMismatch) {
+  ASSERT_TRUE(writeBasisCache(file(), m_key, m_basis));
+  HarmonicBasis read;
+  for (BasisCacheKey other :
+       {BasisCacheKey{m_key.meshHash + 1, 50, 5, -0.25}, BasisCacheKey{m_key.meshHash, 50, 5, -0.5}}) {
+    EXPECT_EQ(readBasisCache(file(), other, read), CacheReadStatus::Mismatch);
+  }
+}
+
+TEST_F(BasisCache, WriteRefusesABasisThatDoesNotMatchItsKey) {
+  BasisCacheKey wrong = m_key;
+  wrong.m = 6;
+  EXPECT_FALSE(writeBasisCache(file(), wrong, m_basis));
+}
+
+TEST(MeshContentHash, ChangesWithAnyCoordinateOrIndex) {
+  const auto mesh = testing::icosphere(1);
+  const std::uint64_t h = meshContentHash(mesh.V, mesh.F);
+  EXPECT_EQ(h, meshContentHash(mesh.V, mesh.F));
+  Eigen::MatrixXd V = mesh.V;
+  V(7, 1) = std::nextafter(V(7, 1), 2.0);
+  EXPECT_NE(h, meshContentHash(V, mesh.F));
+  Eigen::MatrixXi F = mesh.F;
+  std::swap(F(3, 0), F(3, 1));
+  EXPECT_NE(h, meshContentHash(mesh.V, F));
+}
+
+}  // namespace
+}  // namespace sc::spectral

@@ -1,0 +1,120 @@
+#include "spectral/harmonic_basis.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace sc::spectral {
+namespace {
+
+BasisResult basisOf(const testing::GeneratedMesh& mesh, int m) {
+  BasisOptions options;
+  options.m = m;
+  return manifoldHarmonicBasis(laplaceOperators(mesh.V, mesh.F), options);
+}
+
+TEST(HarmonicBasis, UnitSphereSpectrumIsLTimesLPlusOneWithMultiplicities) {
+  // Spherical harmonics: λ = l(l+1) with multiplicity 2l+1, i.e. 0 | 2,2,2 | 6×5 | 12×7.
+  const BasisResult r = basisOf(testing::icosphere(4), 16);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const Eigen::VectorXd& lambda = r.basis.eigenvalues;
+  EXPECT_NEAR(lambda(0), 0.0, 1e-8);
+  int k = 1;
+  for (int l = 1; l <= 3; ++l) {
+    const double exact = l * (l + 1);
+    for (int j = 0; j < 2 * l + 1; ++j, ++k) {
+      SCOPED_TRACE("l = " + std::to_string(l) + ", k = " + std::to_string(k));
+      EXPECT_NEAR(lambda(k), exact, 0.02 * exact);
+    }
+  }
+}
+
+TEST(HarmonicBasis, AscendingAndMOrthonormal) {
+  const auto mesh = testing::torus(60, 24);
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  BasisOptions options;
+  options.m = 60;
+  const BasisResult r = manifoldHarmonicBasis(ops, options);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.basis.size(), 60);
+  for (int k = 1; k < 60; ++k) EXPECT_LE(r.basis.eigenvalues(k - 1), r.basis.eigenvalues(k));
+  EXPECT_LE(orthonormalityError(r.basis.vectors, ops.mass), 1e-8);
+  EXPECT_LT(r.basis.shift, 0.0);
+  // H also diagonalises S: HᵀSH = Λ.
+  const Eigen::MatrixXd HtSH = r.basis.vectors.transpose() * (ops.stiffness * r.basis.vectors);
+  EXPECT_LT((HtSH - Eigen::MatrixXd(r.basis.eigenvalues.asDiagonal())).cwiseAbs().maxCoeff(),
+            1e-7 * r.basis.eigenvalues.maxCoeff());
+}
+
+TEST(HarmonicBasis, TwoDisjointSpheresGiveTwoZeroEigenvalues) {
+  const BasisResult r = basisOf(testing::twoSpheres(3), 10);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_NEAR(r.basis.eigenvalues(0), 0.0, 1e-8);
+  EXPECT_NEAR(r.basis.eigenvalues(1), 0.0, 1e-8);
+  EXPECT_GT(r.basis.eigenvalues(2), 1.0) << "the third eigenvalue is the first non-constant harmonic (≈2)";
+}
+
+TEST(HarmonicBasis, SignsAreDeterministic) {
+  const auto mesh = testing::torus(30, 12);
+  const BasisResult a = basisOf(mesh, 20);
+  const BasisResult b = basisOf(mesh, 20);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a.basis.vectors, b.basis.vectors) << "the same input must give bit-identical vectors";
+  for (Eigen::Index k = 0; k < a.basis.size(); ++k) {
+    Eigen::Index i = 0;
+    a.basis.vectors.col(k).cwiseAbs().maxCoeff(&i);
+    EXPECT_GT(a.basis.vectors(i, k), 0.0) << "column " << k << ": largest entry must be positive";
+  }
+}
+
+TEST(HarmonicBasis, ProgressIsReportedAndCancellationStopsTheSolve) {
+  const auto mesh = testing::icosphere(3);
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  std::vector<double> reported;
+  BasisOptions options;
+  options.m = 30;
+  options.progress = [&reported](double fraction) {
+    reported.push_back(fraction);
+    return true;
+  };
+  ASSERT_TRUE(manifoldHarmonicBasis(ops, options).ok());
+  ASSERT_GT(reported.size(), 2u);
+  for (std::size_t i = 1; i < reported.size(); ++i) EXPECT_GE(reported[i], reported[i - 1]);
+  EXPECT_EQ(reported.back(), 1.0);
+
+  int calls = 0;
+  options.progress = [&calls](double) { return ++calls < 5; };
+  const BasisResult cancelled = manifoldHarmonicBasis(ops, options);
+  EXPECT_EQ(cancelled.status, BasisStatus::Cancelled);
+  EXPECT_EQ(calls, 5) << "the solve must stop at the first refusal";
+  EXPECT_EQ(cancelled.basis.vectors.size(), 0);
+}
+
+TEST(HarmonicBasis, InvalidInputIsReportedNotCrashed) {
+  const auto mesh = testing::icosphere(1);  // 42 vertices
+  LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  BasisOptions options;
+  options.m = 42;
+  EXPECT_EQ(manifoldHarmonicBasis(ops, options).status, BasisStatus::InvalidInput) << "m must be < #V";
+  options.m = 0;
+  EXPECT_EQ(manifoldHarmonicBasis(ops, options).status, BasisStatus::InvalidInput);
+  options.m = 10;
+  ops.mass(3) = 0.0;
+  const BasisResult r = manifoldHarmonicBasis(ops, options);
+  EXPECT_EQ(r.status, BasisStatus::InvalidInput);
+  EXPECT_FALSE(r.message.empty());
+}
+
+TEST(HarmonicBasis, IndefiniteStiffnessIsAFactorisationFailure) {
+  const auto mesh = testing::icosphere(2);
+  LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  ops.stiffness = -ops.stiffness;  // negative semi-definite: S − σM is no longer positive definite
+  BasisOptions options;
+  options.m = 10;
+  EXPECT_EQ(manifoldHarmonicBasis(ops, options).status, BasisStatus::FactorizationFailed);
+}
+
+}  // namespace
+}  // namespace sc::spectral

@@ -1,0 +1,93 @@
+#include "spectral/laplace_operators.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace sc::spectral {
+namespace {
+
+struct NamedMesh {
+  std::string name;
+  testing::GeneratedMesh mesh;
+};
+
+/// A fan around vertex 0 with an obtuse triangle and a sliver whose apex is 1e-12 off the base line.
+///
+///        3
+///       / |            4 is (0.5, 1e-12): the sliver 1-2-4 has area ~5e-13
+///      /  |
+///     0---1-4-2        (vertex 4 lies almost on the segment 1-2)
+testing::GeneratedMesh obtuseAndSliver() {
+  testing::GeneratedMesh m;
+  m.V.resize(5, 3);
+  m.V << -1, 0, 0,   //
+      0, 0, 0,       //
+      1, 0, 0,       //
+      -0.2, 0.1, 0,  // flat obtuse apex over 0-1
+      0.5, 1e-12, 0;
+  m.F.resize(3, 3);
+  m.F << 0, 1, 3,  //
+      1, 4, 3,     //
+      1, 2, 4;
+  return m;
+}
+
+std::vector<NamedMesh> allMeshes() {
+  return {{"icosphere", testing::icosphere(3)},
+          {"torus", testing::torus(40, 16)},
+          {"grid", testing::grid(12, 9)},
+          {"twoSpheres", testing::twoSpheres(2)},
+          {"obtuseAndSliver", obtuseAndSliver()}};
+}
+
+TEST(LaplaceOperators, InvariantsOnEveryTestMesh) {
+  for (const auto& [name, mesh] : allMeshes()) {
+    SCOPED_TRACE(name);
+    const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+    const Eigen::MatrixXd S = Eigen::MatrixXd(ops.stiffness);
+    ASSERT_TRUE(S.allFinite());
+    ASSERT_TRUE(ops.mass.allFinite());
+    EXPECT_LT((S * Eigen::VectorXd::Ones(S.rows())).cwiseAbs().maxCoeff(), 1e-10 * S.cwiseAbs().maxCoeff())
+        << "constants must be in the kernel";
+    EXPECT_LT((S - S.transpose()).cwiseAbs().maxCoeff(), 1e-14 * S.cwiseAbs().maxCoeff()) << "S must be symmetric";
+    EXPECT_GT(ops.mass.minCoeff(), 0.0) << "every vertex needs positive mass";
+    EXPECT_NEAR(ops.mass.sum(), ops.totalArea, 1e-12 * ops.totalArea);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+    EXPECT_GT(eig.eigenvalues().minCoeff(), -1e-9 * eig.eigenvalues().maxCoeff()) << "S must be PSD";
+  }
+}
+
+TEST(LaplaceOperators, SphereAreaAndNoMollificationOnGoodMeshes) {
+  const auto sphere = testing::icosphere(4);
+  const LaplaceOperators ops = laplaceOperators(sphere.V, sphere.F);
+  EXPECT_NEAR(ops.totalArea, 4.0 * std::numbers::pi, 0.01 * 4.0 * std::numbers::pi);
+  EXPECT_EQ(ops.mollifyEpsilon, 0.0) << "a well-shaped mesh must not be altered";
+}
+
+TEST(LaplaceOperators, SliverIsMollifiedToFiniteWeights) {
+  const auto mesh = obtuseAndSliver();
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  EXPECT_GT(ops.mollifyEpsilon, 0.0) << "the sliver violates the margin, so lengths must be mollified";
+  EXPECT_TRUE(Eigen::MatrixXd(ops.stiffness).allFinite());
+}
+
+TEST(LaplaceOperators, GridMatchesTheFivePointStencilInside) {
+  // On a uniform right-triangle grid the cotangent Laplacian is the 5-point stencil: 4 on the diagonal, -1 to
+  // the axis neighbours, 0 across the diagonals.
+  const auto mesh = testing::grid(4, 4);
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  const int centre = 2 * 5 + 2;
+  EXPECT_NEAR(ops.stiffness.coeff(centre, centre), 4.0, 1e-12);
+  EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 1), -1.0, 1e-12);
+  EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 5), -1.0, 1e-12);
+  EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 6), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace sc::spectral
