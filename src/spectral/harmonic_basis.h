@@ -51,7 +51,7 @@ struct BasisResult {
 };
 
 /// Computes the first m eigenpairs of S h = λ M h with Spectra's SymGEigsShiftSolver in shift-invert mode
-/// around σ < 0, using a CHOLMOD supernodal Cholesky factor of S − σM.
+/// around σ < 0, using a CHOLMOD (simplicial) Cholesky factor of S − σM.
 ///
 /// Eigenvalues come out ascending; eigenvectors are M-orthonormal and have deterministic signs (each column's
 /// entry of largest magnitude is positive). Solver failure is reported through the status, never as a silently
