@@ -17,13 +17,20 @@ struct MeshCleanReport {
   int components = 0;                   ///< connected components of the cleaned mesh.
 };
 
-/// Cleans a triangle soup in place, in this order: merge exactly coincident vertices, drop faces with a
-/// repeated index, drop zero-area faces, drop duplicate faces, drop unreferenced vertices (re-indexing F);
-/// then counts non-manifold edges, boundary loops and components.
+/// Cleans a triangle soup in place, in this order: merge exactly coincident vertices (−0 equals +0), drop
+/// faces with a repeated index, drop zero-area faces, drop duplicate faces (the same three vertices in any order or
+/// orientation; the first is kept), drop unreferenced vertices (re-indexing F); then counts non-manifold edges,
+/// boundary loops and components. Kept vertices and faces stay in their original relative order; a mesh with
+/// nothing to clean comes back bit-identical.
+///
+/// A face has zero area when ‖(b−a)×(c−a)‖ ≤ 64·ε·ℓ², ℓ its longest edge and ε the double epsilon: exactly
+/// collinear corners up to rounding. A boundary loop is a connected set of boundary edges (edges with one face),
+/// so two holes that touch at a vertex count as one loop.
 /// @param[in,out] V  #V by 3 positions; rows removed.
 /// @param[in,out] F  #F by 3 indices into V; rows removed and re-indexed.
+/// @pre every index in F lies in [0, #V) (asserted in debug builds; loadMesh() guarantees it).
 /// @return the report.
-/// Cost: O(#V log #V + #F log #F).
+/// Cost: O(#V log #V + #F log #F) time, O(#V + #F) extra memory.
 MeshCleanReport cleanMesh(Eigen::MatrixXd& V, Eigen::MatrixXi& F);
 
 }  // namespace sc::model

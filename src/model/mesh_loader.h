@@ -14,11 +14,11 @@ namespace sc::model {
 
 /// Why a mesh could not be loaded.
 enum class MeshErrorKind {
-  FileNotFound,          ///< no such file, or it is not a regular readable file.
+  FileNotFound,          ///< no such file, or it is not a regular readable file (a directory, no permission).
   UnknownFormat,         ///< the extension is none of .off .obj .ply .stl.
-  ReadFailed,            ///< the reader rejected the file: truncated, malformed header, bad index, …
+  ReadFailed,            ///< the reader rejected the file: empty, truncated, malformed header, bad index, …
   NoFaces,               ///< nothing triangulable is left (after cleaning).
-  NonFiniteCoordinates,  ///< a vertex coordinate is NaN or ±∞.
+  NonFiniteCoordinates,  ///< a vertex coordinate is NaN or ±∞ (only binary PLY/STL can hold such values).
 };
 
 /// A typed load error with a message that names the file and the problem.
@@ -38,8 +38,19 @@ struct LoadedMesh {
 using MeshLoadResult = std::variant<LoadedMesh, MeshError>;
 
 /// Reads a mesh file with OpenMesh, triangulates polygons (fan), converts to (V, F) and cleans it with
-/// cleanMesh(). Never throws on bad input and never crashes: every failure comes back as a MeshError.
+/// cleanMesh(). Never throws on bad input and never crashes: every failure comes back as a MeshError whose
+/// message names the file and the problem.
+///
+/// Faces are kept as a soup, so non-manifold and duplicate faces load (OpenMesh's halfedge mesh would reject
+/// them); cleanMesh() then drops duplicates and counts the rest. Vertex and face order are those of the file (STL:
+/// vertices in order of first appearance).
+/// A file counts as truncated when a reader runs out of data, or when fewer vertices or faces than its header
+/// declares were read; an ASCII STL must end with "endsolid".
+/// Thread-safe: OpenMesh's readers are process-wide singletons, so loads are serialised internally.
 /// @param[in] path  file whose extension (case-insensitive) selects the format.
+/// \note OpenMesh reads every coordinate as float32, so V holds float precision.
+/// \note OFF comments and counts on the "OFF" line are not supported (ReadFailed). A file cut inside the very
+///       last number of its last face, or an OBJ cut at a line end, still reads as a (smaller) valid mesh.
 /// Cost: O(file size + #F log #F).
 MeshLoadResult loadMesh(const std::filesystem::path& path);
 
