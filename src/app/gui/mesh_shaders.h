@@ -1,0 +1,20 @@
+#pragma once
+// GLSL 3.30 core sources used by MeshViewport: a gradient background and a two-light Blinn–Phong mesh shader.
+
+namespace sc::app::shaders {
+
+/// Full-screen triangle from gl_VertexID (draw 3 vertices with an empty VAO); passes the screen v coordinate.
+extern const char* const kBackgroundVertex;
+/// Vertical gradient; uniforms vec3 uTopColor, uBottomColor (sRGB, as written to the framebuffer).
+extern const char* const kBackgroundFragment;
+
+/// Mesh vertex shader. Attributes: location 0 = position, 1 = normal. Uniforms: mat4 uModelView, uProjection;
+/// mat3 uNormalMatrix. Outputs view-space position and normal.
+extern const char* const kMeshVertex;
+/// Mesh fragment shader: two view-space lights (warm key, cool fill), hemispherical ambient, Blinn specular and a
+/// faint rim, computed in linear space and gamma-encoded. A back-facing fragment whose normal faces away from the
+/// eye is lit with the flipped normal, so open meshes, clockwise meshes and meshes with a few flipped triangles
+/// all shade correctly. Uniform vec3 uBaseColor (sRGB).
+extern const char* const kMeshFragment;
+
+}  // namespace sc::app::shaders

@@ -1,0 +1,70 @@
+#pragma once
+// Helpers shared by the app tests: GL availability, OFF writing and image comparison.
+
+#include <Eigen/Core>
+
+#include <QFile>
+#include <QImage>
+#include <QOpenGLContext>
+#include <QRect>
+#include <QString>
+#include <QSurfaceFormat>
+#include <QTextStream>
+
+namespace sc::testing {
+
+/// True when an OpenGL 3.3 core context can be created (an X server with GLX, e.g. Xvfb + Mesa llvmpipe).
+/// GL tests skip otherwise, so the suite still runs where there is no display.
+inline bool openGlAvailable() {
+  QOpenGLContext context;
+  context.setFormat(QSurfaceFormat::defaultFormat());
+  if (!context.create()) {
+    return false;
+  }
+  const QSurfaceFormat format = context.format();
+  return format.majorVersion() > 3 || (format.majorVersion() == 3 && format.minorVersion() >= 3);
+}
+
+/// Writes (V, F) as an ASCII OFF file; returns false if the file cannot be written.
+inline bool writeOff(const QString& path, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  QFile file(path);
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Text)) {
+    return false;
+  }
+  QTextStream out(&file);
+  out.setRealNumberPrecision(17);
+  out << "OFF\n" << V.rows() << ' ' << F.rows() << " 0\n";
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    out << V(i, 0) << ' ' << V(i, 1) << ' ' << V(i, 2) << '\n';
+  }
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    out << "3 " << F(f, 0) << ' ' << F(f, 1) << ' ' << F(f, 2) << '\n';
+  }
+  return out.status() == QTextStream::Ok;
+}
+
+/// Number of pixels whose colour differs between two images of the same size.
+inline int countDifferentPixels(const QImage& a, const QImage& b) {
+  int count = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      count += a.pixel(x, y) != b.pixel(x, y) ? 1 : 0;
+    }
+  }
+  return count;
+}
+
+/// Bounding rectangle of the pixels that differ between two images of the same size (null if none).
+inline QRect differingBounds(const QImage& a, const QImage& b) {
+  QRect bounds;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      if (a.pixel(x, y) != b.pixel(x, y)) {
+        bounds |= QRect(x, y, 1, 1);
+      }
+    }
+  }
+  return bounds;
+}
+
+}  // namespace sc::testing

@@ -1,0 +1,74 @@
+// Tests for src/app/gui/main.cpp: the shapecast executable's --screenshot mode, run as a child process.
+
+#include "app_test_support.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QFileInfo>
+#include <QImage>
+#include <QProcess>
+#include <QTemporaryDir>
+
+namespace {
+
+constexpr int kTimeoutMs = 120000;
+
+struct RunResult {
+  int exitCode = -1;
+  QString standardError;
+};
+
+RunResult runShapecast(const QStringList& arguments) {
+  QProcess process;
+  process.start(QStringLiteral(SHAPECAST_EXE), arguments);
+  if (!process.waitForFinished(kTimeoutMs) || process.exitStatus() != QProcess::NormalExit) {
+    process.kill();
+    return {};
+  }
+  return {process.exitCode(), QString::fromLocal8Bit(process.readAllStandardError())};
+}
+
+class ShapecastExe : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) {
+      GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
+    }
+    ASSERT_TRUE(m_dir.isValid());
+  }
+  QTemporaryDir m_dir;
+};
+
+}  // namespace
+
+TEST_F(ShapecastExe, ScreenshotOfAGeneratedOffFile) {
+  const QString mesh = m_dir.filePath(QStringLiteral("sphere.off"));
+  const QString png = m_dir.filePath(QStringLiteral("shot.png"));
+  const auto sphere = sc::testing::icosphere(3);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, sphere.V, sphere.F));
+
+  const RunResult run =
+      runShapecast({mesh, QStringLiteral("--screenshot"), png, QStringLiteral("--size"), QStringLiteral("320x240")});
+  ASSERT_EQ(run.exitCode, 0) << run.standardError.toStdString();
+  ASSERT_GT(QFileInfo(png).size(), 0);
+  const QImage image(png);
+  ASSERT_FALSE(image.isNull());
+  EXPECT_EQ(image.size(), QSize(320, 240));
+  EXPECT_NE(image.pixel(160, 120), image.pixel(0, 120)) << "the mesh is drawn in the centre";
+}
+
+TEST_F(ShapecastExe, MissingMeshExitsNonZeroWithoutScreenshot) {
+  const QString png = m_dir.filePath(QStringLiteral("shot.png"));
+  const RunResult run =
+      runShapecast({m_dir.filePath(QStringLiteral("missing.off")), QStringLiteral("--screenshot"), png});
+  EXPECT_NE(run.exitCode, 0);
+  EXPECT_TRUE(run.standardError.contains(QStringLiteral("missing.off"))) << run.standardError.toStdString();
+  EXPECT_FALSE(QFileInfo::exists(png));
+}
+
+TEST_F(ShapecastExe, BadSizeIsAUsageError) {
+  const RunResult run = runShapecast({QStringLiteral("--screenshot"), m_dir.filePath(QStringLiteral("x.png")),
+                                      QStringLiteral("--size"), QStringLiteral("big")});
+  EXPECT_EQ(run.exitCode, 64);
+}

@@ -1,0 +1,24 @@
+// Entry point of app_tests: one QApplication for every test, created after GoogleTest has parsed its flags.
+
+#include "app/gui/mesh_viewport.h"
+
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QSurfaceFormat>
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  // Test discovery (gtest_discover_tests runs --gtest_list_tests at build time) needs no display.
+  if (GTEST_FLAG_GET(list_tests)) {
+    return RUN_ALL_TESTS();
+  }
+  // Without any display, fall back to the offscreen platform: the widget tests still run, GL tests skip.
+  if (qEnvironmentVariableIsEmpty("DISPLAY") && qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") &&
+      qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) {
+    qputenv("QT_QPA_PLATFORM", "offscreen");
+  }
+  QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
+  QApplication app(argc, argv);
+  return RUN_ALL_TESTS();
+}
