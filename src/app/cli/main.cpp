@@ -1,0 +1,37 @@
+// shapecast-cli: headless ShapeCast tool. Usage: shapecast-cli <subcommand> [options]; see --help.
+
+#include "app/cli/basis_command.h"
+
+#include <QCoreApplication>
+#include <QTextStream>
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: shapecast-cli <subcommand> [options]\n"
+    "\n"
+    "subcommands:\n"
+    "  basis MESH [--m 100] [--no-cache] [--cache-dir DIR] [--json]\n"
+    "      compute (or load from the cache) the manifold harmonic basis of MESH and print its figures\n"
+    "\n"
+    "run 'shapecast-cli <subcommand> --help' for the options of a subcommand\n";
+
+}  // namespace
+
+int main(int argc, char* argv[]) {
+  QCoreApplication app(argc, argv);
+  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
+  QCoreApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
+  QStringList arguments = QCoreApplication::arguments();
+  arguments.removeFirst();
+  const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();
+  if (subcommand == QLatin1String("basis")) return sc::app::runBasisCommand(arguments);
+
+  QTextStream err(stderr);
+  if (subcommand.isEmpty() || subcommand == QLatin1String("--help") || subcommand == QLatin1String("-h")) {
+    QTextStream(stdout) << kUsage;
+    return subcommand.isEmpty() ? 2 : 0;
+  }
+  err << "shapecast-cli: unknown subcommand '" << subcommand << "'\n\n" << kUsage;
+  return 2;
+}
