@@ -68,8 +68,10 @@ int main(int argc, char* argv[]) {
   QCoreApplication app(argc, argv);
   QCommandLineParser parser;
   parser.addHelpOption();
-  const QCommandLineOption repeats(QStringLiteral("repeats"), QStringLiteral("runs per mesh"), QStringLiteral("n"), QStringLiteral("3"));
-  const QCommandLineOption mOption(QStringLiteral("m"), QStringLiteral("harmonics"), QStringLiteral("m"), QStringLiteral("100"));
+  const QCommandLineOption repeats(QStringLiteral("repeats"), QStringLiteral("runs per mesh"), QStringLiteral("n"),
+                                   QStringLiteral("3"));
+  const QCommandLineOption mOption(QStringLiteral("m"), QStringLiteral("harmonics"), QStringLiteral("m"),
+                                   QStringLiteral("100"));
   const QCommandLineOption meshes(QStringLiteral("meshes"), QStringLiteral("mesh folder"), QStringLiteral("dir"),
                                   QStringLiteral(SHAPECAST_ASSETS_DIR));
   const QCommandLineOption out(QStringLiteral("out"), QStringLiteral("Markdown file to update"), QStringLiteral("file"),
@@ -82,7 +84,9 @@ int main(int argc, char* argv[]) {
   QTextStream log(stdout);
   std::vector<MeshFigures> figures;
   const QDir dir(parser.value(meshes));
-  for (const QFileInfo& file : dir.entryInfoList({QStringLiteral("*.off"), QStringLiteral("*.ply"), QStringLiteral("*.obj"), QStringLiteral("*.stl")}, QDir::Files, QDir::Name)) {
+  for (const QFileInfo& file : dir.entryInfoList(
+           {QStringLiteral("*.off"), QStringLiteral("*.ply"), QStringLiteral("*.obj"), QStringLiteral("*.stl")},
+           QDir::Files, QDir::Name)) {
     MeshFigures f{file.fileName(), {}, {}, {}, {}, {}};
     for (int run = 0; run < parser.value(repeats).toInt(); ++run) {
       const auto report = runCli(cli, file.filePath(), m);
@@ -101,9 +105,10 @@ int main(int argc, char* argv[]) {
     return 1;
   }
 
-  const QString body = QStringLiteral("## Manifold harmonic basis (m = %1)\n\nMeasured %2 with `scripts/bench.sh` "
-                                      "(median of %3 runs, each a fresh `shapecast-cli basis MESH --no-cache --json` "
-                                      "process; load time excluded).\n\nMachine: %4\n\n%5\n")
+  const QString body = QStringLiteral(
+                           "## Manifold harmonic basis (m = %1)\n\nMeasured %2 with `scripts/bench.sh` "
+                           "(median of %3 runs, each a fresh `shapecast-cli basis MESH --no-cache --json` "
+                           "process; load time excluded).\n\nMachine: %4\n\n%5\n")
                            .arg(m)
                            .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
                            .arg(parser.value(repeats))

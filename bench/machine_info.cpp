@@ -12,8 +12,9 @@ namespace {
 QString procValue(const QString& file, const QString& key) {
   QFile f(file);
   if (!f.open(QIODevice::ReadOnly | QIODevice::Text)) return {};
-  const QRegularExpression pattern(QStringLiteral("^") + QRegularExpression::escape(key) + QStringLiteral("\\s*:\\s*(.*)$"),
-                                   QRegularExpression::MultilineOption);
+  const QRegularExpression pattern(
+      QStringLiteral("^") + QRegularExpression::escape(key) + QStringLiteral("\\s*:\\s*(.*)$"),
+      QRegularExpression::MultilineOption);
   const QRegularExpressionMatch match = pattern.match(QString::fromLocal8Bit(f.readAll()));
   return match.hasMatch() ? match.captured(1).trimmed() : QString();
 }
@@ -21,7 +22,8 @@ QString procValue(const QString& file, const QString& key) {
 }  // namespace
 
 QString machineDescription() {
-  const double memoryKiB = procValue(QStringLiteral("/proc/meminfo"), QStringLiteral("MemTotal")).section(QLatin1Char(' '), 0, 0).toDouble();
+  const double memoryKiB =
+      procValue(QStringLiteral("/proc/meminfo"), QStringLiteral("MemTotal")).section(QLatin1Char(' '), 0, 0).toDouble();
   return QStringLiteral("%1, %2 logical cores, %3 GiB RAM, %4 %5")
       .arg(procValue(QStringLiteral("/proc/cpuinfo"), QStringLiteral("model name")))
       .arg(QThread::idealThreadCount())

@@ -113,8 +113,12 @@ void printText(const QJsonObject& r) {
   const QJsonArray eigenvalues = r[QStringLiteral("eigenvalues")].toArray();
   for (qsizetype k = 0; k < std::min<qsizetype>(5, eigenvalues.size()); ++k)
     firstEigenvalues << QString::number(eigenvalues[k].toDouble(), 'g', 8);
-  auto line = [&out](const char* key, const QString& value) { out << qSetFieldWidth(22) << Qt::left << key << qSetFieldWidth(0) << value << '\n'; };
-  auto number = [&r](const char* key, int precision = 4) { return QString::number(r[QLatin1String(key)].toDouble(), 'g', precision); };
+  auto line = [&out](const char* key, const QString& value) {
+    out << qSetFieldWidth(22) << Qt::left << key << qSetFieldWidth(0) << value << '\n';
+  };
+  auto number = [&r](const char* key, int precision = 4) {
+    return QString::number(r[QLatin1String(key)].toDouble(), 'g', precision);
+  };
   line("mesh", r[QStringLiteral("mesh")].toString());
   line("vertices", number("vertices", 12));
   line("faces", number("faces", 12));

@@ -2,13 +2,13 @@
 
 #include "test_meshes.h"
 
+#include <gtest/gtest.h>
 #include <QDir>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QProcess>
 #include <QTemporaryDir>
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <fstream>
@@ -31,8 +31,10 @@ void writeOff(const QString& path, const sc::testing::GeneratedMesh& mesh) {
   std::ofstream out(path.toStdString());
   out << "OFF\n" << mesh.V.rows() << ' ' << mesh.F.rows() << " 0\n";
   out.precision(17);
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) out << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f) out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    out << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
 }
 
 class BasisCommand : public ::testing::Test {
@@ -43,7 +45,9 @@ class BasisCommand : public ::testing::Test {
     writeOff(m_mesh, sc::testing::icosphere(3));
   }
   QStringList basisArgs(const QStringList& extra) const {
-    return QStringList{QStringLiteral("basis"), m_mesh, QStringLiteral("--cache-dir"), m_dir.filePath(QStringLiteral("cache"))} + extra;
+    return QStringList{QStringLiteral("basis"), m_mesh, QStringLiteral("--cache-dir"),
+                       m_dir.filePath(QStringLiteral("cache"))} +
+           extra;
   }
   QTemporaryDir m_dir;
   QString m_mesh;
@@ -53,8 +57,8 @@ TEST_F(BasisCommand, JsonHasEveryKeyAndTheSecondRunUsesTheCache) {
   const CliRun first = runCli(basisArgs({QStringLiteral("--m"), QStringLiteral("20"), QStringLiteral("--json")}));
   ASSERT_EQ(first.exitCode, 0) << first.err.toStdString();
   const QJsonObject r = QJsonDocument::fromJson(first.out).object();
-  for (const char* key : {"vertices", "faces", "components", "m", "operator_s", "eigensolve_s", "total_s", "peak_rss_mb",
-                          "orthonormality_error", "eigenvalues", "cached"})
+  for (const char* key : {"vertices", "faces", "components", "m", "operator_s", "eigensolve_s", "total_s",
+                          "peak_rss_mb", "orthonormality_error", "eigenvalues", "cached"})
     EXPECT_TRUE(r.contains(QLatin1String(key))) << key;
   EXPECT_EQ(r[QStringLiteral("vertices")].toInt(), 642);
   EXPECT_EQ(r[QStringLiteral("faces")].toInt(), 1280);
@@ -73,7 +77,8 @@ TEST_F(BasisCommand, JsonHasEveryKeyAndTheSecondRunUsesTheCache) {
   EXPECT_TRUE(cached[QStringLiteral("cached")].toBool());
   EXPECT_EQ(cached[QStringLiteral("eigenvalues")].toArray(), lambda);
 
-  const CliRun uncached = runCli(basisArgs({QStringLiteral("--m"), QStringLiteral("20"), QStringLiteral("--json"), QStringLiteral("--no-cache")}));
+  const CliRun uncached = runCli(
+      basisArgs({QStringLiteral("--m"), QStringLiteral("20"), QStringLiteral("--json"), QStringLiteral("--no-cache")}));
   EXPECT_FALSE(QJsonDocument::fromJson(uncached.out).object()[QStringLiteral("cached")].toBool());
 }
 
@@ -127,7 +132,9 @@ TEST_P(DragonBasis, LoadsAndGivesAValidBasis) {
   for (const QJsonValue& value : lambda) zeros += std::abs(value.toDouble()) < 1e-6 * largest ? 1 : 0;
   EXPECT_EQ(zeros, r[QStringLiteral("components")].toInt()) << "one zero eigenvalue per connected component";
   const QJsonObject cleaning = r[QStringLiteral("cleaning")].toObject();
-  EXPECT_GT(cleaning[QStringLiteral("non_manifold_edges")].toInt() + cleaning[QStringLiteral("dropped_duplicate_faces")].toInt(), 0)
+  EXPECT_GT(cleaning[QStringLiteral("non_manifold_edges")].toInt() +
+                cleaning[QStringLiteral("dropped_duplicate_faces")].toInt(),
+            0)
       << "the vrip dragons are known to be non-manifold with duplicate faces";
 }
 
