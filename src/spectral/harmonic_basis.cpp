@@ -35,7 +35,7 @@ std::string validate(const LaplaceOperators& ops, int m) {
 }
 
 int lanczosSize(const BasisOptions& options, Eigen::Index n) {
-  const int wanted = options.ncv > 0 ? options.ncv : std::max(2 * options.m, options.m + 20);
+  const int wanted = options.ncv > 0 ? options.ncv : std::max(5 * options.m / 2, options.m + 20);
   return static_cast<int>(std::min<Eigen::Index>(n, std::max(wanted, options.m + 1)));
 }
 
