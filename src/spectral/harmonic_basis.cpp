@@ -1,5 +1,7 @@
 #include "spectral/harmonic_basis.h"
 
+#include "spectral/component_localization.h"
+#include "spectral/mesh_components.h"
 #include "spectral/shift_invert_operator.h"
 
 #include <Spectra/SymGEigsShiftSolver.h>
@@ -80,7 +82,10 @@ BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOption
     return failure(BasisStatus::FactorizationFailed, e.what());
   }
 
-  // === step 3: deterministic signs and a final sanity check
+  // === step 3: one component per eigenvector, deterministic signs and a final sanity check
+  Eigen::VectorXi component;
+  const int components = connectedComponents(ops.stiffness, component);
+  localizeToComponents(component, components, ops.mass, result.basis.eigenvalues, result.basis.vectors);
   fixSigns(result.basis.vectors);
   result.basis.shift = sigma;
   result.operatorApplications = op.solveCount();

@@ -34,14 +34,7 @@ class UnionFind {
   std::vector<int> m_size;
 };
 
-}  // namespace
-
-int connectedComponents(Eigen::Index vertexCount, const Eigen::MatrixXi& F, Eigen::VectorXi& labels) {
-  UnionFind sets(vertexCount);
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    sets.unite(F(f, 0), F(f, 1));
-    sets.unite(F(f, 1), F(f, 2));
-  }
+int labelSets(UnionFind& sets, Eigen::Index vertexCount, Eigen::VectorXi& labels) {
   labels.setConstant(vertexCount, -1);
   std::vector<int> labelOfRoot(static_cast<std::size_t>(vertexCount), -1);
   int count = 0;
@@ -51,6 +44,25 @@ int connectedComponents(Eigen::Index vertexCount, const Eigen::MatrixXi& F, Eige
     labels(v) = label;
   }
   return count;
+}
+
+}  // namespace
+
+int connectedComponents(Eigen::Index vertexCount, const Eigen::MatrixXi& F, Eigen::VectorXi& labels) {
+  UnionFind sets(vertexCount);
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    sets.unite(F(f, 0), F(f, 1));
+    sets.unite(F(f, 1), F(f, 2));
+  }
+  return labelSets(sets, vertexCount, labels);
+}
+
+int connectedComponents(const Eigen::SparseMatrix<double>& pattern, Eigen::VectorXi& labels) {
+  UnionFind sets(pattern.rows());
+  for (Eigen::Index j = 0; j < pattern.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(pattern, j); it; ++it)
+      sets.unite(static_cast<int>(it.row()), static_cast<int>(it.col()));
+  return labelSets(sets, pattern.rows(), labels);
 }
 
 }  // namespace sc::spectral

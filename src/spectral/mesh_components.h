@@ -2,6 +2,7 @@
 // Connected components of a triangle mesh's vertex graph.
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 namespace sc::spectral {
 
@@ -13,5 +14,9 @@ namespace sc::spectral {
 /// @return the number of components.
 /// Cost: O(#V + #F·α(#V)).
 int connectedComponents(Eigen::Index vertexCount, const Eigen::MatrixXi& F, Eigen::VectorXi& labels);
+
+/// Labels the connected components of the graph of a sparse matrix's pattern (i ~ j when A_ij is stored), e.g.
+/// the stiffness matrix S of a mesh. Same numbering rule as above. Cost: O(n + nnz·α(n)).
+int connectedComponents(const Eigen::SparseMatrix<double>& pattern, Eigen::VectorXi& labels);
 
 }  // namespace sc::spectral

@@ -56,6 +56,24 @@ TEST(HarmonicBasis, TwoDisjointSpheresGiveTwoZeroEigenvalues) {
   EXPECT_GT(r.basis.eigenvalues(2), 1.0) << "the third eigenvalue is the first non-constant harmonic (≈2)";
 }
 
+TEST(HarmonicBasis, EveryEigenvectorOfTwoEqualSpheresLivesOnOneSphere) {
+  // Equal spheres make every eigenvalue at least double, and the solver mixes the spheres inside those eigenspaces;
+  // the basis must come out localised (else dragging one sphere would move the other).
+  const auto mesh = testing::twoSpheres(2);
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  BasisOptions options;
+  options.m = 20;
+  const BasisResult r = manifoldHarmonicBasis(ops, options);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const Eigen::Index half = mesh.V.rows() / 2;
+  for (Eigen::Index k = 0; k < r.basis.size(); ++k) {
+    const Eigen::VectorXd h = r.basis.vectors.col(k);
+    const double onFirst = h.head(half).dot(ops.mass.head(half).cwiseProduct(h.head(half)));
+    EXPECT_TRUE(onFirst < 1e-12 || onFirst > 1.0 - 1e-12) << "column " << k << " has " << onFirst << " on sphere A";
+  }
+  EXPECT_LE(orthonormalityError(r.basis.vectors, ops.mass), 1e-8);
+}
+
 TEST(HarmonicBasis, SignsAreDeterministic) {
   const auto mesh = testing::torus(30, 12);
   const BasisResult a = basisOf(mesh, 20);

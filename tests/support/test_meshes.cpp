@@ -86,6 +86,24 @@ GeneratedMesh grid(int nx, int ny) {
   return fromLists(p, f);
 }
 
+GeneratedMesh tube(int around, int along, double length, double r) {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<std::array<int, 3>> f;
+  const double twoPi = 2.0 * std::numbers::pi;
+  for (int i = 0; i <= along; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double a = twoPi * j / around;
+      p.emplace_back(length * i / along, r * std::cos(a), r * std::sin(a));
+    }
+  auto id = [&](int i, int j) { return i * around + (j % around); };
+  for (int i = 0; i < along; ++i)
+    for (int j = 0; j < around; ++j) {
+      f.push_back({id(i, j), id(i, j + 1), id(i + 1, j + 1)});
+      f.push_back({id(i, j), id(i + 1, j + 1), id(i + 1, j)});
+    }
+  return fromLists(p, f);
+}
+
 GeneratedMesh twoSpheres(int subdivisions) {
   const GeneratedMesh a = icosphere(subdivisions, 1.0, {0, 0, 0});
   const GeneratedMesh b = icosphere(subdivisions, 1.0, {3, 0, 0});

@@ -21,6 +21,10 @@ GeneratedMesh torus(int u, int v, double R = 1.0, double r = 0.3);
 /// Flat open square [0,1]² in the z = 0 plane, nx × ny quads each split into two triangles (has a boundary).
 GeneratedMesh grid(int nx, int ny);
 
+/// Open cylinder (a tube without caps) along +x from x = 0 to `length`, radius r, `around` × `along` quads.
+/// Has two boundary loops; used as a bar to bend.
+GeneratedMesh tube(int around, int along, double length = 4.0, double r = 0.25);
+
 /// Two disjoint icospheres (unit radius, centres 3 apart): two connected components.
 GeneratedMesh twoSpheres(int subdivisions);
 

@@ -1,0 +1,135 @@
+#include "spectral/spectral_deformer.h"
+
+#include "spectral/rigid_subspace.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sc::spectral {
+namespace {
+
+/// Relative size of the ridge added to the m×m system so that null-space directions of unconstrained components
+/// are pinned at zero (they stay at rest) instead of making the system singular.
+constexpr double kRegularisation = 1e-9;
+
+bool validConstraints(const ConstraintSet& constraints, Eigen::Index vertexCount) {
+  auto valid = [vertexCount](int v) { return v >= 0 && v < vertexCount; };
+  for (const HandleGroup& group : constraints.handles)
+    if (group.vertices.empty() || !std::all_of(group.vertices.begin(), group.vertices.end(), valid)) return false;
+  return std::all_of(constraints.anchors.begin(), constraints.anchors.end(), valid);
+}
+
+}  // namespace
+
+SpectralDeformer::SpectralDeformer(const HarmonicBasis& basis, const LaplaceOperators& operators,
+                                   const Eigen::MatrixXd& rest, const DeformerOptions& options)
+    : m_basis(basis),
+      m_operators(operators),
+      m_rest(rest),
+      m_options(options),
+      m_Z(Eigen::MatrixXd::Zero(basis.size(), 3)) {
+  setConstraints({});
+}
+
+SpectralDeformer::~SpectralDeformer() = default;
+
+bool SpectralDeformer::setConstraints(const ConstraintSet& constraints) {
+  if (!validConstraints(constraints, m_rest.rows())) return false;
+  const Eigen::Index m = m_basis.size();
+  const Eigen::VectorXd& lambda = m_basis.eigenvalues;
+  const double lambdaMax = std::max(std::abs(lambda(m - 1)), 1e-300);
+  const bool rigid = m_options.mode == DeformationMode::Rigid;
+
+  // === step 1: energy diagonal (Λ² linear, Λ rigid) and constraint weight w²
+  const Eigen::VectorXd energy = rigid ? Eigen::VectorXd(lambda.cwiseMax(0.0)) : Eigen::VectorXd(lambda.cwiseAbs2());
+  m_weight = m_options.constraintWeight * (rigid ? lambdaMax : lambdaMax * lambdaMax);
+
+  // === step 2: A = E + w² H_Cᵀ H_C over every constrained row, plus a tiny ridge
+  std::vector<int> rows;
+  for (const HandleGroup& group : constraints.handles)
+    rows.insert(rows.end(), group.vertices.begin(), group.vertices.end());
+  rows.insert(rows.end(), constraints.anchors.begin(), constraints.anchors.end());
+  Eigen::MatrixXd A = energy.asDiagonal();
+  if (!rows.empty()) {  // BLAS's syrk rejects an empty update
+    const Eigen::MatrixXd Hc = m_basis.vectors(rows, Eigen::all);
+    A.selfadjointView<Eigen::Lower>().rankUpdate(Hc.transpose(), m_weight);
+  }
+  A.diagonal().array() += kRegularisation * (m_weight + energy.maxCoeff());
+  m_factor.compute(A.selfadjointView<Eigen::Lower>());
+  ++m_factorizations;
+
+  // === step 3: per-group moments so that a frame's right-hand side costs O(m) per group
+  m_groupMoments.clear();
+  m_groupSums.clear();
+  m_groupCentroids.clear();
+  for (const HandleGroup& group : constraints.handles) {
+    const Eigen::MatrixXd Hg = m_basis.vectors(group.vertices, Eigen::all);
+    const Eigen::MatrixX3d Xg = m_rest(group.vertices, Eigen::all);
+    const Eigen::Vector3d centroid = Xg.colwise().mean().transpose();
+    m_groupCentroids.push_back(centroid);
+    m_groupMoments.push_back(m_weight * Hg.transpose() * (Xg.rowwise() - centroid.transpose()));
+    m_groupSums.push_back(m_weight * Hg.colwise().sum().transpose());
+  }
+  m_constraints = constraints;
+  if (rigid && !m_rigid)
+    m_rigid = std::make_unique<RigidSubspace>(m_basis, m_operators, m_rest, m_options.rigidClusters);
+  m_Z.setZero(m, 3);
+  return true;
+}
+
+Eigen::MatrixXd SpectralDeformer::constraintRightHandSide(std::span<const HandleTransform> transforms) const {
+  // w² H_Cᵀ (P_C − X̂_C) with, per group, P − X̂ = (R − I)(x̂ − c) + t; anchors contribute zero.
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m_basis.size(), 3);
+  const std::size_t groups = std::min(transforms.size(), m_groupMoments.size());
+  for (std::size_t g = 0; g < groups; ++g) {
+    const HandleTransform& T = transforms[g];
+    rhs.noalias() += m_groupMoments[g] * (T.rotation - Eigen::Matrix3d::Identity()).transpose();
+    rhs.noalias() += m_groupSums[g] * T.translation.transpose();
+  }
+  return rhs;
+}
+
+const Eigen::MatrixXd& SpectralDeformer::solve(std::span<const HandleTransform> transforms) {
+  const Eigen::MatrixXd rhs = constraintRightHandSide(transforms);
+  if (m_options.mode == DeformationMode::Linear) {
+    m_Z = m_factor.solve(rhs);
+    return m_Z;
+  }
+  for (int iteration = 0; iteration < m_options.rigidIterations; ++iteration)
+    m_Z = m_factor.solve(rhs + m_rigid->rotationRightHandSide(m_Z));
+  return m_Z;
+}
+
+Eigen::MatrixX3d SpectralDeformer::targets(std::span<const HandleTransform> transforms) const {
+  std::size_t count = 0;
+  for (const HandleGroup& group : m_constraints.handles) count += group.vertices.size();
+  Eigen::MatrixX3d P(static_cast<Eigen::Index>(count), 3);
+  Eigen::Index row = 0;
+  for (std::size_t g = 0; g < m_constraints.handles.size(); ++g) {
+    const HandleTransform T = g < transforms.size() ? transforms[g] : HandleTransform{};
+    for (int v : m_constraints.handles[g].vertices) {
+      const Eigen::Vector3d x = m_rest.row(v).transpose();
+      P.row(row++) = (T.rotation * (x - m_groupCentroids[g]) + m_groupCentroids[g] + T.translation).transpose();
+    }
+  }
+  return P;
+}
+
+ConstraintResidual SpectralDeformer::residual(std::span<const HandleTransform> transforms) const {
+  ConstraintResidual r;
+  const Eigen::MatrixX3d P = targets(transforms);
+  Eigen::Index row = 0;
+  double sumSquares = 0.0;
+  for (const HandleGroup& group : m_constraints.handles)
+    for (int v : group.vertices) {
+      const Eigen::RowVector3d x = m_rest.row(v) + m_basis.vectors.row(v) * m_Z;
+      const double miss = (x - P.row(row++)).norm();
+      r.maxHandle = std::max(r.maxHandle, miss);
+      sumSquares += miss * miss;
+    }
+  if (row > 0) r.rmsHandle = std::sqrt(sumSquares / static_cast<double>(row));
+  for (int v : m_constraints.anchors) r.maxAnchor = std::max(r.maxAnchor, (m_basis.vectors.row(v) * m_Z).norm());
+  return r;
+}
+
+}  // namespace sc::spectral

@@ -1,0 +1,119 @@
+#pragma once
+// Spectral mesh deformation in displacement form: X = X̂ + HZ, handles solved in the m-dimensional subspace.
+// See shared/design/spectral.md §3 (linear) and §5 (rigid, subspace ARAP).
+
+#include "spectral/harmonic_basis.h"
+#include "spectral/laplace_operators.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace sc::spectral {
+
+class RigidSubspace;
+
+/// A set of vertices moved together by one rigid transform (rotation about the group's rest centroid, then
+/// translation).
+struct HandleGroup {
+  std::vector<int> vertices;
+};
+
+/// What the user constrains: handle groups (moved) and anchors (held at their rest positions).
+struct ConstraintSet {
+  std::vector<HandleGroup> handles;
+  std::vector<int> anchors;
+};
+
+/// The pose of one handle group: target x = R (x̂ − c) + c + t, c the group's rest centroid.
+struct HandleTransform {
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+
+enum class DeformationMode {
+  Linear,  ///< truncated biharmonic energy tr(ZᵀΛ²Z): one prefactored m×m solve per frame.
+  Rigid,   ///< subspace as-rigid-as-possible (clustered local rotations + the same kind of global solve).
+};
+
+struct DeformerOptions {
+  DeformationMode mode = DeformationMode::Linear;
+  /// Soft-constraint weight relative to the energy's scale: w² = constraintWeight · λ_{m−1}² (linear) or
+  /// constraintWeight · λ_{m−1} (rigid). Measured on a 90° bend of a 1040-vertex bar (m = 100) with 224 constrained
+  /// vertices: 0.1 leaves a handle miss of 0.07% of the bar length for a pure drag and keeps the shape smooth;
+  /// 10³ (shared/design/spectral.md §4) fits the over-determined constraints (c > m) at any cost and the bar
+  /// explodes (mean edge-length change 800%). Larger values only help when handles have far fewer vertices than m.
+  double constraintWeight = 0.1;
+  int rigidIterations = 10;  ///< local–global iterations per frame (warm-started from the previous frame).
+  int rigidClusters = 200;   ///< rotation clusters (k-means on the low harmonics); capped at #V / 4.
+};
+
+/// Residual of a solve at the constrained vertices, in model units.
+struct ConstraintResidual {
+  double maxHandle = 0.0;  ///< max ‖x_i − target_i‖ over handle vertices.
+  double rmsHandle = 0.0;  ///< root mean square of the same.
+  double maxAnchor = 0.0;  ///< max ‖x_i − x̂_i‖ over anchors.
+};
+
+/// Pre-factored spectral deformer of one mesh (the host's per-frame engine).
+///
+/// Usage: construct once per basis, call setConstraints() when the handle/anchor set changes (forms and factors the
+/// m×m system: O(c·m² + m³)), then solve() per drag frame (O(m·groups + m²), independent of #V and of the number of
+/// handle vertices). A mesh component without any constraint stays at rest (its null-space directions are pinned
+/// by a tiny regularisation instead of making the system singular).
+class SpectralDeformer {
+ public:
+  /// @param basis  H (#V by m) and Λ; kept by reference: must outlive the deformer.
+  /// @param operators  S and M of the same mesh (S's edge weights are used by the rigid mode); kept by reference.
+  /// @param rest  #V by 3 rest positions X̂; kept by reference.
+  SpectralDeformer(const HarmonicBasis& basis, const LaplaceOperators& operators, const Eigen::MatrixXd& rest,
+                   const DeformerOptions& options = {});
+  ~SpectralDeformer();
+  SpectralDeformer(const SpectralDeformer&) = delete;
+  SpectralDeformer& operator=(const SpectralDeformer&) = delete;
+
+  /// Replaces the constraint set and refactors. Returns false (and keeps the previous set) if a vertex index is out
+  /// of range or a handle group is empty.
+  bool setConstraints(const ConstraintSet& constraints);
+
+  /// Solves one frame: one transform per handle group (fewer: missing groups stay at rest; extra ones ignored).
+  /// @return Z, m by 3 displacement coefficients (what is streamed). Zero transforms give Z = 0.
+  const Eigen::MatrixXd& solve(std::span<const HandleTransform> transforms);
+
+  /// The last Z returned by solve() (zero before any solve).
+  const Eigen::MatrixXd& coefficients() const { return m_Z; }
+
+  /// Residual of coefficients() at the constrained vertices for the given transforms. Cost: O(c·m).
+  ConstraintResidual residual(std::span<const HandleTransform> transforms) const;
+
+  /// How many times the m×m system was factored (changes only in setConstraints()).
+  int factorizationCount() const { return m_factorizations; }
+
+  const ConstraintSet& constraints() const { return m_constraints; }
+  DeformationMode mode() const { return m_options.mode; }
+
+ private:
+  /// w² H_Cᵀ (P_C − X̂_C) for the given transforms, from the per-group moments: O(m) per group.
+  Eigen::MatrixXd constraintRightHandSide(std::span<const HandleTransform> transforms) const;
+  /// Target positions of every handle vertex, in group order.
+  Eigen::MatrixX3d targets(std::span<const HandleTransform> transforms) const;
+
+  const HarmonicBasis& m_basis;
+  const LaplaceOperators& m_operators;
+  const Eigen::MatrixXd& m_rest;
+  DeformerOptions m_options;
+  ConstraintSet m_constraints;
+  double m_weight = 0.0;                         ///< w² actually used.
+  std::vector<Eigen::MatrixX3d> m_groupMoments;  ///< per group: w² Σ_i H_iᵀ (x̂_i − c)ᵀ, m by 3.
+  std::vector<Eigen::VectorXd> m_groupSums;      ///< per group: w² Σ_i H_iᵀ, m.
+  std::vector<Eigen::Vector3d> m_groupCentroids;
+  Eigen::LLT<Eigen::MatrixXd> m_factor;
+  Eigen::MatrixXd m_Z;
+  std::unique_ptr<RigidSubspace> m_rigid;  ///< clusters and rotation terms, built on first use of the rigid mode
+  int m_factorizations = 0;
+};
+
+}  // namespace sc::spectral

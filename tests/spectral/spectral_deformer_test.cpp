@@ -1,0 +1,184 @@
+#include "spectral/spectral_deformer.h"
+
+#include "spectral/spectral_transform.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include <numbers>
+
+namespace sc::spectral {
+namespace {
+
+/// A mesh with its operators and basis, kept alive together (the deformer holds references).
+struct Scene {
+  Scene(testing::GeneratedMesh mesh, int m) : V(std::move(mesh.V)), F(std::move(mesh.F)) {
+    ops = laplaceOperators(V, F);
+    BasisOptions options;
+    options.m = m;
+    const BasisResult r = manifoldHarmonicBasis(ops, options);
+    EXPECT_TRUE(r.ok()) << r.message;
+    basis = r.basis;
+    diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  }
+  std::vector<int> within(const Eigen::Vector3d& centre, double radius) const {
+    std::vector<int> out;
+    for (Eigen::Index i = 0; i < V.rows(); ++i)
+      if ((V.row(i).transpose() - centre).norm() < radius) out.push_back(static_cast<int>(i));
+    return out;
+  }
+  std::vector<int> where(const std::function<bool(const Eigen::Vector3d&)>& predicate) const {
+    std::vector<int> out;
+    for (Eigen::Index i = 0; i < V.rows(); ++i)
+      if (predicate(V.row(i).transpose())) out.push_back(static_cast<int>(i));
+    return out;
+  }
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  LaplaceOperators ops;
+  HarmonicBasis basis;
+  double diagonal = 0.0;
+};
+
+HandleTransform translation(double x, double y, double z) {
+  HandleTransform T;
+  T.translation = {x, y, z};
+  return T;
+}
+
+TEST(SpectralDeformer, ZeroDragGivesZeroCoefficientsInBothModes) {
+  const Scene scene(testing::torus(40, 16), 40);
+  for (DeformationMode mode : {DeformationMode::Linear, DeformationMode::Rigid}) {
+    DeformerOptions options;
+    options.mode = mode;
+    SpectralDeformer deformer(scene.basis, scene.ops, scene.V, options);
+    ASSERT_TRUE(deformer.setConstraints({{{scene.within({1.3, 0, 0}, 0.3)}}, scene.within({-1.3, 0, 0}, 0.3)}));
+    const HandleTransform still[] = {HandleTransform{}};
+    EXPECT_LT(deformer.solve(still).cwiseAbs().maxCoeff(), 1e-9) << "mode " << static_cast<int>(mode);
+  }
+}
+
+TEST(SpectralDeformer, HandlesReachTheirTargetsWithinTheReportedResidualAndAnchorsStay) {
+  const Scene scene(testing::torus(60, 20), 80);
+  SpectralDeformer deformer(scene.basis, scene.ops, scene.V);
+  const std::vector<int> handle = scene.within({1.3, 0, 0}, 0.35);
+  const std::vector<int> anchors = scene.where([](const Eigen::Vector3d& x) { return x.x() < -0.5; });
+  ASSERT_TRUE(deformer.setConstraints({{{handle}}, anchors}));
+
+  HandleTransform T = translation(0.0, 0.0, 0.3);
+  T.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const HandleTransform transforms[] = {T};
+  const Eigen::MatrixXd X = reconstruct(scene.V, scene.basis.vectors, deformer.solve(transforms));
+  const ConstraintResidual r = deformer.residual(transforms);
+
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int v : handle) centroid += scene.V.row(v).transpose();
+  centroid /= static_cast<double>(handle.size());
+  for (int v : handle) {
+    const Eigen::Vector3d target = T.rotation * (scene.V.row(v).transpose() - centroid) + centroid + T.translation;
+    EXPECT_LE((X.row(v).transpose() - target).norm(), r.maxHandle + 1e-12);
+  }
+  EXPECT_LT(r.rmsHandle, 0.1 * 0.3) << "soft handles in a smooth subspace follow the drag closely";
+  EXPECT_LT(r.maxAnchor, 1e-3 * scene.diagonal);
+  for (int v : anchors) EXPECT_LT((X.row(v) - scene.V.row(v)).norm(), 1e-3 * scene.diagonal);
+  EXPECT_GT((X - scene.V).rowwise().norm().maxCoeff(), 0.25) << "the handle region did move";
+}
+
+TEST(SpectralDeformer, OnlyAConstraintChangeRefactors) {
+  const Scene scene(testing::icosphere(3), 30);
+  SpectralDeformer deformer(scene.basis, scene.ops, scene.V);
+  const int initial = deformer.factorizationCount();
+  ASSERT_TRUE(deformer.setConstraints({{{scene.within({0, 0, 1}, 0.3)}}, scene.within({0, 0, -1}, 0.3)}));
+  EXPECT_EQ(deformer.factorizationCount(), initial + 1);
+  for (int frame = 0; frame < 10; ++frame) {
+    const HandleTransform T[] = {translation(0, 0, 0.01 * frame)};
+    deformer.solve(T);
+  }
+  EXPECT_EQ(deformer.factorizationCount(), initial + 1) << "drag frames must reuse the factor";
+  ASSERT_TRUE(deformer.setConstraints({{{scene.within({0, 1, 0}, 0.3)}}, {}}));
+  EXPECT_EQ(deformer.factorizationCount(), initial + 2);
+}
+
+TEST(SpectralDeformer, InvalidConstraintsAreRejectedAndTheOldSetKept) {
+  const Scene scene(testing::icosphere(2), 20);
+  SpectralDeformer deformer(scene.basis, scene.ops, scene.V);
+  ASSERT_TRUE(deformer.setConstraints({{{{0, 1, 2}}}, {5}}));
+  EXPECT_FALSE(deformer.setConstraints({{{{0, static_cast<int>(scene.V.rows())}}}, {}}));
+  EXPECT_FALSE(deformer.setConstraints({{{{}}}, {}})) << "an empty handle group";
+  EXPECT_FALSE(deformer.setConstraints({{}, {-1}}));
+  EXPECT_EQ(deformer.constraints().handles.size(), 1u);
+}
+
+TEST(SpectralDeformer, AComponentWithoutConstraintsStaysAtRest) {
+  const Scene scene(testing::twoSpheres(2), 30);  // sphere A around x = 0, sphere B around x = 3
+  SpectralDeformer deformer(scene.basis, scene.ops, scene.V);
+  ASSERT_TRUE(deformer.setConstraints({{{scene.within({0, 0, 1}, 0.4)}}, scene.within({0, 0, -1}, 0.4)}));
+  const HandleTransform T[] = {translation(0, 0, 0.3)};
+  const Eigen::MatrixXd X = reconstruct(scene.V, scene.basis.vectors, deformer.solve(T));
+  double movedA = 0.0, movedB = 0.0;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) {
+    const double d = (X.row(i) - scene.V.row(i)).norm();
+    (scene.V(i, 0) < 1.5 ? movedA : movedB) = std::max(d, scene.V(i, 0) < 1.5 ? movedA : movedB);
+  }
+  EXPECT_GT(movedA, 0.2);
+  EXPECT_LT(movedB, 1e-6) << "sphere B has no handle and no anchor";
+  EXPECT_TRUE(X.allFinite());
+}
+
+/// Mean relative change of edge lengths between rest and deformed positions.
+double meanEdgeLengthChange(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& X, const Eigen::MatrixXi& F) {
+  double sum = 0.0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      const int a = F(f, c), b = F(f, (c + 1) % 3);
+      const double before = (rest.row(a) - rest.row(b)).norm();
+      sum += std::abs((X.row(a) - X.row(b)).norm() - before) / before;
+    }
+  return sum / (3.0 * static_cast<double>(F.rows()));
+}
+
+/// Mean relative edge-length change after bending a bar by 90° (anchored at x < 0.4, handle x > 3.6) over 30 drag
+/// frames, the handle either turning with the bend or only translated (a plain drag).
+double bentBarEdgeChange(DeformationMode mode, bool rotateHandle) {
+  static const Scene bar(testing::tube(16, 64, 4.0, 0.25), 100);
+  const std::vector<int> anchors = bar.where([](const Eigen::Vector3d& x) { return x.x() < 0.4; });
+  const std::vector<int> handle = bar.where([](const Eigen::Vector3d& x) { return x.x() > 3.6; });
+  DeformerOptions options;
+  options.mode = mode;
+  SpectralDeformer deformer(bar.basis, bar.ops, bar.V, options);
+  EXPECT_TRUE(deformer.setConstraints({{{handle}}, anchors}));
+  const double radius = 3.2 / (std::numbers::pi / 2.0);  // the free part [0.4, 3.6] becomes a quarter circle
+  const int frames = 30;
+  for (int frame = 1; frame <= frames; ++frame) {
+    const double s = static_cast<double>(frame) / frames;
+    const double angle = s * std::numbers::pi / 2.0;
+    const double r = radius / s;
+    const Eigen::Vector3d arcEnd(0.4 + r * std::sin(angle), r * (1.0 - std::cos(angle)), 0.0);
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    HandleTransform T;
+    if (rotateHandle) T.rotation = turn;
+    T.translation = arcEnd + turn * Eigen::Vector3d(0.2, 0, 0) - Eigen::Vector3d(3.8, 0, 0);
+    const HandleTransform transforms[] = {T};
+    deformer.solve(transforms);
+  }
+  return meanEdgeLengthChange(bar.V, reconstruct(bar.V, bar.basis.vectors, deformer.coefficients()), bar.F);
+}
+
+TEST(SpectralDeformer, RigidModeBendsABarWithLessStretchThanLinear) {
+  // Measured: turning handle 8.0% (linear) vs 4.6% (rigid); plain drag 7.1% vs 4.4%. The 3× target is not
+  // reached: in a 100-harmonic subspace the rigid mode saturates near 4.5% whatever the cluster count or
+  // iteration count (README, Status).
+  for (bool rotate : {true, false}) {
+    const double linear = bentBarEdgeChange(DeformationMode::Linear, rotate);
+    const double rigid = bentBarEdgeChange(DeformationMode::Rigid, rotate);
+    RecordProperty(rotate ? "turning_linear_vs_rigid" : "drag_linear_vs_rigid",
+                   std::to_string(linear) + " vs " + std::to_string(rigid));
+    EXPECT_LT(rigid, 0.7 * linear) << (rotate ? "turning handle" : "plain drag") << ": linear " << linear
+                                   << ", rigid " << rigid;
+    EXPECT_LT(rigid, 0.06) << "the bent bar keeps its edge lengths within a few percent";
+  }
+}
+
+}  // namespace
+}  // namespace sc::spectral
