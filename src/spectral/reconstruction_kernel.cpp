@@ -1,0 +1,63 @@
+#include "spectral/reconstruction_kernel.h"
+
+#include "spectral/parallel_ranges.h"
+
+#include <cassert>
+
+namespace sc::spectral {
+namespace {
+
+/// Partial sums per coordinate: one 512-bit register of floats, or two 256-bit ones.
+constexpr Eigen::Index kLanes = 16;
+
+/// out[3i + c] = rest[3i + c] + Σ_k K(i, k)·Z(k, c) for rows [begin, end).
+void reconstructRows(const float* K, Eigen::Index m, const float* z0, const float* z1, const float* z2,
+                     const float* rest, float* out, std::ptrdiff_t begin, std::ptrdiff_t end) {
+  for (std::ptrdiff_t i = begin; i < end; ++i) {
+    const float* k = K + i * m;
+    float a0[kLanes] = {}, a1[kLanes] = {}, a2[kLanes] = {};
+    Eigen::Index j = 0;
+    for (; j + kLanes <= m; j += kLanes)
+      for (Eigen::Index l = 0; l < kLanes; ++l) {  // lane-wise: vectorises without reassociation
+        a0[l] += k[j + l] * z0[j + l];
+        a1[l] += k[j + l] * z1[j + l];
+        a2[l] += k[j + l] * z2[j + l];
+      }
+    for (Eigen::Index l = 0; j + l < m; ++l) {  // tail, m mod 16 terms
+      a0[l] += k[j + l] * z0[j + l];
+      a1[l] += k[j + l] * z1[j + l];
+      a2[l] += k[j + l] * z2[j + l];
+    }
+    for (Eigen::Index w = kLanes / 2; w >= 1; w /= 2)  // pairwise horizontal sums
+      for (Eigen::Index l = 0; l < w; ++l) {
+        a0[l] += a0[l + w];
+        a1[l] += a1[l + w];
+        a2[l] += a2[l + w];
+      }
+    out[3 * i + 0] = rest[3 * i + 0] + a0[0];
+    out[3 * i + 1] = rest[3 * i + 1] + a1[0];
+    out[3 * i + 2] = rest[3 * i + 2] + a2[0];
+  }
+}
+
+}  // namespace
+
+std::vector<float> interleavedPositions(const Eigen::MatrixXd& V) {
+  std::vector<float> out(3 * static_cast<std::size_t>(V.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (Eigen::Index c = 0; c < 3; ++c) out[static_cast<std::size_t>(3 * i + c)] = static_cast<float>(V(i, c));
+  return out;
+}
+
+void reconstructInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
+                            std::span<float> out, int threads) {
+  const Eigen::Index n = K.rows(), m = K.cols();
+  assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
+  assert(rest.size() == static_cast<std::size_t>(3 * n) && out.size() == rest.size() && "buffers must be 3·n'");
+  detail::parallelRanges(n, threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    reconstructRows(K.data(), m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), begin,
+                    end);
+  });
+}
+
+}  // namespace sc::spectral

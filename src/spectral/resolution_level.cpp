@@ -1,0 +1,230 @@
+#include "spectral/resolution_level.h"
+
+#include "spectral/basis_cache.h"
+#include "spectral/closest_point.h"
+
+#include <array>
+#include <bit>
+#include <cassert>
+#include <cstring>
+#include <limits>
+
+namespace sc::spectral {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the level format is little-endian; add byte swapping");
+
+constexpr std::array<char, 8> kMagic = {'S', 'C', 'L', 'V', 'L', '\0', '\r', '\n'};
+constexpr std::size_t kHeaderSize = 32;
+constexpr std::size_t kChecksumSize = 8;
+
+/// The counts in a level's header.
+struct Header {
+  std::uint32_t lowVertices{}, lowFaces{}, fullVertices{}, m{}, nonZeros{};
+};
+
+/// Bytes of the payload between header and checksum, or nullopt when it would exceed `limit` (no overflow).
+std::optional<std::size_t> payloadSize(const Header& h, std::size_t limit) {
+  // (count, bytes each): X̂', F', CSR offsets, columns + values, K.
+  const std::array<std::pair<std::uint64_t, std::uint64_t>, 5> parts = {{{h.lowVertices, 24},
+                                                                         {h.lowFaces, 12},
+                                                                         {std::uint64_t{h.lowVertices} + 1, 4},
+                                                                         {h.nonZeros, 12},
+                                                                         {h.lowVertices, 4ULL * h.m}}};
+  std::uint64_t total = 0;
+  for (const auto& [count, each] : parts) {
+    if (count == 0 || each == 0) continue;
+    if (count > (limit - total) / each) return std::nullopt;
+    total += count * each;
+  }
+  return static_cast<std::size_t>(total);
+}
+
+/// Appends raw little-endian bytes.
+class Writer {
+ public:
+  explicit Writer(std::size_t capacity) { m_out.reserve(capacity); }
+  template <class T>
+  void put(const T& value) {
+    putBytes(&value, sizeof(T));
+  }
+  void putBytes(const void* data, std::size_t size) {
+    const auto* p = static_cast<const std::byte*>(data);
+    m_out.insert(m_out.end(), p, p + size);
+  }
+  std::vector<std::byte>& bytes() { return m_out; }
+
+ private:
+  std::vector<std::byte> m_out;
+};
+
+/// Reads raw bytes from a buffer whose total length has already been checked.
+class Reader {
+ public:
+  explicit Reader(std::span<const std::byte> in) : m_in(in) {}
+  template <class T>
+  T get() {
+    T value;
+    getBytes(&value, sizeof(T));
+    return value;
+  }
+  void getBytes(void* data, std::size_t size) {
+    assert(m_offset + size <= m_in.size());
+    std::memcpy(data, m_in.data() + m_offset, size);
+    m_offset += size;
+  }
+
+ private:
+  std::span<const std::byte> m_in;
+  std::size_t m_offset = 0;
+};
+
+std::uint32_t checkedCount(Eigen::Index count) {
+  assert(count >= 0 && static_cast<std::uint64_t>(count) <= std::numeric_limits<std::uint32_t>::max());
+  return static_cast<std::uint32_t>(count);
+}
+
+LevelDecodeResult failure(LevelDecodeStatus status, std::string message) {
+  LevelDecodeResult r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+/// Checks indices and CSR offsets of a decoded level; empty string when valid.
+std::string contentError(const ResolutionLevel& level, const std::vector<std::uint32_t>& rows,
+                         const std::vector<std::uint32_t>& cols, std::uint32_t n) {
+  if (level.F.size() > 0 && (level.F.minCoeff() < 0 || level.F.maxCoeff() >= level.restV.rows()))
+    return "face index out of range";
+  if (rows.front() != 0 || rows.back() != cols.size()) return "CSR offsets do not span the non-zeros";
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    if (rows[i] < rows[i - 1]) return "CSR offsets decrease";
+  for (std::size_t i = 0; i + 1 < rows.size(); ++i)
+    for (std::uint32_t k = rows[i]; k < rows[i + 1]; ++k)
+      if (cols[k] >= n || (k > rows[i] && cols[k] <= cols[k - 1])) return "P column out of range or unsorted";
+  return {};
+}
+
+/// Reads the payload after a validated header; the buffer length is already known to match.
+LevelDecodeResult readPayload(Reader& in, const Header& h) {
+  ResolutionLevel level;
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V(h.lowVertices, 3);
+  Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor> F(h.lowFaces, 3);
+  std::vector<std::uint32_t> rows(std::size_t{h.lowVertices} + 1), cols(h.nonZeros);
+  std::vector<double> values(h.nonZeros);
+  level.K.resize(h.lowVertices, h.m);
+  in.getBytes(V.data(), 8 * static_cast<std::size_t>(V.size()));
+  in.getBytes(F.data(), 4 * static_cast<std::size_t>(F.size()));
+  in.getBytes(rows.data(), 4 * rows.size());
+  in.getBytes(cols.data(), 4 * cols.size());
+  in.getBytes(values.data(), 8 * values.size());
+  in.getBytes(level.K.data(), 4 * static_cast<std::size_t>(level.K.size()));
+  level.restV = V;
+  level.F = F.cast<int>();
+  if (std::string error = contentError(level, rows, cols, h.fullVertices); !error.empty())
+    return failure(LevelDecodeStatus::BadContent, error);
+  level.P.resize(h.lowVertices, h.fullVertices);
+  level.P.reserve(static_cast<Eigen::Index>(h.nonZeros));
+  for (std::uint32_t i = 0; i < h.lowVertices; ++i) {
+    level.P.startVec(i);
+    for (std::uint32_t k = rows[i]; k < rows[i + 1]; ++k) level.P.insertBack(i, cols[k]) = values[k];
+  }
+  level.P.finalize();
+  LevelDecodeResult r;
+  r.status = LevelDecodeStatus::Ok;
+  r.level = std::move(level);
+  return r;
+}
+
+}  // namespace
+
+BarycentricMap barycentricMap(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& lowV,
+                              Eigen::VectorXd* distances, int threads) {
+  const ClosestPoints hits = ClosestPointQuery(V, F).query(lowV, threads);
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(3 * static_cast<std::size_t>(lowV.rows()));
+  for (Eigen::Index i = 0; i < lowV.rows(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (hits.barycentric(i, k) > 0) entries.emplace_back(i, F(hits.faces(i), k), hits.barycentric(i, k));
+  BarycentricMap P(lowV.rows(), V.rows());
+  P.setFromTriplets(entries.begin(), entries.end());  // sums repeated corners of degenerate faces
+  if (distances) *distances = hits.distances;
+  return P;
+}
+
+ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H,
+                                const Eigen::MatrixXd& lowV, const Eigen::MatrixXi& lowF, int threads) {
+  assert(H.rows() == V.rows() && "H must have one row per full-resolution vertex");
+  ResolutionLevel level;
+  level.restV = lowV;
+  level.F = lowF;
+  level.P = barycentricMap(V, F, lowV, nullptr, threads);
+  level.K = (level.P * H).cast<float>();
+  return level;
+}
+
+std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level) {
+  BarycentricMap P = level.P;
+  P.makeCompressed();
+  const Header h{checkedCount(level.restV.rows()), checkedCount(level.F.rows()), checkedCount(P.cols()),
+                 checkedCount(level.K.cols()), checkedCount(P.nonZeros())};
+  assert(P.rows() == level.restV.rows() && level.K.rows() == level.restV.rows() && "inconsistent level");
+  const std::size_t payload = *payloadSize(h, std::numeric_limits<std::size_t>::max() / 2);
+  Writer out(kHeaderSize + payload + kChecksumSize);
+  out.putBytes(kMagic.data(), kMagic.size());
+  for (std::uint32_t value : {kResolutionLevelVersion, h.lowVertices, h.lowFaces, h.fullVertices, h.m, h.nonZeros})
+    out.put(value);
+  const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> V = level.restV;
+  const Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor> F = level.F.cast<std::int32_t>();
+  out.putBytes(V.data(), 8 * static_cast<std::size_t>(V.size()));
+  out.putBytes(F.data(), 4 * static_cast<std::size_t>(F.size()));
+  for (Eigen::Index i = 0; i <= P.rows(); ++i) out.put(static_cast<std::uint32_t>(P.outerIndexPtr()[i]));
+  for (Eigen::Index k = 0; k < P.nonZeros(); ++k) out.put(static_cast<std::uint32_t>(P.innerIndexPtr()[k]));
+  out.putBytes(P.valuePtr(), 8 * static_cast<std::size_t>(P.nonZeros()));
+  out.putBytes(level.K.data(), 4 * static_cast<std::size_t>(level.K.size()));
+  out.put(checksum64(out.bytes()));
+  return std::move(out.bytes());
+}
+
+LevelDecodeResult decodeResolutionLevel(std::span<const std::byte> bytes) {
+  if (bytes.size() < kHeaderSize + kChecksumSize) return failure(LevelDecodeStatus::Truncated, "shorter than a header");
+  if (std::memcmp(bytes.data(), kMagic.data(), kMagic.size()) != 0)
+    return failure(LevelDecodeStatus::BadMagic, "not a ShapeCast resolution level");
+  Reader in(bytes.subspan(kMagic.size()));
+  if (const auto version = in.get<std::uint32_t>(); version != kResolutionLevelVersion)
+    return failure(LevelDecodeStatus::UnsupportedVersion, "format version " + std::to_string(version));
+  Header h;
+  for (std::uint32_t* field : {&h.lowVertices, &h.lowFaces, &h.fullVertices, &h.m, &h.nonZeros})
+    *field = in.get<std::uint32_t>();
+  const auto payload = payloadSize(h, bytes.size() - kHeaderSize - kChecksumSize);
+  if (!payload) return failure(LevelDecodeStatus::Truncated, "shorter than its declared sizes");
+  if (kHeaderSize + *payload + kChecksumSize != bytes.size())
+    return failure(LevelDecodeStatus::BadSize, "longer than its declared sizes");
+  std::uint64_t stored;
+  std::memcpy(&stored, bytes.data() + bytes.size() - kChecksumSize, kChecksumSize);
+  if (stored != checksum64(bytes.first(bytes.size() - kChecksumSize)))
+    return failure(LevelDecodeStatus::BadChecksum, "checksum mismatch");
+  return readPayload(in, h);
+}
+
+const char* toString(LevelDecodeStatus status) {
+  switch (status) {
+    case LevelDecodeStatus::Ok:
+      return "ok";
+    case LevelDecodeStatus::Truncated:
+      return "truncated";
+    case LevelDecodeStatus::BadMagic:
+      return "bad magic";
+    case LevelDecodeStatus::UnsupportedVersion:
+      return "unsupported version";
+    case LevelDecodeStatus::BadSize:
+      return "bad size";
+    case LevelDecodeStatus::BadChecksum:
+      return "bad checksum";
+    case LevelDecodeStatus::BadContent:
+      return "bad content";
+  }
+  return "unknown";
+}
+
+}  // namespace sc::spectral

@@ -1,0 +1,136 @@
+#include "spectral/resolution_level.h"
+
+#include "model/mesh_decimation.h"
+#include "spectral/harmonic_basis.h"
+#include "spectral/reconstruction_kernel.h"
+
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+namespace sc::spectral {
+namespace {
+
+/// A torus, its basis and a decimated level: built once for the suite.
+class ResolutionLevelTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    s_mesh = new testing::GeneratedMesh(testing::torus(60, 24));
+    BasisOptions options;
+    options.m = 40;
+    const BasisResult r = manifoldHarmonicBasis(laplaceOperators(s_mesh->V, s_mesh->F), options);
+    ASSERT_TRUE(r.ok()) << r.message;
+    s_H = new Eigen::MatrixXd(r.basis.vectors);
+    const model::DecimatedMesh low = model::decimateMesh(s_mesh->V, s_mesh->F, 300);
+    s_level = new ResolutionLevel(resolutionLevel(s_mesh->V, s_mesh->F, *s_H, low.V, low.F));
+  }
+  static void TearDownTestSuite() {
+    delete s_level;
+    delete s_H;
+    delete s_mesh;
+  }
+  static inline testing::GeneratedMesh* s_mesh = nullptr;
+  static inline Eigen::MatrixXd* s_H = nullptr;
+  static inline ResolutionLevel* s_level = nullptr;
+};
+
+TEST_F(ResolutionLevelTest, RowsOfPAreConvexWeightsOfOneFace) {
+  const BarycentricMap& P = s_level->P;
+  ASSERT_EQ(P.rows(), s_level->restV.rows());
+  ASSERT_EQ(P.cols(), s_mesh->V.rows());
+  for (Eigen::Index i = 0; i < P.rows(); ++i) {
+    double sum = 0;
+    int count = 0;
+    for (BarycentricMap::InnerIterator it(P, i); it; ++it, ++count) {
+      EXPECT_GT(it.value(), 0.0);
+      sum += it.value();
+    }
+    EXPECT_LE(count, 3);
+    EXPECT_NEAR(sum, 1.0, 1e-15) << "row " << i;
+  }
+}
+
+TEST_F(ResolutionLevelTest, PTimesRestIsTheClosestPointProjection) {
+  Eigen::VectorXd distances;
+  const BarycentricMap P = barycentricMap(s_mesh->V, s_mesh->F, s_level->restV, &distances);
+  const Eigen::MatrixXd projected = P * s_mesh->V;
+  const Eigen::VectorXd offsets = (projected - s_level->restV).rowwise().norm();
+  EXPECT_LT((offsets - distances).cwiseAbs().maxCoeff(), 1e-14);
+  // The decimated vertices lie near the surface: within 1% of the bbox diagonal (≈ 2.9).
+  EXPECT_LT(distances.maxCoeff(), 0.03);
+}
+
+TEST_F(ResolutionLevelTest, KIsPTimesHInFloat) {
+  const Eigen::MatrixXd expected = s_level->P * *s_H;
+  EXPECT_LT((s_level->K.cast<double>() - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+}
+
+TEST_F(ResolutionLevelTest, LevelReconstructsTheFullDeformationMappedByP) {
+  // Random smooth displacement coefficients (decaying with frequency).
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd Z(s_H->cols(), 3);
+  for (Eigen::Index k = 0; k < Z.rows(); ++k)
+    for (int c = 0; c < 3; ++c) Z(k, c) = normal(rng) / (1.0 + k);
+  const Eigen::MatrixXd full = s_mesh->V + *s_H * Z;
+  // Client: X̂' + K Z with the float kernel. Reference: P(X̂ + H Z) plus the projection offset X̂' − P X̂.
+  std::vector<float> out(3 * static_cast<std::size_t>(s_level->restV.rows()));
+  reconstructInterleaved(s_level->K, interleavedPositions(s_level->restV), Z.cast<float>(), out);
+  const Eigen::MatrixXd expected = s_level->P * full + (s_level->restV - s_level->P * s_mesh->V);
+  const double scale = full.cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < expected.rows(); ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(out[static_cast<std::size_t>(3 * i + c)], expected(i, c), 1e-5 * scale) << "vertex " << i;
+}
+
+TEST_F(ResolutionLevelTest, SerialisationRoundTripIsBitExact) {
+  const std::vector<std::byte> bytes = encodeResolutionLevel(*s_level);
+  const LevelDecodeResult decoded = decodeResolutionLevel(bytes);
+  ASSERT_TRUE(decoded.ok()) << decoded.message;
+  const ResolutionLevel& level = *decoded.level;
+  EXPECT_EQ(level.restV, s_level->restV);
+  EXPECT_EQ(level.F, s_level->F);
+  EXPECT_EQ(level.K, s_level->K);
+  EXPECT_EQ(Eigen::MatrixXd(level.P), Eigen::MatrixXd(s_level->P));
+  EXPECT_EQ(encodeResolutionLevel(level), bytes);
+}
+
+TEST_F(ResolutionLevelTest, TruncatedLongAndCorruptedBuffersAreRejected) {
+  const std::vector<std::byte> bytes = encodeResolutionLevel(*s_level);
+  for (std::size_t size = 0; size < bytes.size(); ++size)
+    ASSERT_FALSE(decodeResolutionLevel(std::span(bytes).first(size)).ok()) << "prefix " << size;
+  std::vector<std::byte> longer = bytes;
+  longer.push_back(std::byte{0});
+  EXPECT_EQ(decodeResolutionLevel(longer).status, LevelDecodeStatus::BadSize);
+  for (std::size_t at = 0; at < bytes.size(); at += 97) {
+    std::vector<std::byte> flipped = bytes;
+    flipped[at] ^= std::byte{0x10};
+    ASSERT_FALSE(decodeResolutionLevel(flipped).ok()) << "flipped byte " << at;
+  }
+  std::vector<std::byte> version = bytes;
+  version[8] = std::byte{2};
+  EXPECT_EQ(decodeResolutionLevel(version).status, LevelDecodeStatus::UnsupportedVersion);
+}
+
+TEST_F(ResolutionLevelTest, GarbageAndHugeDeclaredSizesAreRejectedWithoutAllocating) {
+  std::mt19937 rng(1);
+  std::vector<std::byte> garbage(5000);
+  for (std::byte& b : garbage) b = static_cast<std::byte>(rng());
+  EXPECT_EQ(decodeResolutionLevel(garbage).status, LevelDecodeStatus::BadMagic);
+  std::vector<std::byte> huge = encodeResolutionLevel(*s_level);
+  const std::uint32_t max = 0xffffffffU;
+  for (std::size_t field = 12; field < 32; field += 4) std::memcpy(huge.data() + field, &max, 4);
+  EXPECT_EQ(decodeResolutionLevel(huge).status, LevelDecodeStatus::Truncated);
+}
+
+TEST_F(ResolutionLevelTest, IndicesOutOfRangeAreBadContentEvenWithAValidChecksum) {
+  ResolutionLevel broken = *s_level;
+  broken.F(0, 1) = static_cast<int>(broken.restV.rows());
+  EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(broken)).status, LevelDecodeStatus::BadContent);
+}
+
+}  // namespace
+}  // namespace sc::spectral
