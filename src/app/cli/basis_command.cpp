@@ -1,72 +1,17 @@
 #include "app/cli/basis_command.h"
 
+#include "app/cli/cli_common.h"
 #include "app/cli/peak_memory.h"
-#include "model/cache_location.h"
-#include "model/mesh_loader.h"
-#include "spectral/basis_pipeline.h"
 
-#include <QCommandLineParser>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QTextStream>
 
-#include <chrono>
 #include <optional>
 
 namespace sc::app {
 namespace {
-
-struct BasisArguments {
-  QString meshPath;
-  int m = 100;
-  std::optional<std::filesystem::path> cacheDir;
-  bool json = false;
-};
-
-/// Parses the subcommand's arguments; returns std::nullopt (after printing why) on bad usage or --help.
-std::optional<BasisArguments> parseArguments(const QStringList& arguments, int& exitCode) {
-  QCommandLineParser parser;
-  parser.setApplicationDescription(QStringLiteral("Compute the manifold harmonic basis of a mesh."));
-  parser.addHelpOption();
-  parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
-  const QCommandLineOption mOption(QStringLiteral("m"), QStringLiteral("number of harmonics (default 100)"),
-                                   QStringLiteral("count"), QStringLiteral("100"));
-  const QCommandLineOption noCache(QStringLiteral("no-cache"), QStringLiteral("always solve; neither read nor write"));
-  const QCommandLineOption cacheDir(QStringLiteral("cache-dir"), QStringLiteral("cache folder (default: per user)"),
-                                    QStringLiteral("dir"));
-  const QCommandLineOption json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout"));
-  parser.addOptions({mOption, noCache, cacheDir, json});
-
-  QTextStream err(stderr);
-  exitCode = 2;
-  if (!parser.parse(QStringList{QStringLiteral("shapecast-cli basis")} + arguments)) {
-    err << "shapecast-cli basis: " << parser.errorText() << "\n\n" << parser.helpText();
-    return std::nullopt;
-  }
-  if (parser.isSet(QStringLiteral("help"))) {
-    QTextStream(stdout) << parser.helpText();
-    exitCode = 0;
-    return std::nullopt;
-  }
-  if (parser.positionalArguments().size() != 1) {
-    err << "shapecast-cli basis: expected exactly one MESH argument\n\n" << parser.helpText();
-    return std::nullopt;
-  }
-  BasisArguments out;
-  out.meshPath = parser.positionalArguments().constFirst();
-  bool numeric = false;
-  out.m = parser.value(mOption).toInt(&numeric);
-  if (!numeric || out.m < 1) {
-    err << "shapecast-cli basis: --m must be a positive integer\n";
-    return std::nullopt;
-  }
-  out.json = parser.isSet(json);
-  if (!parser.isSet(noCache))
-    out.cacheDir = parser.isSet(cacheDir) ? std::filesystem::path(parser.value(cacheDir).toStdString())
-                                          : model::basisCacheDirectory();
-  return out;
-}
 
 QJsonObject cleaningJson(const model::MeshCleanReport& r) {
   return {{QStringLiteral("merged_duplicate_vertices"), r.mergedDuplicateVertices},
@@ -78,12 +23,12 @@ QJsonObject cleaningJson(const model::MeshCleanReport& r) {
           {QStringLiteral("boundary_loops"), r.boundaryLoops}};
 }
 
-QJsonObject report(const BasisArguments& args, const model::LoadedMesh& mesh, const spectral::BasisComputation& c,
+QJsonObject report(const QString& meshPath, const model::LoadedMesh& mesh, const spectral::BasisComputation& c,
                    double loadSeconds) {
   const spectral::HarmonicBasis& basis = c.result.basis;
   QJsonArray eigenvalues;
   for (double lambda : basis.eigenvalues) eigenvalues.append(lambda);
-  return {{QStringLiteral("mesh"), args.meshPath},
+  return {{QStringLiteral("mesh"), meshPath},
           {QStringLiteral("vertices"), static_cast<qint64>(mesh.V.rows())},
           {QStringLiteral("faces"), static_cast<qint64>(mesh.F.rows())},
           {QStringLiteral("components"), mesh.cleaning.components},
@@ -139,34 +84,21 @@ void printText(const QJsonObject& r) {
 }  // namespace
 
 int runBasisCommand(const QStringList& arguments) {
-  int exitCode = 0;
-  const std::optional<BasisArguments> args = parseArguments(arguments, exitCode);
-  if (!args) return exitCode;
+  SubcommandParser command(QStringLiteral("basis"), QStringLiteral("Compute the manifold harmonic basis of a mesh."));
+  int exitCode = kExitOk;
+  if (!command.parse(arguments, exitCode)) return exitCode;
 
-  QTextStream err(stderr);
-  const auto loadStart = std::chrono::steady_clock::now();
-  const model::MeshLoadResult loaded = model::loadMesh(args->meshPath.toStdString());
-  const double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
-  if (const auto* error = std::get_if<model::MeshError>(&loaded)) {
-    err << "shapecast-cli basis: " << QString::fromStdString(error->message) << '\n';
-    return 1;
-  }
-  const auto& mesh = std::get<model::LoadedMesh>(loaded);
-
-  spectral::BasisOptions options;
-  options.m = args->m;
-  const spectral::BasisComputation computation = spectral::basisForMesh(mesh.V, mesh.F, options, args->cacheDir);
-  if (!computation.result.ok()) {
-    err << "shapecast-cli basis: " << spectral::toString(computation.result.status) << ": "
-        << QString::fromStdString(computation.result.message) << '\n';
-    return 3;
-  }
-  const QJsonObject r = report(*args, mesh, computation, loadSeconds);
-  if (args->json)
+  double loadSeconds = 0.0;
+  const std::optional<model::LoadedMesh> mesh = loadMeshOrReport(command, command.meshPath(), &loadSeconds);
+  if (!mesh) return kExitMeshError;
+  const spectral::BasisComputation computation = basisOrReport(command, *mesh);
+  if (!computation.result.ok()) return kExitBasisError;
+  const QJsonObject r = report(command.meshPath(), *mesh, computation, loadSeconds);
+  if (command.basisArguments().json)
     QTextStream(stdout) << QJsonDocument(r).toJson(QJsonDocument::Compact) << '\n';
   else
     printText(r);
-  return 0;
+  return kExitOk;
 }
 
 }  // namespace sc::app

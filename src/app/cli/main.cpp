@@ -1,6 +1,7 @@
 // shapecast-cli: headless ShapeCast tool. Usage: shapecast-cli <subcommand> [options]; see --help.
 
 #include "app/cli/basis_command.h"
+#include "app/cli/deform_command.h"
 
 #include <QCoreApplication>
 #include <QTextStream>
@@ -13,6 +14,9 @@ constexpr const char* kUsage =
     "subcommands:\n"
     "  basis MESH [--m 100] [--no-cache] [--cache-dir DIR] [--json]\n"
     "      compute (or load from the cache) the manifold harmonic basis of MESH and print its figures\n"
+    "  deform MESH --script DRAG.json [--mode linear|rigid] [--out FILE] [--m 100] [--no-cache] [--cache-dir DIR]\n"
+    "         [--json]\n"
+    "      replay a drag script (docs/drag-script.md) with the spectral deformer and write the deformed mesh\n"
     "\n"
     "run 'shapecast-cli <subcommand> --help' for the options of a subcommand\n";
 
@@ -26,6 +30,7 @@ int main(int argc, char* argv[]) {
   arguments.removeFirst();
   const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();
   if (subcommand == QLatin1String("basis")) return sc::app::runBasisCommand(arguments);
+  if (subcommand == QLatin1String("deform")) return sc::app::runDeformCommand(arguments);
 
   QTextStream err(stderr);
   if (subcommand.isEmpty() || subcommand == QLatin1String("--help") || subcommand == QLatin1String("-h")) {

@@ -1,41 +1,21 @@
 // End-to-end tests of `shapecast-cli basis`: the real executable on real files.
 
-#include "test_meshes.h"
+#include "cli_test_support.h"
 
 #include <gtest/gtest.h>
 #include <QDir>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
-#include <QProcess>
 #include <QTemporaryDir>
 
 #include <cmath>
-#include <fstream>
 
 namespace {
 
-struct CliRun {
-  int exitCode = -1;
-  QByteArray out, err;
-};
-
-CliRun runCli(const QStringList& arguments) {
-  QProcess process;
-  process.start(QStringLiteral(SHAPECAST_CLI), arguments);
-  EXPECT_TRUE(process.waitForFinished(120000));
-  return {process.exitCode(), process.readAllStandardOutput(), process.readAllStandardError()};
-}
-
-void writeOff(const QString& path, const sc::testing::GeneratedMesh& mesh) {
-  std::ofstream out(path.toStdString());
-  out << "OFF\n" << mesh.V.rows() << ' ' << mesh.F.rows() << " 0\n";
-  out.precision(17);
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
-    out << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
-  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
-    out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
-}
+using sc::testing::CliRun;
+using sc::testing::runCli;
+using sc::testing::writeOff;
 
 class BasisCommand : public ::testing::Test {
  protected:

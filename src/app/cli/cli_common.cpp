@@ -1,0 +1,85 @@
+#include "app/cli/cli_common.h"
+
+#include "model/cache_location.h"
+
+#include <QTextStream>
+
+#include <chrono>
+
+namespace sc::app {
+
+SubcommandParser::SubcommandParser(const QString& name, const QString& description)
+    : m_name(name),
+      m_m(QStringLiteral("m"), QStringLiteral("number of harmonics (default 100)"), QStringLiteral("count"),
+          QStringLiteral("100")),
+      m_noCache(QStringLiteral("no-cache"), QStringLiteral("always solve; neither read nor write")),
+      m_cacheDir(QStringLiteral("cache-dir"), QStringLiteral("cache folder (default: per user)"),
+                 QStringLiteral("dir")),
+      m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")) {
+  m_parser.setApplicationDescription(description);
+  m_parser.addHelpOption();
+  m_parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
+  m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json});
+}
+
+bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
+  QTextStream err(stderr);
+  exitCode = kExitUsage;
+  if (!m_parser.parse(QStringList{QStringLiteral("shapecast-cli ") + m_name} + arguments)) {
+    err << "shapecast-cli " << m_name << ": " << m_parser.errorText() << "\n\n" << m_parser.helpText();
+    return false;
+  }
+  if (m_parser.isSet(QStringLiteral("help"))) {
+    QTextStream(stdout) << m_parser.helpText();
+    exitCode = kExitOk;
+    return false;
+  }
+  if (m_parser.positionalArguments().size() != 1) {
+    err << "shapecast-cli " << m_name << ": expected exactly one MESH argument\n\n" << m_parser.helpText();
+    return false;
+  }
+  bool numeric = false;
+  m_basis.m = m_parser.value(m_m).toInt(&numeric);
+  if (!numeric || m_basis.m < 1) {
+    error(QStringLiteral("--m must be a positive integer"));
+    return false;
+  }
+  m_basis.json = m_parser.isSet(m_json);
+  m_basis.cacheDir.reset();
+  if (!m_parser.isSet(m_noCache))
+    m_basis.cacheDir = m_parser.isSet(m_cacheDir) ? std::filesystem::path(m_parser.value(m_cacheDir).toStdString())
+                                                  : model::basisCacheDirectory();
+  exitCode = kExitOk;
+  return true;
+}
+
+QString SubcommandParser::meshPath() const { return m_parser.positionalArguments().value(0); }
+
+void SubcommandParser::error(const QString& message) const {
+  QTextStream(stderr) << "shapecast-cli " << m_name << ": " << message << '\n';
+}
+
+std::optional<model::LoadedMesh> loadMeshOrReport(const SubcommandParser& command, const QString& path,
+                                                  double* seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  model::MeshLoadResult loaded = model::loadMesh(path.toStdString());
+  if (seconds != nullptr) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (const auto* error = std::get_if<model::MeshError>(&loaded)) {
+    command.error(QString::fromStdString(error->message));
+    return std::nullopt;
+  }
+  return std::get<model::LoadedMesh>(std::move(loaded));
+}
+
+spectral::BasisComputation basisOrReport(const SubcommandParser& command, const model::LoadedMesh& mesh) {
+  spectral::BasisOptions options;
+  options.m = command.basisArguments().m;
+  spectral::BasisComputation computation =
+      spectral::basisForMesh(mesh.V, mesh.F, options, command.basisArguments().cacheDir);
+  if (!computation.result.ok())
+    command.error(QString::fromLatin1(spectral::toString(computation.result.status)) + QStringLiteral(": ") +
+                  QString::fromStdString(computation.result.message));
+  return computation;
+}
+
+}  // namespace sc::app

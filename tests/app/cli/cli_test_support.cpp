@@ -1,0 +1,28 @@
+#include "cli_test_support.h"
+
+#include <gtest/gtest.h>
+#include <QProcess>
+
+#include <fstream>
+
+namespace sc::testing {
+
+CliRun runCli(const QStringList& arguments, const QString& workingDirectory) {
+  QProcess process;
+  if (!workingDirectory.isEmpty()) process.setWorkingDirectory(workingDirectory);
+  process.start(QStringLiteral(SHAPECAST_CLI), arguments);
+  EXPECT_TRUE(process.waitForFinished(120000));
+  return {process.exitCode(), process.readAllStandardOutput(), process.readAllStandardError()};
+}
+
+void writeOff(const QString& path, const GeneratedMesh& mesh) {
+  std::ofstream out(path.toStdString());
+  out << "OFF\n" << mesh.V.rows() << ' ' << mesh.F.rows() << " 0\n";
+  out.precision(17);
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    out << mesh.V(i, 0) << ' ' << mesh.V(i, 1) << ' ' << mesh.V(i, 2) << '\n';
+  for (Eigen::Index f = 0; f < mesh.F.rows(); ++f)
+    out << "3 " << mesh.F(f, 0) << ' ' << mesh.F(f, 1) << ' ' << mesh.F(f, 2) << '\n';
+}
+
+}  // namespace sc::testing

@@ -1,0 +1,25 @@
+#pragma once
+// Helpers of the shapecast-cli end-to-end tests: run the real executable, write generated meshes as OFF files.
+
+#include "test_meshes.h"
+
+#include <QByteArray>
+#include <QString>
+#include <QStringList>
+
+namespace sc::testing {
+
+/// What one run of shapecast-cli produced.
+struct CliRun {
+  int exitCode = -1;
+  QByteArray out, err;
+};
+
+/// Runs the shapecast-cli executable (SHAPECAST_CLI) with `arguments` in `workingDirectory` (empty: this process's
+/// current folder) and waits up to two minutes for it.
+CliRun runCli(const QStringList& arguments, const QString& workingDirectory = {});
+
+/// Writes `mesh` as an ASCII OFF file with 17 significant digits.
+void writeOff(const QString& path, const GeneratedMesh& mesh);
+
+}  // namespace sc::testing
