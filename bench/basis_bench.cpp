@@ -4,8 +4,8 @@
 // Prints a table and writes it, with the machine description, into docs/benchmarks.md (section basis-bench).
 // Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR] [--out FILE]
 
-#include "bench/machine_info.h"
-#include "bench/markdown_section.h"
+#include "app/report/machine_info.h"
+#include "app/report/markdown_section.h"
 
 #include <QCommandLineParser>
 #include <QCoreApplication>
@@ -112,9 +112,9 @@ int main(int argc, char* argv[]) {
                            .arg(m)
                            .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
                            .arg(parser.value(repeats))
-                           .arg(sc::bench::machineDescription(), tableOf(figures));
+                           .arg(sc::report::machineDescription(), tableOf(figures));
   log << '\n' << body;
-  if (!sc::bench::writeMarkdownSection(parser.value(out), QStringLiteral("basis-bench"), body)) return 1;
+  if (!sc::report::writeMarkdownSection(parser.value(out), QStringLiteral("basis-bench"), body)) return 1;
   log << "written to " << parser.value(out) << '\n';
   return 0;
 }

@@ -2,7 +2,7 @@
 // on random data of a display level's size; median over many frames, for 1 and 2 threads.
 // Usage: shapecast-bench-kernel [vertices = 100000] [m = 100] [frames = 200]
 
-#include "bench/machine_info.h"
+#include "app/report/machine_info.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <algorithm>
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   }
   const sc::spectral::RowMatrixXf K = sc::spectral::RowMatrixXf::Random(n, m);
   const std::vector<float> rest = sc::spectral::interleavedPositions(Eigen::MatrixXd::Random(n, 3));
-  std::printf("machine   %s\n", qPrintable(sc::bench::machineDescription()));
+  std::printf("machine   %s\n", qPrintable(sc::report::machineDescription()));
   std::printf("kernel    X' = X^' + K Z, n' = %ld, m = %ld, K = %.1f MB float32 row-major, %d frames\n", n, m,
               4.0 * static_cast<double>(n * m) / 1e6, frames);
   for (int threads : {1, 2}) {

@@ -2,6 +2,7 @@
 
 #include "app/cli/cli_common.h"
 #include "app/cli/drag_script.h"
+#include "app/cli/level_output.h"
 #include "model/mesh_writer.h"
 #include "spectral/hausdorff.h"
 #include "spectral/spectral_deformer.h"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 
 namespace sc::app {
 namespace {
@@ -25,14 +27,36 @@ struct DeformArguments {
   DragScript script;
   spectral::DeformationMode mode = spectral::DeformationMode::Linear;
   QString out;
+  int level = 0;  ///< --level: 0 full resolution, 1–3 the default ladder, > 3 a vertex count.
 };
 
-/// Reads --script, --mode and --out (after command.parse()); prints why and returns nullopt on bad usage or a bad
-/// script (exit code 2).
-std::optional<DeformArguments> deformArguments(const SubcommandParser& command, const QCommandLineOption& script,
-                                               const QCommandLineOption& mode, const QCommandLineOption& out) {
+/// The deform-specific options.
+struct DeformOptions {
+  QCommandLineOption script{QStringLiteral("script"), QStringLiteral("drag script (docs/drag-script.md)"),
+                            QStringLiteral("file")};
+  QCommandLineOption mode{QStringLiteral("mode"), QStringLiteral("linear or rigid (default linear)"),
+                          QStringLiteral("mode"), QStringLiteral("linear")};
+  QCommandLineOption out{QStringLiteral("out"),
+                         QStringLiteral("output mesh (.off .obj .ply .stl; default MESH-deformed.off)"),
+                         QStringLiteral("file")};
+  QCommandLineOption level{QStringLiteral("level"),
+                           QStringLiteral("output resolution: 0 full (default), 1/2/3 = 50/20/5 % of the vertices, "
+                                          "> 3 a vertex count"),
+                           QStringLiteral("N"), QStringLiteral("0")};
+};
+
+/// Reads --script, --mode, --out and --level (after command.parse()); prints why and returns nullopt on bad usage or
+/// a bad script (exit code 2).
+std::optional<DeformArguments> deformArguments(const SubcommandParser& command, const DeformOptions& options) {
   const QCommandLineParser& parser = command.parser();
+  const QCommandLineOption &script = options.script, &mode = options.mode, &out = options.out;
   DeformArguments args;
+  bool levelOk = false;
+  args.level = parser.value(options.level).toInt(&levelOk);
+  if (!levelOk || args.level < 0) {
+    command.error(QStringLiteral("--level must be an integer ≥ 0, not '%1'").arg(parser.value(options.level)));
+    return std::nullopt;
+  }
   const QString modeName = parser.value(mode);
   if (modeName == QLatin1String("rigid"))
     args.mode = spectral::DeformationMode::Rigid;
@@ -77,10 +101,11 @@ double microseconds(std::chrono::steady_clock::duration d) {
 }
 
 /// Runs every frame of the script; nullopt if the deformer rejects the constraint set (not expected: the set comes
-/// from resolveConstraints(), which checks every index).
+/// from resolveConstraints(), which checks every index). `onFrame`, if set, gets each frame's Z after its timed solve.
 std::optional<FrameRun> replay(const DragScript& script, const spectral::ConstraintSet& constraints,
                                const spectral::BasisComputation& basis, const Eigen::MatrixXd& rest,
-                               spectral::DeformationMode mode) {
+                               spectral::DeformationMode mode,
+                               const std::function<void(const Eigen::MatrixXd&)>& onFrame) {
   spectral::DeformerOptions options;
   options.mode = mode;
   spectral::SpectralDeformer deformer(basis.result.basis, basis.operators, rest, options);
@@ -97,6 +122,7 @@ std::optional<FrameRun> replay(const DragScript& script, const spectral::Constra
     const auto start = std::chrono::steady_clock::now();
     deformer.solve(transforms);
     solveUs.push_back(microseconds(std::chrono::steady_clock::now() - start));
+    if (onFrame) onFrame(deformer.coefficients());
   }
   run.frames = static_cast<int>(solveUs.size());
   run.firstSolveUs = solveUs.front();
@@ -165,6 +191,10 @@ void printText(const QJsonObject& r) {
   line("residual_max_anchor", number(residual[QStringLiteral("max_anchor")], 3) + QStringLiteral(" (") +
                                   number(residual[QStringLiteral("max_anchor_pct")], 3) + QStringLiteral(" %)"));
   line("max_displacement_pct", number(r[QStringLiteral("max_displacement_pct")]));
+  if (!r.contains(QStringLiteral("level"))) return;
+  for (const char* key : {"level", "level_vertices", "level_triangles"}) line(key, number(r[QLatin1String(key)], 12));
+  for (const char* key : {"level_build_s", "client_frame_us", "hausdorff_pct"})
+    line(key, number(r[QLatin1String(key)]));
 }
 
 }  // namespace
@@ -172,17 +202,11 @@ void printText(const QJsonObject& r) {
 int runDeformCommand(const QStringList& arguments) {
   SubcommandParser command(QStringLiteral("deform"),
                            QStringLiteral("Replay a drag script on a mesh with the spectral deformer."));
-  const QCommandLineOption script(QStringLiteral("script"), QStringLiteral("drag script (docs/drag-script.md)"),
-                                  QStringLiteral("file"));
-  const QCommandLineOption mode(QStringLiteral("mode"), QStringLiteral("linear or rigid (default linear)"),
-                                QStringLiteral("mode"), QStringLiteral("linear"));
-  const QCommandLineOption out(QStringLiteral("out"),
-                               QStringLiteral("output mesh (.off .obj .ply .stl; default MESH-deformed.off)"),
-                               QStringLiteral("file"));
-  command.parser().addOptions({script, mode, out});
+  const DeformOptions options;
+  command.parser().addOptions({options.script, options.mode, options.out, options.level});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
-  const std::optional<DeformArguments> args = deformArguments(command, script, mode, out);
+  const std::optional<DeformArguments> args = deformArguments(command, options);
   if (!args) return kExitUsage;
 
   const std::optional<model::LoadedMesh> mesh = loadMeshOrReport(command, command.meshPath());
@@ -195,17 +219,30 @@ int runDeformCommand(const QStringList& arguments) {
   const spectral::BasisComputation basis = basisOrReport(command, *mesh);
   if (!basis.result.ok()) return kExitBasisError;
 
+  // === optional display level: decimated rest mesh, P and K = P·H, reconstructed per frame as a client would
+  std::optional<LevelOutput> level;
+  if (const std::optional<int> target = levelVertexTarget(args->level, static_cast<int>(mesh->V.rows())))
+    level.emplace(mesh->V, mesh->F, basis.result.basis.vectors, args->level, *target);
+  std::function<void(const Eigen::MatrixXd&)> onFrame;
+  if (level) onFrame = [&level](const Eigen::MatrixXd& Z) { level->frame(Z); };
+
   const auto& set = std::get<spectral::ConstraintSet>(constraints);
-  const std::optional<FrameRun> run = replay(args->script, set, basis, mesh->V, args->mode);
+  const std::optional<FrameRun> run = replay(args->script, set, basis, mesh->V, args->mode, onFrame);
   if (!run) {
     command.error(QStringLiteral("the deformer rejected the constraint set"));
     return kExitUsage;
   }
-  if (const auto error = model::writeMesh(args->out.toStdString(), run->X, mesh->F)) {
+  const auto error = level ? model::writeMesh(args->out.toStdString(), level->positions(), level->faces())
+                           : model::writeMesh(args->out.toStdString(), run->X, mesh->F);
+  if (error) {
     command.error(QString::fromStdString(error->message));
     return kExitWriteError;
   }
-  const QJsonObject r = report(command, *args, *mesh, set, basis, *run);
+  QJsonObject r = report(command, *args, *mesh, set, basis, *run);
+  if (level) {
+    const QJsonObject levelReport = level->report(run->X, spectral::boundingBoxDiagonal(mesh->V));
+    for (auto it = levelReport.begin(); it != levelReport.end(); ++it) r.insert(it.key(), it.value());
+  }
   if (command.basisArguments().json)
     QTextStream(stdout) << QJsonDocument(r).toJson(QJsonDocument::Compact) << '\n';
   else

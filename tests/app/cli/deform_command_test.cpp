@@ -116,6 +116,43 @@ TEST_F(DeformCommand, WritesEveryFormatByExtension) {
   }
 }
 
+TEST_F(DeformCommand, LevelWritesTheLowResolutionMeshCloseToTheMappedFullResult) {
+  const QString out = m_dir.filePath(QStringLiteral("level2.off"));
+  const CliRun run = runCli(deformArgs(m_script, {QStringLiteral("--level"), QStringLiteral("2"),
+                                                  QStringLiteral("--out"), out, QStringLiteral("--json")}));
+  ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
+  const QJsonObject r = QJsonDocument::fromJson(run.out).object();
+  EXPECT_EQ(r[QStringLiteral("level")].toInt(), 2);
+  const int target = 128;  // 20 % of the torus's 640 vertices
+  const int vertices = r[QStringLiteral("level_vertices")].toInt();
+  EXPECT_NEAR(vertices, target, 0.01 * target + 1);
+  EXPECT_GT(r[QStringLiteral("level_triangles")].toInt(), 0);
+  EXPECT_GT(r[QStringLiteral("level_build_s")].toDouble(), 0.0);
+  EXPECT_GT(r[QStringLiteral("client_frame_us")].toDouble(), 0.0);
+  EXPECT_GE(r[QStringLiteral("hausdorff_pct")].toDouble(), 0.0);
+  EXPECT_LE(r[QStringLiteral("hausdorff_pct")].toDouble(), 0.5) << "X' is P·X up to X̂' − P·X̂ and float32";
+
+  const sc::model::MeshLoadResult loaded = sc::model::loadMesh(out.toStdString());
+  ASSERT_TRUE(std::holds_alternative<sc::model::LoadedMesh>(loaded));
+  const auto& low = std::get<sc::model::LoadedMesh>(loaded);
+  EXPECT_EQ(low.V.rows(), vertices) << "the written mesh is the level";
+  EXPECT_EQ(low.F.rows(), r[QStringLiteral("level_triangles")].toInt());
+  const double diagonal = sc::spectral::boundingBoxDiagonal(m_torus.V);
+  EXPECT_GT(low.V.col(2).maxCoeff(), m_torus.V.col(2).maxCoeff() + 0.05 * diagonal) << "the handle was lifted";
+
+  const CliRun explicitCount =
+      runCli(deformArgs(m_script, {QStringLiteral("--level"), QStringLiteral("320"), QStringLiteral("--out"), out}));
+  ASSERT_EQ(explicitCount.exitCode, 0) << explicitCount.err.toStdString();
+  for (const char* key : {"level_vertices", "level_build_s", "client_frame_us", "hausdorff_pct"})
+    EXPECT_TRUE(explicitCount.out.contains(key)) << key;
+  const sc::model::MeshLoadResult half = sc::model::loadMesh(out.toStdString());
+  ASSERT_TRUE(std::holds_alternative<sc::model::LoadedMesh>(half));
+  EXPECT_NEAR(std::get<sc::model::LoadedMesh>(half).V.rows(), 320, 0.01 * 320 + 1) << "N > 3 is a vertex count";
+
+  for (const char* bad : {"-1", "two"})
+    EXPECT_EQ(runCli(deformArgs(m_script, {QStringLiteral("--level"), QLatin1String(bad)})).exitCode, 2) << bad;
+}
+
 TEST_F(DeformCommand, ErrorsHaveExitCodesAndMessages) {
   const CliRun badKey =
       runCli(deformArgs(writeScript(QStringLiteral("typo.json"),

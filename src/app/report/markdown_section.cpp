@@ -1,8 +1,8 @@
-#include "bench/markdown_section.h"
+#include "app/report/markdown_section.h"
 
 #include <QFile>
 
-namespace sc::bench {
+namespace sc::report {
 
 bool writeMarkdownSection(const QString& file, const QString& name, const QString& body) {
   QString text;
@@ -22,4 +22,4 @@ bool writeMarkdownSection(const QString& file, const QString& name, const QStrin
   return out.write(text.toUtf8()) >= 0;
 }
 
-}  // namespace sc::bench
+}  // namespace sc::report

@@ -3,9 +3,9 @@
 
 #include <QString>
 
-namespace sc::bench {
+namespace sc::report {
 
 /// "CPU model, N logical cores, X GiB RAM, kernel K" read from /proc and uname. Cost: a few small file reads.
 QString machineDescription();
 
-}  // namespace sc::bench
+}  // namespace sc::report

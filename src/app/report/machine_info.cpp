@@ -1,11 +1,11 @@
-#include "bench/machine_info.h"
+#include "app/report/machine_info.h"
 
 #include <QFile>
 #include <QRegularExpression>
 #include <QSysInfo>
 #include <QThread>
 
-namespace sc::bench {
+namespace sc::report {
 namespace {
 
 /// The first value of "key : value" in a /proc file, or an empty string.
@@ -31,4 +31,4 @@ QString machineDescription() {
       .arg(QSysInfo::kernelType(), QSysInfo::kernelVersion());
 }
 
-}  // namespace sc::bench
+}  // namespace sc::report
