@@ -3,11 +3,13 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/MixedDecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdlib>
 #include <numeric>
 
 namespace sc::model {
@@ -18,7 +20,17 @@ struct DoubleTraits : public OpenMesh::DefaultTraits {
   using Normal = OpenMesh::Vec3d;
 };
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
-using Decimater = OpenMesh::Decimater::DecimaterT<Mesh>;
+using Decimater = OpenMesh::Decimater::MixedDecimaterT<Mesh>;
+
+/// Large meshes use Wu & Kobbelt's multiple-choice decimation (OpenMesh's MixedDecimaterT) for the first
+/// kRandomShare of the collapses, each the best of kSamples random candidates, then the exact priority queue for the
+/// rest. Measured on the 100k dragon to 5%: 1.5–1.7 s instead of 3.4 s, within the same 2% distance tolerance. On
+/// coarse meshes every collapse matters and the random choice loses too much shape, so below
+/// kMultipleChoiceMinVertices the queue does all collapses (share 0).
+constexpr std::size_t kMultipleChoiceMinVertices = 50000;
+constexpr float kRandomShare = 0.9f;
+constexpr std::size_t kSamples = 8;
+constexpr unsigned kRandomSeed = 1;  // OpenMesh draws its candidates with rand(): seeded for repeatable levels
 
 /// ModQuadricT plus Garland–Heckbert boundary constraints: each boundary edge adds, to both its vertices, the
 /// quadric of the plane through the edge perpendicular to its face, weighted by kBoundaryWeight·length². Without
@@ -150,6 +162,9 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
   decimater.module(quadric).unset_max_err();
   const bool ready = decimater.initialize();
   assert(ready && "a decimater with one priority module always initialises");
+  const float randomShare = mesh.n_vertices() >= kMultipleChoiceMinVertices ? kRandomShare : 0.0f;
+  decimater.set_samples(kSamples);
+  std::srand(kRandomSeed);
   std::vector<std::size_t> order(targets.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return targets[a] > targets[b]; });
@@ -159,7 +174,7 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
   for (std::size_t i : order) {
     assert(targets[i] >= 3 && "a level needs at least 3 vertices");
     const auto target = static_cast<std::size_t>(targets[i]);
-    if (ready && alive > target) alive -= decimater.decimate(alive - target);
+    if (ready && alive > target) alive -= decimater.decimate(alive - target, randomShare);
     levels[i] = extract(mesh);
     levels[i].droppedFaces = dropped;
     levels[i].targetVertices = targets[i];

@@ -92,6 +92,7 @@ bool measureTable1Row(const std::string& name, const model::LoadedMesh& mesh, co
   const auto levelStart = Clock::now();
   const int target = std::max(4, static_cast<int>(options.lowFraction * row.verticesFull));
   const model::DecimatedMesh low = model::decimateMesh(mesh.V, mesh.F, target);
+  row.decimationSeconds = secondsSince(levelStart);
   const spectral::ResolutionLevel level =
       spectral::resolutionLevel(mesh.V, mesh.F, basis.result.basis.vectors, low.V, low.F);
   row.levelBuildSeconds = secondsSince(levelStart);

@@ -15,6 +15,7 @@ struct Table1Row {
   double precomputeFullSeconds = 0;  ///< operators + basis (no cache).
   double precomputeLowSeconds = 0;   ///< the above + decimation + barycentric map P + K = P·H.
   double levelBuildSeconds = 0;      ///< decimation + P + K alone.
+  double decimationSeconds = 0;      ///< the decimation part of levelBuildSeconds.
   double serverFrameSeconds = 0;  ///< one drag frame: right-hand side + back-substitution (handle ≤ 2000 vertices).
   double constraintChangeSeconds = 0;  ///< forming and factoring the m×m system (handle ≤ 3000 vertices).
   double clientFullSeconds = 0;        ///< X̂ + H·Z in float32 on one thread, full resolution.
