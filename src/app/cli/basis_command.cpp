@@ -94,10 +94,7 @@ int runBasisCommand(const QStringList& arguments) {
   const spectral::BasisComputation computation = basisOrReport(command, *mesh);
   if (!computation.result.ok()) return kExitBasisError;
   const QJsonObject r = report(command.meshPath(), *mesh, computation, loadSeconds);
-  if (command.basisArguments().json)
-    QTextStream(stdout) << QJsonDocument(r).toJson(QJsonDocument::Compact) << '\n';
-  else
-    printText(r);
+  printReport(command, r, printText);
   return kExitOk;
 }
 

@@ -2,6 +2,7 @@
 
 #include "model/cache_location.h"
 
+#include <QJsonDocument>
 #include <QTextStream>
 
 #include <chrono>
@@ -80,6 +81,14 @@ spectral::BasisComputation basisOrReport(const SubcommandParser& command, const 
     command.error(QString::fromLatin1(spectral::toString(computation.result.status)) + QStringLiteral(": ") +
                   QString::fromStdString(computation.result.message));
   return computation;
+}
+
+void printReport(const SubcommandParser& command, const QJsonObject& report,
+                 const std::function<void(const QJsonObject&)>& printText) {
+  if (command.basisArguments().json)
+    QTextStream(stdout) << QJsonDocument(report).toJson(QJsonDocument::Compact) << '\n';
+  else
+    printText(report);
 }
 
 }  // namespace sc::app

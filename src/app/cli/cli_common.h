@@ -10,10 +10,12 @@
 
 #include <QCommandLineOption>
 #include <QCommandLineParser>
+#include <QJsonObject>
 #include <QString>
 #include <QStringList>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 
 namespace sc::app {
@@ -76,5 +78,10 @@ std::optional<model::LoadedMesh> loadMeshOrReport(const SubcommandParser& comman
 /// on failure prints the status and message through `command.error()`.
 /// @return the computation; `result.ok()` false means exit code kExitBasisError.
 spectral::BasisComputation basisOrReport(const SubcommandParser& command, const model::LoadedMesh& mesh);
+
+/// Prints a finished report: one compact JSON line on stdout when the command was given --json, else through
+/// `printText` (the subcommand's human-readable layout).
+void printReport(const SubcommandParser& command, const QJsonObject& report,
+                 const std::function<void(const QJsonObject&)>& printText);
 
 }  // namespace sc::app

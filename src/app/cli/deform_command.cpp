@@ -243,10 +243,7 @@ int runDeformCommand(const QStringList& arguments) {
     const QJsonObject levelReport = level->report(run->X, spectral::boundingBoxDiagonal(mesh->V));
     for (auto it = levelReport.begin(); it != levelReport.end(); ++it) r.insert(it.key(), it.value());
   }
-  if (command.basisArguments().json)
-    QTextStream(stdout) << QJsonDocument(r).toJson(QJsonDocument::Compact) << '\n';
-  else
-    printText(r);
+  printReport(command, r, printText);
   return kExitOk;
 }
 
