@@ -28,7 +28,10 @@ status=0
 cgal=(lion.off ChineseDragon-10kv.off elephant.off)
 if ! all_present "${cgal[@]}"; then
   echo "[meshes] fetching Debian package libcgal-demo"
-  if (cd "$work" && apt-get download -q libcgal-demo >/dev/null 2>&1) &&
+  download() { (cd "$work" && apt-get download -q libcgal-demo >/dev/null 2>&1); }
+  # An image with empty package lists cannot download: refresh them once (as root) and retry.
+  if ! download && [[ $(id -u) -eq 0 ]]; then apt-get update -q >/dev/null 2>&1 || true; fi
+  if (ls "$work"/libcgal-demo_*.deb >/dev/null 2>&1 || download) &&
      dpkg-deb --fsys-tarfile "$work"/libcgal-demo_*.deb | tar -xO ./usr/share/doc/libcgal-dev/data.tar.gz \
        | tar -xz -C "$work" "${cgal[@]/#/data/meshes/}"; then
     for f in "${cgal[@]}"; do cp "$work/data/meshes/$f" "$dest/$f"; done

