@@ -1,0 +1,79 @@
+#pragma once
+// Receiver side of the coefficient stream: decodes datagrams, applies them latest-wins per row, conceals rows a
+// frame did not deliver, and counts what it dropped and why. Pure: bytes in, current Z out; no sockets, no clock.
+
+#include "session/coefficient_codec.h"
+
+#include <Eigen/Core>
+#include <QtCore/QByteArray>
+#include <QtCore/QByteArrayView>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace sc::session {
+
+/// What a row that the current frame did not deliver shows.
+enum class Concealment {
+  HoldLast,  ///< the last received value (default; shared/design/spectral.md §6 recommends it).
+  ZeroFill,  ///< 0, i.e. that band falls back to the rest shape (the paper's way, kept for comparison).
+};
+
+/// Why the assembler dropped a datagram beyond the decoder's own reasons.
+enum class AssemblyDrop {
+  Late,         ///< authenticated, fresh sequence number, but for a frame older than the current one.
+  WrongLength,  ///< m differs from the assembler's m.
+  Count,
+};
+
+/// Rows of the current frame that arrived vs were concealed.
+struct FrameCounts {
+  std::uint32_t frame = 0;
+  int rowsReceived = 0;
+  int rowsConcealed = 0;
+};
+
+/// Contract: the current frame is the newest frame number seen in an accepted datagram (serial-number
+/// arithmetic on 32 bits). A datagram of a newer frame starts that frame: with ZeroFill every row is reset to 0
+/// first, with HoldLast rows keep their values. Rows a datagram carries overwrite the row (latest wins; the
+/// protected rows come in every datagram). Datagrams of older frames are dropped as Late, never mixed in.
+/// Before any datagram Z is zero (the rest shape). Memory O(m); cost per datagram: one HMAC + O(rows).
+class FrameAssembler {
+ public:
+  /// @param[in] key, peerId  this client's datagram key and peer id (see CoefficientDecoder).
+  /// @param[in] m  rows of Z (number of basis functions), ≥ 1.
+  FrameAssembler(QByteArray key, std::uint16_t peerId, int m, Concealment concealment = Concealment::HoldLast);
+
+  /// Decodes and applies one datagram; DecodeError::None when applied. Every drop is counted once: decoder
+  /// reasons in decodeDrops(); Late (returned as Stale) and WrongLength (returned as Malformed) in assemblyDrops().
+  DecodeError receive(QByteArrayView bytes);
+
+  /// m by 3, the concealed current coefficients.
+  const Eigen::MatrixXd& z() const { return m_z; }
+  FrameCounts counts() const;
+  bool hasFrame() const { return m_hasFrame; }
+
+  std::uint64_t decodeDrops(DecodeError reason) const { return m_decodeDrops[static_cast<std::size_t>(reason)]; }
+  std::uint64_t assemblyDrops(AssemblyDrop reason) const { return m_assemblyDrops[static_cast<std::size_t>(reason)]; }
+  std::uint64_t accepted() const { return m_accepted; }
+  std::uint64_t totalDrops() const;
+
+ private:
+  void startFrame(std::uint32_t frame);
+  void apply(const DecodedDatagram& datagram);
+
+  CoefficientDecoder m_decoder;
+  Concealment m_concealment;
+  Eigen::MatrixXd m_z;
+  std::vector<std::uint32_t> m_rowFrame;  ///< frame each row was last written in.
+  std::vector<bool> m_rowValid;           ///< row written at least once.
+  std::uint32_t m_frame = 0;
+  bool m_hasFrame = false;
+  std::uint64_t m_accepted = 0;
+  std::array<std::uint64_t, static_cast<std::size_t>(DecodeError::Count)> m_decodeDrops{};
+  std::array<std::uint64_t, static_cast<std::size_t>(AssemblyDrop::Count)> m_assemblyDrops{};
+  DecodedDatagram m_scratch;
+};
+
+}  // namespace sc::session
