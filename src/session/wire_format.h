@@ -40,7 +40,65 @@
 // (Replayed/Stale), which is updated only after everything else succeeded (RFC 6347 §4.1.2.6).
 //
 // ==================================================================================================================
-// control messages: see the session issue (TCP; hello, welcome, model transfer, lock protocol, ...) — to be added
+// Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
+// the handshake sequence and the rules: docs/protocol.md.
+// ==================================================================================================================
+// A TCP connection carries a stream of frames. The frame header and the type values of Hello (0x40) and Refused
+// (0x41) are frozen for every protocol version, so that a peer of any version can be refused with a reason.
+//
+//  offset size field   meaning
+//  ------ ---- ------- ---------------------------------------------------------------------------------------------
+//     0    4   length  L = 1 + body size, 1 ≤ L ≤ kMaxControlMessageSize; anything else ends the connection
+//     4    1   type    MessageType, kFirstControlType ≤ type < ControlEnd
+//     5   L−1  body    per type, below; the body must be consumed exactly (trailing bytes = malformed)
+//
+// Byte order is converted by byte_io.h (ByteWriter/ByteReader). Text is UTF-8 (validated on decode) with a
+// length prefix; "b[n]" is n raw bytes; f64 is an IEEE-754 binary64, big-endian, and must be finite. Peer ids are
+// in [1, 65535] (the datagram header field is 16 bits).
+//
+// 0x40 Hello (client → host, first message)          | 0x41 Refused (host → client, then the host closes)
+//    0  2  magic    0x5343                            |    0  1  reason   RefuseReason (1..6)
+//    2  1  version  client's kProtocolVersion; a host |    1  1  version  host's kProtocolVersion
+//               with another version refuses without  |    2  2  textLen  t ≤ kMaxTextBytes
+//               reading further (Hello may grow)      |    4  t  text     readable reason, UTF-8
+//    3  1  nameLen  n ≤ kMaxNameBytes                 |
+//    4  n  name     display name, UTF-8               |
+//
+// 0x42 Challenge (host → client, password sessions)  | 0x43 ChallengeResponse (client → host)
+//    0 32  nonce       fresh random per connection    |    0 32  mac  HMAC-SHA256(PBKDF2-HMAC-SHA256(password,
+//   32 16  salt        per-session random salt        |               salt, iterations, 32), "SC-auth1" ‖ nonce)
+//   48  4  iterations  PBKDF2 count, 1..kMaxPbkdf2Iterations
+//
+// 0x44 Welcome (host → client)                       | 0x45 ModelBegin (host → client, before a transfer's chunks)
+//    0  4  peerId       the client's id, 1..65535     |    0  4  transferId   ≥ 1, new per transfer
+//    4 32  datagramKey  per-client HMAC key (UDP)     |    4  1  kind         1 FullModel, 2 Level
+//   36 16  pathToken    sent by the client over UDP   |    5  4  vertexCount  of the mesh transferred, ≥ 1
+//   52  2  rowCount     m, 1..kMaxRows                |    9  4  totalSize    bytes, 1..kMaxTransferSize
+//   54  4  vertexCount  full-resolution mesh, ≥ 1     |   13 32  sha256       SHA-256 of all totalSize bytes
+//
+// 0x46 ModelChunk (host → client)                    | 0x47 ResolutionRequest (client → host)
+//    0  4  transferId  as in its ModelBegin           |    0  4  vertexCount  wanted level (closest); 0 = full
+//    4  4  offset      of the first byte              |
+//    8  4  totalSize   as in its ModelBegin           | 0x49 LockRequest (client → host; lock_messages.h)
+//   12  4  n           1..kMaxChunkBytes, offset + n  |    0  1  kind   LockRequestKind 1 Request 2 Release 3 Renew
+//                      ≤ totalSize                    |    1  4  epoch  LockEpoch (0 = none)
+//   16  n  bytes                                      |
+//
+// 0x48 PeerList (host → all, on every change)        | 0x4a LockNotice (host → peer(s); lock_messages.h)
+//    0  2  count  c ≤ kMaxPeers, then c entries:      |    0  1  kind      LockNoticeKind 1..4
+//          +0  4  peerId       1..65535               |    1  4  peer      PeerId
+//          +4  4  vertexCount  its resolution level   |    5  4  epoch     LockEpoch
+//          +8  1  nameLen      n ≤ kMaxNameBytes      |    9  4  queuePos  Queued: 1 = next, else 0
+//          +9  n  name         UTF-8                  |   13  1  reason    LockReleaseReason 0..2
+//
+// 0x4b Drag (lock holder → host)                     | 0x4c Keyframe (host → client: at join, exact references)
+//    0  4  epoch  the held lock's epoch, ≥ 1          |    0  4  frame     frame number of these coefficients
+//    4  2  count  h ≤ kMaxHandles, then h entries:    |    4  2  rowCount  m, 1..kMaxRows
+//          +0  2  handle     handle index             |    6 24m Z         m rows × (x, y, z) f64, row-major:
+//          +2 96  transform  3×4 affine f64, row-major|                    full precision, not quantised
+//
+// 0x4d Leave (either direction, then close): empty   | 0x4e Heartbeat (either direction, ~1 s): 0 4 sequence
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -58,8 +116,28 @@ inline constexpr std::uint8_t kProtocolVersion = 1;
 enum class MessageType : std::uint8_t {
   CoefficientFrame = 0x01,
   Count,  ///< one past the last datagram type; keep last among datagram types.
+  // Control (TCP) messages; layouts in the "control messages" section. Hello and Refused are frozen forever.
+  Hello = 0x40,
+  Refused = 0x41,
+  Challenge = 0x42,
+  ChallengeResponse = 0x43,
+  Welcome = 0x44,
+  ModelBegin = 0x45,
+  ModelChunk = 0x46,
+  ResolutionRequest = 0x47,
+  PeerList = 0x48,
+  LockRequest = 0x49,
+  LockNotice = 0x4a,
+  Drag = 0x4b,
+  Keyframe = 0x4c,
+  Leave = 0x4d,
+  Heartbeat = 0x4e,
+  ControlEnd,  ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
+inline constexpr std::uint8_t kFirstControlType = 0x40;
+static_assert(static_cast<std::uint8_t>(MessageType::Count) <= kFirstControlType);
+static_assert(static_cast<std::uint8_t>(MessageType::ControlEnd) - 1 <= kMessageTypeMask);
 
 // === size table
 inline constexpr int kDatagramHeaderSize = 18;  ///< fixed header, offsets 0..17.
@@ -70,6 +148,27 @@ inline constexpr int kValueSize = 2;           ///< one int16 coefficient.
 inline constexpr int kRowSize = 3 * kValueSize;
 inline constexpr int kMaxParts = 64;
 inline constexpr int kMaxRows = 4096;
+// control messages
+inline constexpr int kControlLengthSize = 4;                     ///< the u32 length field.
+inline constexpr int kControlHeaderSize = 5;                     ///< length + type.
+inline constexpr std::uint32_t kMaxControlMessageSize = 131072;  ///< largest L (type + body): 128 KiB.
+inline constexpr int kMaxNameBytes = 64;                         ///< display name, UTF-8 bytes.
+inline constexpr int kMaxTextBytes = 512;                        ///< refusal text, UTF-8 bytes.
+inline constexpr int kNonceSize = 32;
+inline constexpr int kSaltSize = 16;
+inline constexpr int kMacSize = 32;  ///< HMAC-SHA256, untruncated.
+inline constexpr std::uint32_t kMaxPbkdf2Iterations = 1000000;
+inline constexpr int kDatagramKeySize = 32;
+inline constexpr int kPathTokenSize = 16;
+inline constexpr int kChecksumSize = 32;  ///< SHA-256.
+inline constexpr std::uint32_t kMaxChunkBytes = 65536;
+inline constexpr std::uint32_t kMaxTransferSize = 1u << 30;  ///< 1 GiB per model transfer.
+inline constexpr int kMaxPeers = 64;
+inline constexpr int kMaxHandles = 64;
+inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
+inline constexpr int kHandleEntrySize = 2 + 12 * 8;
+static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));  // largest Keyframe
+static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                  // largest ModelChunk
 
 /// The fixed header of a coefficient datagram, host byte order.
 struct DatagramHeader {
