@@ -86,6 +86,39 @@ QString details(const std::vector<Table1Row>& rows) {
   return d;
 }
 
+/// Measures every mesh; prints the reason and returns the exit code on the first failure, else kExitOk.
+int measureAll(const QStringList& meshes, const Table1Options& options, std::vector<Table1Row>& rows) {
+  QTextStream err(stderr);
+  for (const QString& path : meshes) {
+    const model::MeshLoadResult loaded = model::loadMesh(path.toStdString());
+    if (const auto* error = std::get_if<model::MeshError>(&loaded)) {
+      err << "shapecast-cli bench table1: " << QString::fromStdString(error->message) << '\n';
+      return kExitMeshError;
+    }
+    Table1Row row;
+    std::string error;
+    if (!measureTable1Row(QFileInfo(path).fileName().toStdString(), std::get<model::LoadedMesh>(loaded), options, row,
+                          error)) {
+      err << "shapecast-cli bench table1: " << path << ": " << QString::fromStdString(error) << '\n';
+      return kExitBasisError;
+    }
+    rows.push_back(row);
+  }
+  return kExitOk;
+}
+
+QString markdownBody(const std::vector<Table1Row>& rows, const Table1Options& options) {
+  return QStringLiteral(
+             "## Table 1 of the paper, on this machine (m = %1, low resolution %2% of the "
+             "vertices)\n\nMeasured %3 with `shapecast-cli bench table1` (medians of %4 "
+             "frames; client times on one thread, float32).\n\nMachine: %5\n\n%6%7")
+      .arg(options.m)
+      .arg(options.lowFraction * 100.0)
+      .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
+      .arg(options.frames)
+      .arg(report::machineDescription(), markdownTable(rows), details(rows));
+}
+
 }  // namespace
 
 int runTable1Command(const QStringList& arguments) {
@@ -127,31 +160,8 @@ int runTable1Command(const QStringList& arguments) {
 
   const QStringList meshes = parser.positionalArguments().isEmpty() ? defaultMeshes() : parser.positionalArguments();
   std::vector<Table1Row> rows;
-  for (const QString& path : meshes) {
-    const model::MeshLoadResult loaded = model::loadMesh(path.toStdString());
-    if (const auto* error = std::get_if<model::MeshError>(&loaded)) {
-      err << "shapecast-cli bench table1: " << QString::fromStdString(error->message) << '\n';
-      return kExitMeshError;
-    }
-    Table1Row row;
-    std::string error;
-    if (!measureTable1Row(QFileInfo(path).fileName().toStdString(), std::get<model::LoadedMesh>(loaded), options, row,
-                          error)) {
-      err << "shapecast-cli bench table1: " << path << ": " << QString::fromStdString(error) << '\n';
-      return kExitBasisError;
-    }
-    rows.push_back(row);
-  }
-
-  const QString body = QStringLiteral(
-                           "## Table 1 of the paper, on this machine (m = %1, low resolution %2% of the "
-                           "vertices)\n\nMeasured %3 with `shapecast-cli bench table1` (medians of %4 "
-                           "frames; client times on one thread, float32).\n\nMachine: %5\n\n%6%7")
-                           .arg(options.m)
-                           .arg(options.lowFraction * 100.0)
-                           .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
-                           .arg(options.frames)
-                           .arg(report::machineDescription(), markdownTable(rows), details(rows));
+  if (const int code = measureAll(meshes, options, rows); code != kExitOk) return code;
+  const QString body = markdownBody(rows, options);
   if (parser.isSet(json)) {
     QJsonArray list;
     for (const Table1Row& r : rows) list.append(toJson(r));
