@@ -26,6 +26,7 @@ class ByteWriter {
   void u8(std::uint8_t value) { put(value); }
   void u16(std::uint16_t value) { put(value); }
   void u32(std::uint32_t value) { put(value); }
+  void u64(std::uint64_t value) { put(value); }
   void f64(double value) { put(std::bit_cast<std::uint64_t>(value)); }
   void bytes(QByteArrayView bytes) { m_out.append(bytes.data(), bytes.size()); }
 
@@ -46,6 +47,7 @@ class ByteReader {
   std::uint8_t u8() { return get<std::uint8_t>(); }
   std::uint16_t u16() { return get<std::uint16_t>(); }
   std::uint32_t u32() { return get<std::uint32_t>(); }
+  std::uint64_t u64() { return get<std::uint64_t>(); }
   double f64() { return std::bit_cast<double>(get<std::uint64_t>()); }
   /// `count` raw bytes (a copy); empty and failed when fewer remain or count < 0.
   QByteArray bytes(qsizetype count) {

@@ -101,12 +101,14 @@ int CoefficientEncoder::partCount(int m) const {
   return kMaxParts;
 }
 
-std::vector<QByteArray> CoefficientEncoder::encodeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z) {
+std::vector<QByteArray> CoefficientEncoder::encodeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z,
+                                                        std::uint32_t timestamp) {
   assert(Z.cols() == 3 && Z.rows() >= 1 && Z.rows() <= kMaxRows && "Z must be m by 3, 1 <= m <= kMaxRows");
   const int m = static_cast<int>(Z.rows());
   DatagramHeader header;
   header.peerId = m_peerId;
   header.frame = frame;
+  header.timestamp = timestamp;
   header.rowCount = static_cast<std::uint16_t>(m);
   header.protectedRows = static_cast<std::uint8_t>(std::clamp(m_options.protectedRows, 0, std::min(m, 255)));
   header.bandRows = static_cast<std::uint8_t>(m_options.bandRows);

@@ -14,7 +14,7 @@
 
 namespace sc::session {
 
-/// How a frame is laid out on the wire. Defaults: m = 100 gives 2 datagrams of 374 bytes, 748 bytes per frame.
+/// How a frame is laid out on the wire. Defaults: m = 100 gives 2 datagrams of 378 bytes, 756 bytes per frame.
 struct CodecOptions {
   int partsPerFrame = 2;   ///< P ≥ 1; raised automatically so that every datagram stays ≤ kMaxDatagramSize.
   int protectedRows = 10;  ///< p: rows 0..p−1 repeated in every datagram (clamped to m).
@@ -58,8 +58,9 @@ class CoefficientEncoder {
   /// entries are sent as 0. Consumes P sequence numbers.
   /// @param[in] frame  frame number (the caller increments it per frame).
   /// @param[in] Z  m by 3 displacement coefficients, 1 ≤ m ≤ kMaxRows.
+  /// @param[in] timestamp  the header's timestamp field (host clock, µs mod 2³²; wire_format.h).
   /// Cost: O(m) plus P HMACs over ≤ 1200 bytes.
-  std::vector<QByteArray> encodeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z);
+  std::vector<QByteArray> encodeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z, std::uint32_t timestamp = 0);
 
   /// Parts a frame of m rows is split into (≥ options.partsPerFrame when needed for the size limit).
   int partCount(int m) const;

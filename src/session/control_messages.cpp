@@ -94,6 +94,7 @@ void write(ByteWriter& w, const Welcome& m) {
   w.bytes(m.pathToken);
   w.u16(m.rowCount);
   w.u32(m.vertexCount);
+  w.u16(m.udpPort);
 }
 bool read(ByteReader& r, Welcome& m) {
   m.peerId = r.u32();
@@ -101,7 +102,9 @@ bool read(ByteReader& r, Welcome& m) {
   m.pathToken = r.bytes(kPathTokenSize);
   m.rowCount = r.u16();
   m.vertexCount = r.u32();
-  return inRange<PeerId>(m.peerId, 1, 0xffff) && inRange<int>(m.rowCount, 1, kMaxRows) && m.vertexCount >= 1;
+  m.udpPort = r.u16();
+  return inRange<PeerId>(m.peerId, 1, 0xffff) && inRange<int>(m.rowCount, 1, kMaxRows) && m.vertexCount >= 1 &&
+         m.udpPort >= 1;
 }
 
 void write(ByteWriter& w, const ModelBegin& m) {
@@ -242,12 +245,65 @@ bool read(ByteReader& r, Heartbeat& m) {
   return true;
 }
 
+void writeIds(ByteWriter& w, const std::vector<std::uint32_t>& ids) {
+  w.u32(static_cast<std::uint32_t>(ids.size()));
+  for (std::uint32_t id : ids) w.u32(id);
+}
+/// Reads a u32 count and that many ids; the running total must stay ≤ kMaxConstraintVertices.
+bool readIds(ByteReader& r, std::vector<std::uint32_t>& ids, std::uint32_t& total) {
+  const std::uint32_t count = r.u32();
+  if (!r.ok() || count > kMaxConstraintVertices - total || qsizetype{4} * count > r.remaining()) return false;
+  total += count;
+  ids.resize(count);
+  for (std::uint32_t& id : ids) id = r.u32();
+  return r.ok();
+}
+
+void write(ByteWriter& w, const Constraints& m) {
+  w.u32(m.epoch);
+  w.u16(static_cast<std::uint16_t>(m.groups.size()));
+  for (const auto& group : m.groups) writeIds(w, group);
+  writeIds(w, m.anchors);
+}
+bool read(ByteReader& r, Constraints& m) {
+  m.epoch = r.u32();
+  const int count = r.u16();
+  if (m.epoch == kNoEpoch || count > kMaxHandles) return false;
+  std::uint32_t total = 0;
+  m.groups.resize(static_cast<std::size_t>(count));
+  for (auto& group : m.groups) {
+    if (!readIds(r, group, total) || group.empty()) return false;
+  }
+  return readIds(r, m.anchors, total);
+}
+
+void write(ByteWriter& w, const StatsReport& m) {
+  w.u32(m.vertexCount);
+  w.u32(m.framesApplied);
+  for (std::uint64_t v : {m.received, m.lost, m.late, m.dropped}) w.u64(v);
+  for (double v : {m.lossFraction, m.jitterMs, m.payloadKbpsIn, m.wireKbpsIn, m.framesPerSecond, m.latencyP50Ms,
+                   m.latencyP99Ms, m.hdMaxPct, m.hdMeanPct, m.hdLastPct}) {
+    w.f64(v);
+  }
+}
+bool read(ByteReader& r, StatsReport& m) {
+  m.vertexCount = r.u32();
+  m.framesApplied = r.u32();
+  for (std::uint64_t* v : {&m.received, &m.lost, &m.late, &m.dropped}) *v = r.u64();
+  for (double* v : {&m.lossFraction, &m.jitterMs, &m.payloadKbpsIn, &m.wireKbpsIn, &m.framesPerSecond,
+                    &m.latencyP50Ms, &m.latencyP99Ms, &m.hdMaxPct, &m.hdMeanPct, &m.hdLastPct}) {
+    if (!readFinite(r, *v) || *v < 0.0) return false;
+  }
+  return true;
+}
+
 // === dispatch: variant alternative I has wire type kFirstControlType + I.
 
 constexpr std::size_t kControlTypeCount = std::variant_size_v<ControlMessage>;
 static_assert(kFirstControlType + kControlTypeCount == static_cast<std::size_t>(MessageType::ControlEnd));
 static_assert(std::is_same_v<std::variant_alternative_t<0, ControlMessage>, Hello>);
 static_assert(std::is_same_v<std::variant_alternative_t<14, ControlMessage>, Heartbeat>);
+static_assert(std::is_same_v<std::variant_alternative_t<16, ControlMessage>, StatsReport>);
 
 template <typename T>
 ControlDecodeResult decodeAs(QByteArrayView body) {

@@ -66,6 +66,7 @@ struct Welcome {
   QByteArray pathToken;           ///< kPathTokenSize bytes, echoed by the client over UDP to open the path
   std::uint16_t rowCount = 0;     ///< m, 1..kMaxRows
   std::uint32_t vertexCount = 0;  ///< full-resolution vertex count, ≥ 1
+  std::uint16_t udpPort = 0;      ///< host's UDP port for PathOpen datagrams, ≥ 1
   friend bool operator==(const Welcome&, const Welcome&) = default;
 };
 
@@ -134,10 +135,39 @@ struct Heartbeat {
   friend bool operator==(const Heartbeat&, const Heartbeat&) = default;
 };
 
+/// The lock holder's handle groups and anchors (vertex ids of the full-resolution mesh). Drags index the groups.
+struct Constraints {
+  LockEpoch epoch = kNoEpoch;                     ///< ≥ 1: the epoch of the lock the sender holds
+  std::vector<std::vector<std::uint32_t>> groups;  ///< ≤ kMaxHandles groups, each non-empty
+  std::vector<std::uint32_t> anchors;
+  friend bool operator==(const Constraints&, const Constraints&) = default;
+};
+
+/// A client's receive figures (issue 4 item 6), sent to the host about once a second.
+struct StatsReport {
+  std::uint32_t vertexCount = 0;  ///< the displayed level's vertex count
+  std::uint32_t framesApplied = 0;
+  std::uint64_t received = 0;  ///< distinct datagrams
+  std::uint64_t lost = 0;
+  std::uint64_t late = 0;
+  std::uint64_t dropped = 0;  ///< failed authentication or parsing
+  double lossFraction = 0.0;  ///< all doubles finite and ≥ 0
+  double jitterMs = 0.0;
+  double payloadKbpsIn = 0.0;
+  double wireKbpsIn = 0.0;
+  double framesPerSecond = 0.0;
+  double latencyP50Ms = 0.0;
+  double latencyP99Ms = 0.0;
+  double hdMaxPct = 0.0;  ///< Hausdorff distortion, % of the bbox diagonal: max, mean, last over the references
+  double hdMeanPct = 0.0;
+  double hdLastPct = 0.0;
+  friend bool operator==(const StatsReport&, const StatsReport&) = default;
+};
+
 /// Any control message. LockMessage ↔ MessageType::LockRequest, LockNotice ↔ MessageType::LockNotice.
 using ControlMessage =
     std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk, ResolutionRequest,
-                 PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave, Heartbeat>;
+                 PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave, Heartbeat, Constraints, StatsReport>;
 
 /// The wire type of a message value.
 MessageType messageType(const ControlMessage& message);

@@ -122,7 +122,8 @@ void HostHandshake::changeState(State next, HandshakeOutput& out) {
       m_peer =
           NegotiatedPeer{m_config.peerId, m_name, m_config.random(kDatagramKeySize), m_config.random(kPathTokenSize)};
       out.send.emplace_back(
-          Welcome{m_peer->peerId, m_peer->datagramKey, m_peer->pathToken, m_config.rowCount, m_config.vertexCount});
+          Welcome{m_peer->peerId, m_peer->datagramKey, m_peer->pathToken, m_config.rowCount, m_config.vertexCount,
+                  m_config.udpPort});
       break;
     }
     case State::Refused:

@@ -67,6 +67,7 @@ struct HostHandshakeConfig {
   std::uint8_t hostVersion = kProtocolVersion;
   std::uint16_t rowCount = 1;     ///< m, 1..kMaxRows
   std::uint32_t vertexCount = 1;  ///< full-resolution vertex count, ≥ 1
+  std::uint16_t udpPort = 1;      ///< the host's UDP port, ≥ 1 (sent in the Welcome)
   PeerId peerId = kNoPeer;        ///< id to assign, 1..65535
   RandomBytes random;             ///< required
   Millis timeout = kHandshakeTimeout;

@@ -31,6 +31,7 @@ void encodeDatagramHeader(const DatagramHeader& header, QByteArray& out) {
   appendBig<std::uint16_t>(out, header.rowCount);
   appendBig<std::uint8_t>(out, header.protectedRows);
   appendBig<std::uint8_t>(out, header.bandRows);
+  appendBig<std::uint32_t>(out, header.timestamp);
 }
 
 std::optional<DatagramHeader> decodeDatagramHeader(QByteArrayView bytes) {
@@ -48,6 +49,7 @@ std::optional<DatagramHeader> decodeDatagramHeader(QByteArrayView bytes) {
   header.rowCount = readBig<std::uint16_t>(at + 14);
   header.protectedRows = readBig<std::uint8_t>(at + 16);
   header.bandRows = readBig<std::uint8_t>(at + 17);
+  header.timestamp = readBig<std::uint32_t>(at + 18);
   return header;
 }
 
@@ -69,9 +71,7 @@ int expectedDatagramSize(const DatagramHeader& header) {
 
 bool headerRangesValid(const DatagramHeader& header) {
   const auto type = static_cast<std::uint8_t>(header.type);
-  const bool typeOk = (type & ~kMessageTypeMask) == 0 &&
-                      type >= static_cast<std::uint8_t>(MessageType::CoefficientFrame) &&
-                      type < static_cast<std::uint8_t>(MessageType::Count);
+  const bool typeOk = type == static_cast<std::uint8_t>(MessageType::CoefficientFrame);
   return typeOk && header.partCount >= 1 && header.partCount <= kMaxParts && header.partIndex < header.partCount &&
          header.rowCount >= 1 && header.rowCount <= kMaxRows && header.protectedRows <= header.rowCount &&
          header.bandRows >= 1;

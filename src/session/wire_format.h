@@ -27,17 +27,37 @@
 //    14    2   rowCount         m in [1, kMaxRows]: rows in the whole frame
 //    16    1   protectedRows    p in [0, m]
 //    17    1   bandRows         rows per band, ≥ 1; band b covers rows [b·bandRows, (b+1)·bandRows)
-//  ------ ---- ---------------- --------------------------------------------- 18 bytes: kDatagramHeaderSize
-//    18    B   bandExponent[B]  int8 e_b per band, B = ceil(m / bandRows); value = q · 2^e_b
-//   18+B  6·p  protected        p rows × (x, y, z) int16
+//    18    4   timestamp        host's monotonic clock in µs, mod 2³², when the input that produced this frame
+//                               arrived (the drag command; the send time for refresh frames). Receivers use
+//                               differences only (RTP-style jitter), or, on one machine, one-way latency.
+//  ------ ---- ---------------- --------------------------------------------- 22 bytes: kDatagramHeaderSize
+//    22    B   bandExponent[B]  int8 e_b per band, B = ceil(m / bandRows); value = q · 2^e_b
+//   22+B  6·p  protected        p rows × (x, y, z) int16
 //   ...   6·r  interleaved      r = number of k in [p, m) with (k − p) mod P == j, rows × (x, y, z) int16
 //   end−T  T   tag              HMAC-SHA256(perClientKey, all preceding bytes), truncated to T = kTagSize bytes
 //
-// Sizes for m = 100, p = 10, bandRows = 10, P = 2: 18 + 10 + 60 + 45·6 + 16 = 374 bytes per part, 748 per frame.
+// Sizes for m = 100, p = 10, bandRows = 10, P = 2: 22 + 10 + 60 + 45·6 + 16 = 378 bytes per part, 756 per frame.
 //
 // Receiver order of checks: length ≥ kDatagramMinSize (Truncated), tag (BadTag), magic (BadMagic), version
 // (BadVersion), type and field ranges (Malformed), exact length (Truncated/Malformed), then the replay window
 // (Replayed/Stale), which is updated only after everything else succeeded (RFC 6347 §4.1.2.6).
+//
+// ==================================================================================================================
+// Path-open datagram (UDP, client -> host), MessageType::PathOpen: opens (and keeps open, through NATs) the path
+// the host sends coefficient datagrams on. The host answers nothing; it records the datagram's source address as
+// the client's UDP address. Sent after the Welcome every 500 ms until the first coefficient datagram arrives, then
+// every kPathRefreshMs. 38 bytes:
+//
+//  offset size field      meaning
+//     0    2   magic      0x5343
+//     2    1   version    kProtocolVersion
+//     3    1   type       MessageType::PathOpen
+//     4    2   peerId     the client's id from the Welcome (selects the key on the host)
+//     6   16   token      pathToken from the Welcome
+//    22   16   tag        HMAC-SHA256(datagramKey, bytes 0..21), truncated
+//
+// Host order of checks: exact length (Truncated), peerId known (Stranger), tag (BadTag), magic/version/type
+// (Malformed), token (Stranger). Every drop is counted.
 //
 // ==================================================================================================================
 // Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
@@ -75,6 +95,8 @@
 //   36 16  pathToken    sent by the client over UDP   |    5  4  vertexCount  of the mesh transferred, ≥ 1
 //   52  2  rowCount     m, 1..kMaxRows                |    9  4  totalSize    bytes, 1..kMaxTransferSize
 //   54  4  vertexCount  full-resolution mesh, ≥ 1     |   13 32  sha256       SHA-256 of all totalSize bytes
+//   58  2  udpPort      host's UDP port (≥ 1) for     |
+//                       PathOpen datagrams            |
 //
 // 0x46 ModelChunk (host → client)                    | 0x47 ResolutionRequest (client → host)
 //    0  4  transferId  as in its ModelBegin           |    0  4  vertexCount  wanted level (closest); 0 = full
@@ -99,6 +121,18 @@
 //
 // 0x4d Leave (either direction, then close): empty   | 0x4e Heartbeat (either direction, ~1 s): 0 4 sequence
 //
+// 0x4f Constraints (lock holder → host, before drags)| 0x50 StatsReport (client → host, ~1 s)
+//    0  4  epoch   the held lock's epoch, ≥ 1         |    0  4  vertexCount      displayed level's vertices
+//    4  2  groups  g ≤ kMaxHandles, then g entries:   |    4  4  framesApplied    since join
+//          +0  4  count  c ≥ 1                        |    8  8  received         distinct datagrams (u64)
+//          +4 4c  vertex ids, u32, < vertexCount      |   16  8  lost             cumulative (u64)
+//    …  4  anchors  a, then a × u32 vertex ids        |   24  8  late             (u64)
+//    Σ ids ≤ kMaxConstraintVertices; drags index the  |   32  8  dropped          failed auth/parse (u64)
+//    groups in this order                             |   40 80  10 × f64: lossFraction, jitterMs, kbpsIn
+//                                                     |          (payload), wireKbpsIn, framesPerSecond,
+//                                                     |          latencyP50Ms, latencyP99Ms, hdMaxPct,
+//                                                     |          hdMeanPct, hdLastPct (finite, ≥ 0)
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -115,6 +149,7 @@ inline constexpr std::uint8_t kProtocolVersion = 1;
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
   CoefficientFrame = 0x01,
+  PathOpen = 0x02,
   Count,  ///< one past the last datagram type; keep last among datagram types.
   // Control (TCP) messages; layouts in the "control messages" section. Hello and Refused are frozen forever.
   Hello = 0x40,
@@ -132,6 +167,8 @@ enum class MessageType : std::uint8_t {
   Keyframe = 0x4c,
   Leave = 0x4d,
   Heartbeat = 0x4e,
+  Constraints = 0x4f,
+  StatsReport = 0x50,
   ControlEnd,  ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
@@ -140,7 +177,7 @@ static_assert(static_cast<std::uint8_t>(MessageType::Count) <= kFirstControlType
 static_assert(static_cast<std::uint8_t>(MessageType::ControlEnd) - 1 <= kMessageTypeMask);
 
 // === size table
-inline constexpr int kDatagramHeaderSize = 18;  ///< fixed header, offsets 0..17.
+inline constexpr int kDatagramHeaderSize = 22;  ///< fixed header, offsets 0..21.
 inline constexpr int kTagSize = 16;             ///< truncated HMAC-SHA256 tag.
 inline constexpr int kDatagramMinSize = kDatagramHeaderSize + kTagSize;
 inline constexpr int kMaxDatagramSize = 1200;  ///< QUIC's floor; every datagram we send is at most this.
@@ -167,8 +204,13 @@ inline constexpr int kMaxPeers = 64;
 inline constexpr int kMaxHandles = 64;
 inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
 inline constexpr int kHandleEntrySize = 2 + 12 * 8;
+inline constexpr int kPathOpenSize = 6 + kPathTokenSize + kTagSize;  ///< 38 bytes
+inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
+inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
+inline constexpr int kStatsReportSize = 40 + 10 * 8;
 static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));  // largest Keyframe
 static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                  // largest ModelChunk
+static_assert(1 + 10 + 4 * (kMaxHandles + kMaxConstraintVertices) <= kMaxControlMessageSize);  // largest Constraints
 
 /// The fixed header of a coefficient datagram, host byte order.
 struct DatagramHeader {
@@ -183,12 +225,13 @@ struct DatagramHeader {
   std::uint16_t rowCount = 0;
   std::uint8_t protectedRows = 0;
   std::uint8_t bandRows = 1;
+  std::uint32_t timestamp = 0;  ///< host clock, µs mod 2³² (see the table)
 };
 
-/// Appends the 18 header bytes, big-endian, to `out`. Cost: O(1).
+/// Appends the 22 header bytes, big-endian, to `out`. Cost: O(1).
 void encodeDatagramHeader(const DatagramHeader& header, QByteArray& out);
 
-/// Reads the 18 header bytes at the start of `bytes`; std::nullopt when fewer than 18 bytes. Checks nothing else
+/// Reads the 22 header bytes at the start of `bytes`; std::nullopt when fewer than 22 bytes. Checks nothing else
 /// (magic, version and ranges are the caller's, see validateDatagramHeader()). Cost: O(1).
 std::optional<DatagramHeader> decodeDatagramHeader(QByteArrayView bytes);
 
@@ -202,7 +245,7 @@ int interleavedRowCount(const DatagramHeader& header);
 int expectedDatagramSize(const DatagramHeader& header);
 
 /// True when the range fields are consistent: 1 ≤ P ≤ kMaxParts, j < P, 1 ≤ m ≤ kMaxRows, p ≤ m, bandRows ≥ 1,
-/// type is a known datagram type.
+/// type is CoefficientFrame.
 bool headerRangesValid(const DatagramHeader& header);
 
 /// Big-endian helpers for the payload (int16 values), used by the codec. `at` must leave room: callers check.

@@ -163,6 +163,17 @@ ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
   return level;
 }
 
+ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H) {
+  assert(H.rows() == V.rows() && "H must have one row per vertex");
+  ResolutionLevel level;
+  level.restV = V;
+  level.F = F;
+  level.P.resize(V.rows(), V.rows());
+  level.P.setIdentity();
+  level.K = H.cast<float>();
+  return level;
+}
+
 std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level) {
   BarycentricMap P = level.P;
   P.makeCompressed();

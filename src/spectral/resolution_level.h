@@ -69,6 +69,11 @@ BarycentricMap barycentricMap(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
 ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H,
                                 const Eigen::MatrixXd& lowV, const Eigen::MatrixXi& lowF, int threads = 1);
 
+/// The full resolution as a level: restV = V, F, P = identity (n by n), K = float(H). What a host sends a client
+/// that displays the full mesh, so that every client reconstructs through the same X' = X̂' + K·Z path.
+/// Cost: O(n·m).
+ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H);
+
 /// Serialises a level in the layout above. Requires every count < 2³² (asserted).
 /// Cost: O(24n' + 12f' + 12z + 4n'm) bytes written and checksummed.
 std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level);

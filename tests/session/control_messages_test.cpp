@@ -33,7 +33,7 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       Refused{RefuseReason::VersionMismatch, kProtocolVersion, QStringLiteral("host speaks version 1, you 2")},
       Challenge{filled(kNonceSize, 1), filled(kSaltSize, 2), 100000},
       ChallengeResponse{filled(kMacSize, 3)},
-      Welcome{65535, filled(kDatagramKeySize, 4), filled(kPathTokenSize, 5), 100, 22982},
+      Welcome{65535, filled(kDatagramKeySize, 4), filled(kPathTokenSize, 5), 100, 22982, 40000},
       ModelBegin{9, TransferKind::Level, 5000, 3000000, filled(kChecksumSize, 6)},
       ModelChunk{9, 65536, 3000000, filled(chunkBytes, 8)},
       ResolutionRequest{5000},
@@ -44,6 +44,8 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       keyframe,
       Leave{},
       Heartbeat{0xfffffffe},
+      Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
+      StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
   };
 }
 
@@ -80,7 +82,7 @@ TEST(ControlMessages, EveryMessageRoundTrips) {
 }
 
 TEST(ControlMessages, DocumentedSizes) {
-  EXPECT_EQ(encodeControlMessage(Welcome{1, filled(32, 0), filled(16, 0), 1, 1}).size(), 5 + 58);
+  EXPECT_EQ(encodeControlMessage(Welcome{1, filled(32, 0), filled(16, 0), 1, 1, 1}).size(), 5 + 60);
   EXPECT_EQ(encodeControlMessage(LockNotice{}).size(), 5 + 14);
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
@@ -93,8 +95,16 @@ TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
   EXPECT_TRUE(encodeControlMessage(Refused{static_cast<RefuseReason>(0), 1, {}}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(Challenge{filled(31, 0), filled(16, 0), 1}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(Challenge{filled(32, 0), filled(16, 0), kMaxPbkdf2Iterations + 1}).isEmpty());
-  EXPECT_TRUE(encodeControlMessage(Welcome{0, filled(32, 0), filled(16, 0), 1, 1}).isEmpty());
-  EXPECT_TRUE(encodeControlMessage(Welcome{65536, filled(32, 0), filled(16, 0), 1, 1}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Welcome{0, filled(32, 0), filled(16, 0), 1, 1, 1}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Welcome{1, filled(32, 0), filled(16, 0), 1, 1, 0}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Constraints{1, {{}}, {}}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Constraints{0, {{1}}, {}}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Constraints{1, {}, std::vector<std::uint32_t>(kMaxConstraintVertices + 1, 0)}).isEmpty());
+  EXPECT_EQ(encodeControlMessage(StatsReport{}).size(), 5 + kStatsReportSize);
+  StatsReport negative;
+  negative.jitterMs = -1.0;
+  EXPECT_TRUE(encodeControlMessage(negative).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Welcome{65536, filled(32, 0), filled(16, 0), 1, 1, 1}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(ModelChunk{1, 10, 10, filled(1, 0)}).isEmpty());  // past totalSize
   EXPECT_TRUE(encodeControlMessage(ModelChunk{1, 0, 10, {}}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(PeerList{std::vector<PeerInfo>(kMaxPeers + 1, PeerInfo{1, 1, {}})}).isEmpty());
@@ -196,7 +206,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
 }
 
 TEST(ControlFrameReader, UnknownTypesAreReportedAndSkipped) {
-  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x4f, 0x7f, 0x80, 0xc0, 0xff}) {
+  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x51, 0x7f, 0x80, 0xc0, 0xff}) {
     ControlFrameReader reader;
     reader.append(frame(3, static_cast<std::uint8_t>(type), "ab") + encodeControlMessage(Heartbeat{5}));
     std::vector<ControlDecodeResult> results;
@@ -225,7 +235,7 @@ TEST(ControlFuzz, RandomAndMutatedBodiesNeverCrashAndReencode) {
   int accepted = 0;
   for (int trial = 0; trial < 20000; ++trial) {
     QByteArray body;
-    auto type = static_cast<std::uint8_t>(0x40 + rng() % 15);
+    auto type = static_cast<std::uint8_t>(0x40 + rng() % 17);
     if (trial % 2 == 0) {  // random bytes of a random length
       body.resize(static_cast<qsizetype>(rng() % 80));
       for (char& byte : body) byte = static_cast<char>(rng());

@@ -98,6 +98,18 @@ TEST_F(ResolutionLevelTest, SerialisationRoundTripIsBitExact) {
   EXPECT_EQ(encodeResolutionLevel(level), bytes);
 }
 
+TEST_F(ResolutionLevelTest, FullResolutionLevelIsTheIdentityMapAndRoundTrips) {
+  const ResolutionLevel full = fullResolutionLevel(s_mesh->V, s_mesh->F, *s_H);
+  EXPECT_EQ(full.P.nonZeros(), s_mesh->V.rows());
+  EXPECT_EQ(Eigen::MatrixXd(full.P * s_mesh->V), s_mesh->V);
+  EXPECT_EQ(full.K, s_H->cast<float>());
+  const LevelDecodeResult decoded = decodeResolutionLevel(encodeResolutionLevel(full));
+  ASSERT_TRUE(decoded.ok()) << decoded.message;
+  EXPECT_EQ(decoded.level->restV, s_mesh->V);
+  EXPECT_EQ(decoded.level->F, s_mesh->F);
+  EXPECT_EQ(decoded.level->K, full.K);
+}
+
 TEST_F(ResolutionLevelTest, TruncatedLongAndCorruptedBuffersAreRejected) {
   const std::vector<std::byte> bytes = encodeResolutionLevel(*s_level);
   for (std::size_t size = 0; size < bytes.size(); ++size)

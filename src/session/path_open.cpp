@@ -1,0 +1,63 @@
+#include "session/path_open.h"
+
+#include "session/byte_io.h"
+#include "session/coefficient_codec.h"
+#include "session/password_auth.h"
+
+namespace sc::session {
+namespace {
+constexpr qsizetype kSignedSize = kPathOpenSize - kTagSize;
+}  // namespace
+
+QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, const QByteArray& key) {
+  QByteArray out;
+  ByteWriter writer(out);
+  writer.u16(kMagic);
+  writer.u8(kProtocolVersion);
+  writer.u8(static_cast<std::uint8_t>(MessageType::PathOpen));
+  writer.u16(peerId);
+  writer.bytes(token);
+  out.append(datagramTag(key, out));
+  return out;
+}
+
+const char* toString(PathOpenError error) {
+  switch (error) {
+    case PathOpenError::None:
+      return "none";
+    case PathOpenError::Truncated:
+      return "truncated";
+    case PathOpenError::Stranger:
+      return "stranger";
+    case PathOpenError::BadTag:
+      return "bad-tag";
+    case PathOpenError::Malformed:
+      return "malformed";
+    case PathOpenError::Count:
+      break;
+  }
+  return "?";
+}
+
+PathOpenResult decodePathOpen(QByteArrayView bytes,
+                              const std::function<std::optional<PathCredentials>(PeerId)>& lookup) {
+  if (bytes.size() != kPathOpenSize) return {PathOpenError::Truncated};
+  ByteReader reader(bytes);
+  const std::uint16_t magic = reader.u16();
+  const std::uint8_t version = reader.u8();
+  const std::uint8_t type = reader.u8();
+  const PeerId peer = reader.u16();
+  const QByteArray token = reader.bytes(kPathTokenSize);
+  const std::optional<PathCredentials> credentials = peer == kNoPeer ? std::nullopt : lookup(peer);
+  if (!credentials) return {PathOpenError::Stranger};
+  if (!constantTimeEquals(datagramTag(credentials->key, bytes.first(kSignedSize)), bytes.sliced(kSignedSize))) {
+    return {PathOpenError::BadTag};
+  }
+  if (magic != kMagic || version != kProtocolVersion || type != static_cast<std::uint8_t>(MessageType::PathOpen)) {
+    return {PathOpenError::Malformed};
+  }
+  if (!constantTimeEquals(token, credentials->token)) return {PathOpenError::Stranger};
+  return {PathOpenError::None, peer};
+}
+
+}  // namespace sc::session
