@@ -1,5 +1,6 @@
 #include "session/frame_assembler.h"
 
+#include <algorithm>
 #include <cassert>
 #include <numeric>
 #include <utility>
@@ -27,22 +28,38 @@ DecodeError FrameAssembler::receive(QByteArrayView bytes) {
     ++m_decodeDrops[static_cast<std::size_t>(error)];
     return error;
   }
+  ++m_authenticated;
+  m_lastHeader = m_scratch.header;
   if (m_scratch.header.rowCount != m_z.rows()) {
     ++m_assemblyDrops[static_cast<std::size_t>(AssemblyDrop::WrongLength)];
     return DecodeError::Malformed;
   }
-  if (m_hasFrame && newerFrame(m_frame, m_scratch.header.frame)) {
+  const std::uint32_t frame = m_scratch.header.frame;
+  if (m_hasFrame && (newerFrame(m_frame, frame) || (m_seeded && frame == m_frame))) {
     ++m_assemblyDrops[static_cast<std::size_t>(AssemblyDrop::Late)];
     return DecodeError::Stale;
   }
-  if (!m_hasFrame || newerFrame(m_scratch.header.frame, m_frame)) startFrame(m_scratch.header.frame);
+  if (!m_hasFrame || newerFrame(frame, m_frame)) startFrame(frame);
   apply(m_scratch);
   ++m_accepted;
   return DecodeError::None;
 }
 
+bool FrameAssembler::seed(std::uint32_t frame, const Eigen::MatrixXd& Z) {
+  if (m_accepted > 0 || Z.rows() != m_z.rows() || Z.cols() != 3) return false;
+  if (m_seeded && newerFrame(m_frame, frame)) return false;
+  m_z = Z;
+  m_frame = frame;
+  m_hasFrame = true;
+  m_seeded = true;
+  std::fill(m_rowFrame.begin(), m_rowFrame.end(), frame);
+  std::fill(m_rowValid.begin(), m_rowValid.end(), true);
+  return true;
+}
+
 void FrameAssembler::startFrame(std::uint32_t frame) {
   m_frame = frame;
+  m_seeded = false;  // the seeded frame is behind us: ordinary Late rule from now on
   m_hasFrame = true;
   if (m_concealment == Concealment::ZeroFill) m_z.setZero();
 }

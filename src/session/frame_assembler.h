@@ -49,10 +49,26 @@ class FrameAssembler {
   /// reasons in decodeDrops(); Late (returned as Stale) and WrongLength (returned as Malformed) in assemblyDrops().
   DecodeError receive(QByteArrayView bytes);
 
+  /// Starts from exact coefficients (a join Keyframe, received over TCP): Z := `Z`, current frame := `frame`,
+  /// every row valid. Datagrams of frames ≤ `frame` are then Late (docs/protocol.md: "Datagram frames with a
+  /// frame number ≤ the keyframe's are stale"). Ignored (returns false) once a datagram was applied, when `Z` is
+  /// not m by 3, or when `frame` is older than an earlier seed. Cost: O(m).
+  bool seed(std::uint32_t frame, const Eigen::MatrixXd& Z);
+
   /// m by 3, the concealed current coefficients.
   const Eigen::MatrixXd& z() const { return m_z; }
   FrameCounts counts() const;
   bool hasFrame() const { return m_hasFrame; }
+  /// The current frame number (meaningful when hasFrame()).
+  std::uint32_t frame() const { return m_frame; }
+  int rows() const { return static_cast<int>(m_z.rows()); }
+
+  /// Header of the last datagram that passed the decoder (authenticated, fresh sequence number), whether it was
+  /// then applied or dropped as Late / WrongLength; for receive statistics (sequence, timestamp). Default header
+  /// before the first one.
+  const DatagramHeader& lastHeader() const { return m_lastHeader; }
+  /// Datagrams that passed the decoder: accepted() plus the assembly drops.
+  std::uint64_t authenticated() const { return m_authenticated; }
 
   std::uint64_t decodeDrops(DecodeError reason) const { return m_decodeDrops[static_cast<std::size_t>(reason)]; }
   std::uint64_t assemblyDrops(AssemblyDrop reason) const { return m_assemblyDrops[static_cast<std::size_t>(reason)]; }
@@ -71,6 +87,9 @@ class FrameAssembler {
   std::uint32_t m_frame = 0;
   bool m_hasFrame = false;
   std::uint64_t m_accepted = 0;
+  std::uint64_t m_authenticated = 0;
+  bool m_seeded = false;  ///< the current frame came from seed(): its datagrams are Late too
+  DatagramHeader m_lastHeader;
   std::array<std::uint64_t, static_cast<std::size_t>(DecodeError::Count)> m_decodeDrops{};
   std::array<std::uint64_t, static_cast<std::size_t>(AssemblyDrop::Count)> m_assemblyDrops{};
   DecodedDatagram m_scratch;

@@ -15,8 +15,7 @@ ModelSender::ModelSender(std::uint32_t transferId, TransferKind kind, std::uint3
     : m_payload(std::move(payload)), m_chunkBytes(chunkBytes) {
   assert(!m_payload.isEmpty() && static_cast<std::uint64_t>(m_payload.size()) <= kMaxTransferSize);
   assert(transferId >= 1 && vertexCount >= 1 && chunkBytes >= 1 && chunkBytes <= kMaxChunkBytes);
-  m_begin = ModelBegin{transferId, kind, vertexCount, static_cast<std::uint32_t>(m_payload.size()),
-                       sha256(m_payload)};
+  m_begin = ModelBegin{transferId, kind, vertexCount, static_cast<std::uint32_t>(m_payload.size()), sha256(m_payload)};
 }
 
 std::optional<ModelChunk> ModelSender::nextChunk() {

@@ -137,6 +137,12 @@ ArrivalKind ReceiverStatistics::record(std::uint16_t sequence, Micros sentAt, Mi
 
 void ReceiverStatistics::recordFrame(Micros at) { m_frames.add(at, 1); }
 
+void ReceiverStatistics::clearLatency() {
+  m_latency.clear();
+  m_latencyNext = 0;
+  m_latencyMax = Micros{0};
+}
+
 void ReceiverStatistics::recordLatency(Micros latency) {
   m_latencyMax = std::max(m_latencyMax, latency);
   if (m_latency.size() < m_latencyCapacity) {

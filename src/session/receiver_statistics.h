@@ -99,6 +99,8 @@ class ReceiverStatistics {
   ReceiverReport report(Micros now);
   /// The same figures without starting a new interval (interval fields: since the last report()).
   ReceiverReport peek(Micros now) const;
+  /// Forgets the latency samples (percentiles and maximum start over), e.g. to measure one phase of a run.
+  void clearLatency();
 
  private:
   ArrivalKind classify(std::uint16_t sequence, std::int64_t& extended);

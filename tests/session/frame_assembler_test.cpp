@@ -133,4 +133,27 @@ TEST(FrameAssembler, CountsDropsByReason) {
   EXPECT_EQ(assembler.accepted(), 1u);
 }
 
+TEST(FrameAssembler, SeedIsExactAndMakesOlderFramesLate) {
+  CoefficientEncoder encoder(kKey, kPeer);
+  FrameAssembler assembler(kKey, kPeer, kM);
+  EXPECT_FALSE(assembler.seed(5, Eigen::MatrixXd::Ones(kM - 1, 3)));  // wrong shape
+  ASSERT_TRUE(assembler.seed(5, frameZ(5)));
+  EXPECT_TRUE(assembler.hasFrame());
+  EXPECT_EQ(assembler.frame(), 5u);
+  EXPECT_EQ(assembler.z(), frameZ(5));
+  EXPECT_EQ(assembler.counts().rowsReceived, kM);
+  EXPECT_FALSE(assembler.seed(4, frameZ(4)));  // older than the seed
+  for (const QByteArray& p : encoder.encodeFrame(5, frameZ(6))) EXPECT_EQ(assembler.receive(p), DecodeError::Stale);
+  EXPECT_EQ(assembler.assemblyDrops(AssemblyDrop::Late), 2u);
+  EXPECT_EQ(assembler.authenticated(), 2u);
+  EXPECT_EQ(assembler.lastHeader().frame, 5u);
+  EXPECT_EQ(assembler.lastHeader().sequence, 1u);
+  const auto parts = encoder.encodeFrame(6, frameZ(6), 1234u);
+  EXPECT_EQ(assembler.receive(parts[0]), DecodeError::None);
+  EXPECT_EQ(assembler.frame(), 6u);
+  EXPECT_EQ(assembler.lastHeader().timestamp, 1234u);
+  EXPECT_FALSE(assembler.seed(7, frameZ(7)));  // ignored once a datagram was applied
+  EXPECT_EQ(assembler.frame(), 6u);
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include "model/cache_location.h"
 
+#include <QFile>
 #include <QJsonDocument>
 #include <QTextStream>
 
@@ -9,8 +10,9 @@
 
 namespace sc::app {
 
-SubcommandParser::SubcommandParser(const QString& name, const QString& description)
+SubcommandParser::SubcommandParser(const QString& name, const QString& description, SubcommandKind kind)
     : m_name(name),
+      m_kind(kind),
       m_m(QStringLiteral("m"), QStringLiteral("number of harmonics (default 100)"), QStringLiteral("count"),
           QStringLiteral("100")),
       m_noCache(QStringLiteral("no-cache"), QStringLiteral("always solve; neither read nor write")),
@@ -19,8 +21,13 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
       m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")) {
   m_parser.setApplicationDescription(description);
   m_parser.addHelpOption();
-  m_parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
-  m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json});
+  if (kind == SubcommandKind::Mesh) {
+    m_parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
+    m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json});
+  } else {
+    m_parser.addPositionalArgument(QStringLiteral("HOST:PORT"), QStringLiteral("address and TCP port of the host"));
+    m_parser.addOption(m_json);
+  }
 }
 
 bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
@@ -35,10 +42,13 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
     exitCode = kExitOk;
     return false;
   }
+  const QString positional = m_kind == SubcommandKind::Mesh ? QStringLiteral("MESH") : QStringLiteral("HOST:PORT");
   if (m_parser.positionalArguments().size() != 1) {
-    err << "shapecast-cli " << m_name << ": expected exactly one MESH argument\n\n" << m_parser.helpText();
+    err << "shapecast-cli " << m_name << ": expected exactly one " << positional << " argument\n\n"
+        << m_parser.helpText();
     return false;
   }
+  if (m_kind == SubcommandKind::Peer) return parsePeerAddress(exitCode);
   bool numeric = false;
   m_basis.m = m_parser.value(m_m).toInt(&numeric);
   if (!numeric || m_basis.m < 1) {
@@ -52,6 +62,39 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
                                                   : model::basisCacheDirectory();
   exitCode = kExitOk;
   return true;
+}
+
+bool SubcommandParser::parsePeerAddress(int& exitCode) {
+  const QString address = m_parser.positionalArguments().constFirst();
+  const qsizetype colon = address.lastIndexOf(QLatin1Char(':'));
+  bool numeric = false;
+  const uint port = colon > 0 ? address.mid(colon + 1).toUInt(&numeric) : 0;
+  if (!numeric || port < 1 || port > 65535) {
+    error(QStringLiteral("'%1' is not HOST:PORT (e.g. 127.0.0.1:47100)").arg(address));
+    return false;
+  }
+  m_peerHost = address.left(colon);
+  if (m_peerHost.startsWith(QLatin1Char('[')) && m_peerHost.endsWith(QLatin1Char(']')))
+    m_peerHost = m_peerHost.mid(1, m_peerHost.size() - 2);  // [::1]:47100
+  m_peerPort = static_cast<quint16>(port);
+  m_basis.json = m_parser.isSet(m_json);
+  exitCode = kExitOk;
+  return true;
+}
+
+std::optional<QString> readPasswordFile(const SubcommandParser& command, const QString& path) {
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly)) {
+    command.error(QStringLiteral("cannot read the password file '%1': %2").arg(path, file.errorString()));
+    return std::nullopt;
+  }
+  QString password = QString::fromUtf8(file.readLine());
+  while (!password.isEmpty() && password.back().isSpace()) password.chop(1);
+  if (password.isEmpty()) {
+    command.error(QStringLiteral("the password file '%1' is empty (its first line is the password)").arg(path));
+    return std::nullopt;
+  }
+  return password;
 }
 
 QString SubcommandParser::meshPath() const { return m_parser.positionalArguments().value(0); }

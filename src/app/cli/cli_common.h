@@ -3,7 +3,7 @@
 // parsing with the common usage errors, and mesh loading / basis computation that report failures on stderr.
 //
 // Exit codes, the same for every subcommand: 0 ok, 1 the mesh could not be loaded, 2 bad usage (or bad input
-// file other than the mesh), 3 the basis could not be computed.
+// file other than the mesh), 3 the basis could not be computed, 4 a network/session failure.
 
 #include "model/mesh_loader.h"
 #include "spectral/basis_pipeline.h"
@@ -24,6 +24,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitMeshError = 1;
 inline constexpr int kExitUsage = 2;
 inline constexpr int kExitBasisError = 3;
+inline constexpr int kExitNetwork = 4;  ///< could not listen / connect, refused by the host, or the session failed
 
 /// The basis-related options every subcommand accepts, as parsed.
 struct BasisArguments {
@@ -32,13 +33,20 @@ struct BasisArguments {
   bool json = false;                              ///< --json: one JSON object on stdout.
 };
 
-/// A QCommandLineParser for one subcommand ("shapecast-cli NAME"), with --help, one MESH positional argument and
-/// the basis options; the subcommand adds its own options with parser().addOption() before parse().
+/// What a subcommand's one positional argument is.
+enum class SubcommandKind {
+  Mesh,  ///< MESH, plus the basis options --m, --no-cache, --cache-dir and --json
+  Peer,  ///< HOST:PORT of a running host, plus --json (no basis options: the host owns the basis)
+};
+
+/// A QCommandLineParser for one subcommand ("shapecast-cli NAME"), with --help, one positional argument (MESH or
+/// HOST:PORT) and the options of its kind; the subcommand adds its own options with parser().addOption() before
+/// parse().
 class SubcommandParser {
  public:
   /// @param name  the subcommand as typed ("basis"), used in messages.
   /// @param description  one line for --help.
-  SubcommandParser(const QString& name, const QString& description);
+  SubcommandParser(const QString& name, const QString& description, SubcommandKind kind = SubcommandKind::Mesh);
 
   QCommandLineParser& parser() { return m_parser; }
   const QCommandLineParser& parser() const { return m_parser; }
@@ -51,6 +59,9 @@ class SubcommandParser {
 
   /// The MESH argument (after a successful parse()).
   QString meshPath() const;
+  /// The HOST:PORT argument of a Peer command, split (after a successful parse(), which checks it).
+  QString peerHost() const { return m_peerHost; }
+  quint16 peerPort() const { return m_peerPort; }
 
   /// The basis options (after a successful parse()).
   const BasisArguments& basisArguments() const { return m_basis; }
@@ -59,7 +70,12 @@ class SubcommandParser {
   void error(const QString& message) const;
 
  private:
+  bool parsePeerAddress(int& exitCode);
+
   QString m_name;
+  SubcommandKind m_kind;
+  QString m_peerHost;
+  quint16 m_peerPort = 0;
   QCommandLineParser m_parser;
   QCommandLineOption m_m;
   QCommandLineOption m_noCache;
@@ -78,6 +94,11 @@ std::optional<model::LoadedMesh> loadMeshOrReport(const SubcommandParser& comman
 /// on failure prints the status and message through `command.error()`.
 /// @return the computation; `result.ok()` false means exit code kExitBasisError.
 spectral::BasisComputation basisOrReport(const SubcommandParser& command, const model::LoadedMesh& mesh);
+
+/// Reads a session password from the first line of `path` (trailing whitespace and the newline removed), so that
+/// it never appears in a process list or shell history. An unreadable or empty file prints why through
+/// `command.error()` and returns nullopt (exit code kExitUsage).
+std::optional<QString> readPasswordFile(const SubcommandParser& command, const QString& path);
 
 /// Prints a finished report: one compact JSON line on stdout when the command was given --json, else through
 /// `printText` (the subcommand's human-readable layout).

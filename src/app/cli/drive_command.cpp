@@ -1,0 +1,121 @@
+#include "app/cli/drive_command.h"
+
+#include "app/cli/drag_script.h"
+#include "app/cli/session_setup.h"
+#include "session/handle_transforms.h"
+#include "spectral/hausdorff.h"
+
+#include <QElapsedTimer>
+#include <QJsonObject>
+#include <QTextStream>
+#include <QTimer>
+
+#include <cmath>
+
+namespace sc::app {
+namespace {
+
+std::vector<std::uint32_t> toIds(const std::vector<int>& vertices) { return {vertices.begin(), vertices.end()}; }
+
+/// Plays every frame of the script at its frame rate (each frame at its scheduled time; a late timer does not
+/// shift the rest). Returns the number of drags the client accepted to send.
+int play(session::SessionClient& client, const DragScript& script, std::size_t groups, double diagonal) {
+  const std::vector<double> times = frameTimes(script);
+  QElapsedTimer clock;
+  clock.start();
+  int sent = 0;
+  for (double t : times) {
+    const double due = (t - times.front()) * 1000.0;
+    waitUntil([&] { return clock.nsecsElapsed() / 1e6 >= due || !client.lock()->canDrag(); },
+              std::chrono::milliseconds(static_cast<int>(std::ceil(due - clock.elapsed())) + 50));
+    if (!client.lock()->canDrag()) break;
+    const spectral::HandleTransform pose = transformAt(poseAt(script, t), diagonal);
+    std::vector<session::HandleTransform> handles;
+    for (std::size_t g = 0; g < groups; ++g) handles.push_back(session::toWire(static_cast<std::uint16_t>(g), pose));
+    if (client.sendDrag(std::move(handles))) ++sent;
+  }
+  return sent;
+}
+
+}  // namespace
+
+int runDriveCommand(const QStringList& arguments) {
+  SubcommandParser command(QStringLiteral("drive"),
+                           QStringLiteral("Take the edit lock of a session and play a drag script."),
+                           SubcommandKind::Peer);
+  const QCommandLineOption scriptOption(QStringLiteral("script"), QStringLiteral("drag script (docs/drag-script.md)"),
+                                        QStringLiteral("file"));
+  const QCommandLineOption name(QStringLiteral("name"), QStringLiteral("display name (default: driver)"),
+                                QStringLiteral("name"), QStringLiteral("driver"));
+  const QCommandLineOption passwordFile(QStringLiteral("password-file"),
+                                        QStringLiteral("session password: the first line of this file"),
+                                        QStringLiteral("file"));
+  command.parser().addOptions({scriptOption, name, passwordFile});
+  int exitCode = kExitOk;
+  if (!command.parse(arguments, exitCode)) return exitCode;
+  if (!command.parser().isSet(scriptOption)) {
+    command.error(QStringLiteral("--script is required"));
+    return kExitUsage;
+  }
+  const std::variant<DragScript, QString> parsed = readDragScript(command.parser().value(scriptOption));
+  if (const QString* error = std::get_if<QString>(&parsed)) {
+    command.error(*error);
+    return kExitUsage;
+  }
+  const DragScript& script = std::get<DragScript>(parsed);
+
+  session::SessionClientOptions options;
+  options.host = command.peerHost();
+  options.port = command.peerPort();
+  options.name = command.parser().value(name);
+  if (command.parser().isSet(passwordFile)) {
+    options.password = readPasswordFile(command, command.parser().value(passwordFile));
+    if (!options.password) return kExitUsage;
+  }
+  session::SessionClient client(options);
+  if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
+  const Eigen::MatrixXd& rest = client.level()->restV;
+  const std::variant<spectral::ConstraintSet, QString> resolved = resolveConstraints(script, rest);
+  if (const QString* error = std::get_if<QString>(&resolved)) {
+    command.error(*error);
+    client.leave();
+    return kExitUsage;
+  }
+  const spectral::ConstraintSet& constraints = std::get<spectral::ConstraintSet>(resolved);
+
+  QTextStream out(stderr);  // progress; stdout carries only the report (one JSON line with --json)
+  out << "waiting for the lock\n";
+  out.flush();
+  client.requestLock();
+  const bool held = waitUntil(
+      [&client] { return client.lock()->canDrag() || client.state() != session::SessionClient::State::Ready; },
+      std::chrono::minutes(10));
+  if (!held || !client.lock()->canDrag()) {
+    command.error(QStringLiteral("did not get the lock: %1").arg(client.errorText()));
+    return kExitNetwork;
+  }
+  std::vector<std::vector<std::uint32_t>> groups;
+  for (const spectral::HandleGroup& group : constraints.handles) groups.push_back(toIds(group.vertices));
+  client.sendConstraints(groups, toIds(constraints.anchors));
+  out << QStringLiteral("lock held (epoch %1): playing %2 frames\n")
+             .arg(client.lock()->heldEpoch())
+             .arg(frameTimes(script).size());
+  out.flush();
+  const int sent = play(client, script, groups.size(), spectral::boundingBoxDiagonal(rest));
+  const bool complete = sent == static_cast<int>(frameTimes(script).size());
+  client.releaseLock();
+  waitUntil([] { return false; }, std::chrono::milliseconds(100));  // let the release go out
+  client.leave();
+  const QJsonObject report{{QStringLiteral("frames_sent"), sent},
+                           {QStringLiteral("frames"), static_cast<qint64>(frameTimes(script).size())},
+                           {QStringLiteral("complete"), complete}};
+  printReport(command, report, [](const QJsonObject& r) {
+    QTextStream(stdout) << QStringLiteral("sent %1 of %2 frames\n")
+                               .arg(r[QStringLiteral("frames_sent")].toInt())
+                               .arg(r[QStringLiteral("frames")].toInt());
+  });
+  if (!complete) command.error(QStringLiteral("lost the lock during the drag"));
+  return complete ? kExitOk : kExitNetwork;
+}
+
+}  // namespace sc::app

@@ -1,0 +1,143 @@
+#include "app/cli/host_command.h"
+
+#include "app/cli/quit_on_signal.h"
+#include "app/cli/session_setup.h"
+#include "session/session_host.h"
+
+#include <QCoreApplication>
+#include <QTextStream>
+#include <QTimer>
+
+namespace sc::app {
+namespace {
+
+QString peerName(const session::PeerList& peers, session::PeerId id) {
+  for (const session::PeerInfo& peer : peers.peers) {
+    if (peer.peerId == id) return peer.name;
+  }
+  return QStringLiteral("peer %1").arg(id);
+}
+
+/// One line per peer with its latest StatsReport.
+void printPeerFigures(const session::SessionHost& host) {
+  QTextStream out(stdout);
+  const session::PeerList peers = host.peerList();
+  for (const session::PeerInfo& peer : peers.peers) {
+    const std::optional<session::StatsReport> r = host.stats(peer.peerId);
+    if (!r) continue;
+    out << QStringLiteral(
+               "  %1 (%2 vertices): %3 frames, loss %4%, jitter %5 ms, %6 kbit/s, latency p99 %7 ms, HD max %8% "
+               "mean %9%\n")
+               .arg(peer.name)
+               .arg(r->vertexCount)
+               .arg(r->framesApplied)
+               .arg(100.0 * r->lossFraction, 0, 'f', 1)
+               .arg(r->jitterMs, 0, 'f', 2)
+               .arg(r->payloadKbpsIn, 0, 'f', 1)
+               .arg(r->latencyP99Ms, 0, 'f', 2)
+               .arg(r->hdMaxPct, 0, 'f', 3)
+               .arg(r->hdMeanPct, 0, 'f', 4);
+  }
+  out.flush();
+}
+
+}  // namespace
+
+int runHostCommand(const QStringList& arguments) {
+  SubcommandParser command(QStringLiteral("host"), QStringLiteral("Host a ShapeCast session for MESH."));
+  const QCommandLineOption port(QStringLiteral("port"), QStringLiteral("TCP port (default 47100; 0 = any)"),
+                                QStringLiteral("port"), QStringLiteral("47100"));
+  const QCommandLineOption udpPort(QStringLiteral("udp-port"), QStringLiteral("UDP port (default: any)"),
+                                   QStringLiteral("port"), QStringLiteral("0"));
+  const QCommandLineOption passwordFile(QStringLiteral("password-file"),
+                                        QStringLiteral("session password: the first line of this file"),
+                                        QStringLiteral("file"));
+  const QCommandLineOption name(QStringLiteral("name"), QStringLiteral("the host's display name"),
+                                QStringLiteral("name"), QStringLiteral("host"));
+  const QCommandLineOption mode(QStringLiteral("mode"), QStringLiteral("deformation mode: linear or rigid"),
+                                QStringLiteral("mode"), QStringLiteral("linear"));
+  const QCommandLineOption referenceEvery(QStringLiteral("reference-every"),
+                                          QStringLiteral("exact reference frame every N frames (default 15)"),
+                                          QStringLiteral("N"), QStringLiteral("15"));
+  const QCommandLineOption seconds(QStringLiteral("seconds"), QStringLiteral("stop after T seconds (default: Ctrl-C)"),
+                                   QStringLiteral("T"));
+  command.parser().addOptions({port, udpPort, passwordFile, name, mode, referenceEvery, seconds});
+  int exitCode = kExitOk;
+  if (!command.parse(arguments, exitCode)) return exitCode;
+
+  session::SessionHostOptions options;
+  bool ok = false, ok2 = false, ok3 = false;
+  options.tcpPort = static_cast<quint16>(command.parser().value(port).toUInt(&ok));
+  options.udpPort = static_cast<quint16>(command.parser().value(udpPort).toUInt(&ok2));
+  options.referenceEvery = command.parser().value(referenceEvery).toInt(&ok3);
+  if (!ok || !ok2 || !ok3 || options.referenceEvery < 0) {
+    command.error(QStringLiteral("--port, --udp-port and --reference-every take non-negative integers"));
+    return kExitUsage;
+  }
+  const QString modeName = command.parser().value(mode);
+  if (modeName != QLatin1String("linear") && modeName != QLatin1String("rigid")) {
+    command.error(QStringLiteral("--mode must be linear or rigid, not '%1'").arg(modeName));
+    return kExitUsage;
+  }
+  options.deformer.mode =
+      modeName == QLatin1String("rigid") ? spectral::DeformationMode::Rigid : spectral::DeformationMode::Linear;
+  options.hostName = command.parser().value(name);
+  if (command.parser().isSet(passwordFile)) {
+    options.password = readPasswordFile(command, command.parser().value(passwordFile));
+    if (!options.password) return kExitUsage;
+  }
+  std::optional<double> stopAfter;
+  if (command.parser().isSet(seconds)) {
+    stopAfter = command.parser().value(seconds).toDouble(&ok);
+    if (!ok || *stopAfter <= 0.0) {
+      command.error(QStringLiteral("--seconds takes a positive number"));
+      return kExitUsage;
+    }
+  }
+
+  const std::shared_ptr<const session::HostModel> model = loadHostModel(command, command.meshPath(), exitCode);
+  if (!model) return exitCode;
+
+  session::SessionHost host(model, options);
+  QString error;
+  if (!host.start(&error)) {
+    command.error(QStringLiteral("cannot host: %1").arg(error));
+    return kExitNetwork;
+  }
+  QTextStream out(stdout);
+  out << QStringLiteral("hosting %1: %2 vertices, m = %3, %4 mode, TCP port %5, UDP port %6%7\n")
+             .arg(command.meshPath())
+             .arg(model->vertexCount())
+             .arg(model->rowCount())
+             .arg(modeName)
+             .arg(host.tcpPort())
+             .arg(host.udpPort())
+             .arg(options.password ? QStringLiteral(", password required") : QString());
+  out << QStringLiteral("join with: shapecast-cli join 127.0.0.1:%1 --name NAME\n").arg(host.tcpPort());
+  out.flush();
+
+  QObject::connect(&host, &session::SessionHost::logMessage, &host,
+                   [](const QString& message) { QTextStream(stdout) << message << '\n'; });
+  QObject::connect(&host, &session::SessionHost::lockChanged, &host, [&host] {
+    const session::PeerId holder = host.lockHolder();
+    QTextStream(stdout) << (holder == session::kNoPeer ? QStringLiteral("lock: free\n")
+                                                       : QStringLiteral("lock: held by %1 (epoch %2)\n")
+                                                             .arg(peerName(host.peerList(), holder))
+                                                             .arg(host.lockEpoch()));
+  });
+  QTimer figures;
+  QObject::connect(&figures, &QTimer::timeout, &host, [&host] { printPeerFigures(host); });
+  figures.start(5000);
+
+  const auto stop = [&host] {
+    host.shutdown();
+    QTimer::singleShot(200, QCoreApplication::instance(), &QCoreApplication::quit);  // let the Leaves go out
+  };
+  quitOnSignal(stop);
+  if (stopAfter) QTimer::singleShot(static_cast<int>(*stopAfter * 1000.0), &host, stop);
+  QCoreApplication::exec();
+  out << "host stopped\n";
+  return kExitOk;
+}
+
+}  // namespace sc::app

@@ -1,0 +1,193 @@
+#include "app/cli/join_command.h"
+
+#include "app/cli/quit_on_signal.h"
+#include "app/cli/session_setup.h"
+#include "session/distortion_meter.h"
+#include "session/session_clock.h"
+
+#include <QCoreApplication>
+#include <QFile>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QMetaEnum>
+#include <QTextStream>
+#include <QTimer>
+
+namespace sc::app {
+namespace {
+
+struct JoinArguments {
+  session::SessionClientOptions client;
+  std::optional<double> seconds;
+  QString statsJson;
+};
+
+std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const QStringList& arguments,
+                                                int& exitCode) {
+  QCommandLineParser& p = command.parser();
+  const QCommandLineOption name(QStringLiteral("name"), QStringLiteral("display name (default: client)"),
+                                QStringLiteral("name"), QStringLiteral("client"));
+  const QCommandLineOption passwordFile(QStringLiteral("password-file"),
+                                        QStringLiteral("session password: the first line of this file"),
+                                        QStringLiteral("file"));
+  const QCommandLineOption level(QStringLiteral("level"),
+                                 QStringLiteral("display resolution: full, or the level closest to N vertices"),
+                                 QStringLiteral("full|N"), QStringLiteral("full"));
+  const QCommandLineOption loss(QStringLiteral("loss"), QStringLiteral("simulated datagram loss ratio, 0..1"),
+                                QStringLiteral("P"), QStringLiteral("0"));
+  const QCommandLineOption burst(QStringLiteral("burst"),
+                                 QStringLiteral("Gilbert-Elliott loss with mean burst length L (datagrams)"),
+                                 QStringLiteral("L"));
+  const QCommandLineOption seed(QStringLiteral("seed"), QStringLiteral("seed of the simulated loss (default 1)"),
+                                QStringLiteral("S"), QStringLiteral("1"));
+  const QCommandLineOption zeroFill(QStringLiteral("zero-fill"),
+                                    QStringLiteral("conceal lost bands with zeros (the paper's way) not hold-last"));
+  const QCommandLineOption seconds(QStringLiteral("seconds"), QStringLiteral("leave after T seconds"),
+                                   QStringLiteral("T"));
+  const QCommandLineOption statsJson(QStringLiteral("stats-json"), QStringLiteral("write the final figures here"),
+                                     QStringLiteral("file"));
+  p.addOptions({name, passwordFile, level, loss, burst, seed, zeroFill, seconds, statsJson});
+  if (!command.parse(arguments, exitCode)) return std::nullopt;
+  exitCode = kExitUsage;
+
+  JoinArguments args;
+  args.client.host = command.peerHost();
+  args.client.port = command.peerPort();
+  args.client.name = p.value(name);
+  if (p.isSet(passwordFile)) {
+    args.client.password = readPasswordFile(command, p.value(passwordFile));
+    if (!args.client.password) return std::nullopt;
+  }
+  bool ok = true;
+  if (p.value(level) != QLatin1String("full")) {
+    const uint vertices = p.value(level).toUInt(&ok);
+    if (!ok || vertices == 0) {
+      command.error(QStringLiteral("--level takes 'full' or a positive vertex count"));
+      return std::nullopt;
+    }
+    args.client.level = vertices;
+  }
+  const double lossRatio = p.value(loss).toDouble(&ok);
+  if (!ok || lossRatio < 0.0 || lossRatio > 1.0) {
+    command.error(QStringLiteral("--loss takes a ratio between 0 and 1"));
+    return std::nullopt;
+  }
+  const qulonglong seedValue = p.value(seed).toULongLong(&ok);
+  if (!ok) {
+    command.error(QStringLiteral("--seed takes a non-negative integer"));
+    return std::nullopt;
+  }
+  if (lossRatio > 0.0 || p.isSet(burst)) {
+    session::ImpairmentSettings impairment;
+    impairment.loss = lossRatio;
+    impairment.seed = seedValue;
+    if (p.isSet(burst)) {
+      impairment.burst = true;
+      impairment.burstLength = p.value(burst).toDouble(&ok);
+      if (!ok || impairment.burstLength < 1.0) {
+        command.error(QStringLiteral("--burst takes a mean burst length ≥ 1"));
+        return std::nullopt;
+      }
+    }
+    args.client.impairment = impairment;
+  }
+  if (p.isSet(zeroFill)) args.client.concealment = session::Concealment::ZeroFill;
+  if (p.isSet(seconds)) {
+    args.seconds = p.value(seconds).toDouble(&ok);
+    if (!ok || *args.seconds <= 0.0) {
+      command.error(QStringLiteral("--seconds takes a positive number"));
+      return std::nullopt;
+    }
+  }
+  args.statsJson = p.value(statsJson);
+  exitCode = kExitOk;
+  return args;
+}
+
+QJsonObject figures(session::SessionClient& client, const session::DistortionMeter& meter) {
+  const session::ReceiverReport r = client.channel().peek(session::sessionNow());
+  const session::DistortionSummary& hd = meter.summary();
+  return {{QStringLiteral("state"), QString::fromLatin1(QMetaEnum::fromType<session::SessionClient::State>().valueToKey(
+                                        static_cast<int>(client.state())))},
+          {QStringLiteral("level_vertices"), static_cast<qint64>(client.levelVertexCount())},
+          {QStringLiteral("frames_applied"), static_cast<qint64>(client.channel().framesApplied())},
+          {QStringLiteral("datagrams_received"), static_cast<qint64>(r.received)},
+          {QStringLiteral("datagrams_lost"), static_cast<qint64>(r.cumulativeLost)},
+          {QStringLiteral("datagrams_late"), static_cast<qint64>(r.late)},
+          {QStringLiteral("datagrams_dropped"), static_cast<qint64>(client.channel().droppedDatagrams())},
+          {QStringLiteral("loss_fraction"), r.lossFraction},
+          {QStringLiteral("jitter_ms"), r.jitterMs},
+          {QStringLiteral("kbps_in"), r.payloadKbps},
+          {QStringLiteral("wire_kbps_in"), r.wireKbps},
+          {QStringLiteral("fps"), r.framesPerSecond},
+          {QStringLiteral("latency_p50_ms"), r.latencyP50Ms},
+          {QStringLiteral("latency_p99_ms"), r.latencyP99Ms},
+          {QStringLiteral("hd_max_pct"), hd.maxPct},
+          {QStringLiteral("hd_mean_pct"), hd.meanPct},
+          {QStringLiteral("hd_last_pct"), hd.lastPct},
+          {QStringLiteral("hd_samples"), static_cast<qint64>(hd.count)},
+          {QStringLiteral("keyframes"), static_cast<qint64>(client.keyframesReceived())}};
+}
+
+/// One line of figures, on `stream` (stdout, or stderr when stdout is reserved for --json).
+void printLine(const QJsonObject& f, FILE* stream = stdout) {
+  QTextStream(stream) << QStringLiteral(
+                             "%1 frames | loss %2% | %3 kbit/s | %4 fps | latency p99 %5 ms | HD last %6% max %7%\n")
+                             .arg(f[QStringLiteral("frames_applied")].toInteger())
+                             .arg(100.0 * f[QStringLiteral("loss_fraction")].toDouble(), 0, 'f', 1)
+                             .arg(f[QStringLiteral("kbps_in")].toDouble(), 0, 'f', 1)
+                             .arg(f[QStringLiteral("fps")].toDouble(), 0, 'f', 0)
+                             .arg(f[QStringLiteral("latency_p99_ms")].toDouble(), 0, 'f', 2)
+                             .arg(f[QStringLiteral("hd_last_pct")].toDouble(), 0, 'f', 4)
+                             .arg(f[QStringLiteral("hd_max_pct")].toDouble(), 0, 'f', 4);
+}
+
+}  // namespace
+
+int runJoinCommand(const QStringList& arguments) {
+  SubcommandParser command(QStringLiteral("join"), QStringLiteral("Join a ShapeCast session headless."),
+                           SubcommandKind::Peer);
+  int exitCode = kExitOk;
+  const std::optional<JoinArguments> args = parseJoinArguments(command, arguments, exitCode);
+  if (!args) return exitCode;
+
+  session::SessionClient client(args->client);
+  session::DistortionMeter meter(client, session::DistortionMeter::Mode::Live, &client);
+  if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
+  FILE* progress = command.basisArguments().json ? stderr : stdout;
+  QTextStream(progress) << QStringLiteral("joined as peer %1, displaying %2 vertices\n")
+                               .arg(client.peerId())
+                               .arg(client.levelVertexCount());
+
+  QTimer ticker;
+  QObject::connect(&ticker, &QTimer::timeout, &client, [&] { printLine(figures(client, meter), progress); });
+  ticker.start(1000);
+  const auto stop = [&client] {
+    client.leave();
+    QTimer::singleShot(100, QCoreApplication::instance(), &QCoreApplication::quit);
+  };
+  QObject::connect(&client, &session::SessionClient::stateChanged, &client, [](session::SessionClient::State s) {
+    if (s == session::SessionClient::State::Left || s == session::SessionClient::State::Failed)
+      QCoreApplication::quit();
+  });
+  quitOnSignal(stop);
+  if (args->seconds) QTimer::singleShot(static_cast<int>(*args->seconds * 1000.0), &client, stop);
+  QCoreApplication::exec();
+
+  const QJsonObject final = figures(client, meter);
+  if (client.state() == session::SessionClient::State::Failed) {
+    command.error(QStringLiteral("session ended: %1").arg(client.errorText()));
+    exitCode = kExitNetwork;
+  }
+  if (!args->statsJson.isEmpty()) {
+    QFile file(args->statsJson);
+    if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate) || file.write(QJsonDocument(final).toJson()) < 0) {
+      command.error(QStringLiteral("cannot write '%1': %2").arg(args->statsJson, file.errorString()));
+      return kExitUsage;
+    }
+  }
+  printReport(command, final, [](const QJsonObject& f) { printLine(f); });
+  return exitCode;
+}
+
+}  // namespace sc::app

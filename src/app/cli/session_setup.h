@@ -1,0 +1,32 @@
+#pragma once
+// What the session subcommands (host, join, drive, experiment) share: building a host's model from a mesh file,
+// the client options common to join and drive, and waiting on a client from a command's event loop.
+
+#include "app/cli/cli_common.h"
+#include "session/host_model.h"
+#include "session/session_client.h"
+
+#include <QString>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+
+namespace sc::app {
+
+/// Loads and cleans the mesh, computes (or loads) its basis with the command's basis options, and packs both into
+/// a HostModel. Failures are printed through `command.error()`; `exitCode` is set to kExitMeshError or
+/// kExitBasisError then. Cost: loadMesh() plus basisForMesh().
+std::shared_ptr<const session::HostModel> loadHostModel(const SubcommandParser& command, const QString& meshPath,
+                                                        int& exitCode);
+
+/// Runs the event loop until `done()` holds (checked whenever an event was processed, at least every 10 ms) or
+/// `timeout` passed. Returns done(). For the command's own sequential steps (join, wait for a level, …).
+bool waitUntil(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+
+/// Starts `client` and waits until it is Ready (a level is displayed) or failed/left/timed out; on failure prints
+/// the client's reason through `command.error()`. Returns true when Ready.
+bool joinAndWait(const SubcommandParser& command, session::SessionClient& client, std::chrono::milliseconds timeout);
+
+}  // namespace sc::app

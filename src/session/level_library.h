@@ -1,0 +1,86 @@
+#pragma once
+// The host's resolution ladder (docs/protocol.md, "Levels"): the full model and, built on demand, the display
+// levels for model::levelTargets(n) (50%, 20%, 5% of n), each cached with its encoded payload
+// (spectral::encodeResolutionLevel), which is what a ModelBegin/ModelChunk transfer carries.
+//
+// Threading contract: a LevelLibrary lives on one thread (the host's network thread). Building a level
+// (decimation + barycentric map + K = P·H + encoding) runs on ONE worker std::thread at a time (decimateMesh is
+// not thread-safe with other OpenMesh users), never on the owner's thread; the result is handed back through a
+// queued call, so levelReady()/levelFailed() are emitted on the owner's thread. The destructor joins a running
+// build (it waits for it to finish). Each target is built at most once; a failure is cached too.
+
+#include "session/control_messages.h"
+#include "session/host_model.h"
+
+#include <QtCore/QByteArray>
+#include <QtCore/QObject>
+#include <QtCore/QString>
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <vector>
+
+namespace sc::session {
+
+class LevelLibrary final : public QObject {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(LevelLibrary)
+
+ public:
+  /// One built level, ready to be transferred.
+  struct Level {
+    std::uint32_t target = 0;       ///< the ladder target (n for the full model)
+    std::uint32_t vertexCount = 0;  ///< the level's actual vertex count n' (decimation may miss the target)
+    TransferKind kind = TransferKind::FullModel;
+    QByteArray payload;  ///< encodeResolutionLevel() bytes, 1..kMaxTransferSize
+  };
+
+  /// @param model  non-null, with #V ≥ 3 and a basis of #V rows.
+  explicit LevelLibrary(std::shared_ptr<const HostModel> model, QObject* parent = nullptr);
+  ~LevelLibrary() override;
+
+  /// The target serving a request for `wanted` vertices: n (the full model) for 0 or wanted ≥ n, otherwise the
+  /// ladder target closest to `wanted` (ties: the larger). Cost: O(ladder).
+  [[nodiscard]] std::uint32_t pick(std::uint32_t wanted) const;
+
+  /// The built level for `target`, or nullptr while it is not built (or failed).
+  [[nodiscard]] const Level* find(std::uint32_t target) const;
+
+  /// Queues `target` for building unless it is built, building, queued or failed. When the build ends,
+  /// levelReady(target) or levelFailed(target, reason) is emitted (later, never from inside this call).
+  /// `target` must come from pick().
+  void request(std::uint32_t target);
+
+  /// The ladder targets (excluding the full model), largest first.
+  [[nodiscard]] const std::vector<std::uint32_t>& ladder() const { return m_ladder; }
+  [[nodiscard]] std::uint32_t fullTarget() const { return m_full; }
+
+ signals:
+  void levelReady(std::uint32_t target);
+  void levelFailed(std::uint32_t target, const QString& reason);
+
+ private:
+  struct BuildResult {
+    std::optional<Level> level;
+    QString error;
+  };
+  /// Runs on the worker thread: builds and encodes one level. Never throws.
+  static BuildResult build(const HostModel& model, std::uint32_t target, std::uint32_t full);
+  void startNext();
+  void finishBuild(std::uint32_t target, const std::shared_ptr<BuildResult>& result);
+
+  std::shared_ptr<const HostModel> m_model;
+  std::uint32_t m_full = 0;
+  std::vector<std::uint32_t> m_ladder;
+  std::map<std::uint32_t, Level> m_levels;
+  std::map<std::uint32_t, QString> m_failed;
+  std::deque<std::uint32_t> m_queue;
+  std::optional<std::uint32_t> m_building;
+  std::thread m_worker;
+};
+
+}  // namespace sc::session

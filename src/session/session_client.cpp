@@ -1,0 +1,352 @@
+#include "session/session_client.h"
+
+#include "session/session_clock.h"
+#include "spectral/reconstruction_kernel.h"
+
+#include <QtCore/QTimer>
+#include <QtNetwork/QTcpSocket>
+
+#include <cmath>
+#include <span>
+
+namespace sc::session {
+namespace {
+
+constexpr int kSecondMs = 1000;  ///< heartbeat, stats report and host-silence check
+constexpr int kRenewPollMs = 250;
+
+Millis nowMillis() { return std::chrono::duration_cast<Millis>(sessionNow()); }
+
+/// StatsReport doubles must be finite and ≥ 0.
+double figure(double value) { return std::isfinite(value) && value > 0.0 ? value : 0.0; }
+
+QString describe(MessageType type) {
+  return QStringLiteral("0x%1").arg(static_cast<int>(type), 2, 16, QLatin1Char('0'));
+}
+
+}  // namespace
+
+SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
+    : QObject(parent),
+      m_options(std::move(options)),
+      m_handshake(ClientHandshakeConfig{m_options.name, m_options.password}) {
+  m_socket = new QTcpSocket(this);
+  m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment}, this);
+  m_secondTimer = new QTimer(this);
+  m_renewTimer = new QTimer(this);
+  connect(m_socket, &QTcpSocket::connected, this, [this] {
+    m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+    m_lastHeard = sessionNow();
+    changeState(State::Handshaking);
+    send(m_handshake.start());
+  });
+  connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
+  connect(m_socket, &QTcpSocket::disconnected, this, [this] {
+    if (m_handshake.state() == ClientHandshake::State::Refused) {
+      fail(m_handshake.errorText());
+    } else {
+      fail(QStringLiteral("the host closed the connection"));
+    }
+  });
+  connect(m_socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
+    if (error == QAbstractSocket::RemoteHostClosedError) return;  // disconnected() reports it
+    fail(m_socket->errorString());
+  });
+  connect(m_channel, &ClientDatagramChannel::frameUpdated, this, [this] { recomputePositions(); });
+  connect(m_secondTimer, &QTimer::timeout, this, &SessionClient::everySecond);
+  connect(m_renewTimer, &QTimer::timeout, this, &SessionClient::renewTick);
+}
+
+SessionClient::~SessionClient() { disconnect(m_socket, nullptr, this, nullptr); }
+
+void SessionClient::start() {
+  if (m_state != State::Idle) return;
+  changeState(State::Connecting);
+  m_socket->connectToHost(m_options.host, m_options.port);
+}
+
+void SessionClient::leave() {
+  if (m_state == State::Idle || m_state == State::Left || m_state == State::Failed) return;
+  if (live()) send(Leave{});  // during the handshake a Leave would be a protocol error: just close
+  m_secondTimer->stop();
+  m_renewTimer->stop();
+  m_channel->close();
+  m_errorText = QStringLiteral("left the session");
+  changeState(State::Left);
+  m_socket->disconnectFromHost();  // writes the Leave first
+}
+
+void SessionClient::changeState(State next) {
+  if (next == m_state) return;
+  m_state = next;
+  emit stateChanged(next);
+}
+
+void SessionClient::fail(const QString& reason) {
+  if (m_state == State::Left || m_state == State::Failed) return;
+  m_errorText = reason;
+  m_secondTimer->stop();
+  m_renewTimer->stop();
+  m_channel->close();
+  changeState(State::Failed);
+  m_socket->abort();
+  emit failed(reason);
+}
+
+void SessionClient::send(const ControlMessage& message) {
+  if (m_socket->state() != QAbstractSocket::ConnectedState) return;
+  const QByteArray frame = encodeControlMessage(message);
+  if (!frame.isEmpty()) m_socket->write(frame);
+}
+
+void SessionClient::sendLock(const std::optional<LockMessage>& message) {
+  if (message) send(*message);
+}
+
+// --- receiving
+
+void SessionClient::readAvailable() {
+  const QByteArray bytes = m_socket->readAll();
+  if (bytes.isEmpty()) return;
+  m_lastHeard = sessionNow();
+  m_reader.append(bytes);
+  while (m_state == State::Handshaking || live()) {
+    std::optional<ControlDecodeResult> result = m_reader.next();
+    if (!result) break;
+    if (m_state == State::Handshaking) {
+      handleHandshake(result->error == ControlError::None ? m_handshake.handleMessage(result->message)
+                                                          : m_handshake.handleDecodeError(result->error));
+    } else if (result->error != ControlError::None) {
+      fail(QStringLiteral("protocol error from the host: %1").arg(QString::fromLatin1(toString(result->error))));
+    } else {
+      onMessage(result->message);
+    }
+  }
+}
+
+void SessionClient::handleHandshake(const HandshakeOutput& out) {
+  for (const ControlMessage& message : out.send) send(message);
+  if (m_handshake.state() == ClientHandshake::State::Refused) {
+    fail(m_handshake.errorText());
+  } else if (m_handshake.state() == ClientHandshake::State::Joined) {
+    onJoined();
+  }
+}
+
+void SessionClient::onJoined() {
+  m_session = m_handshake.session();
+  m_lock = std::make_unique<LockClient>(m_session->peerId);
+  QHostAddress host = m_socket->peerAddress();
+  bool ipv4 = false;
+  const quint32 v4 = host.toIPv4Address(&ipv4);
+  if (ipv4) host = QHostAddress(v4);
+  QString error;
+  if (!m_channel->bind(QHostAddress(ipv4 ? QHostAddress::AnyIPv4 : QHostAddress::AnyIPv6), &error)) {
+    fail(QStringLiteral("UDP bind failed: %1").arg(error));
+    return;
+  }
+  m_channel->open(host, m_session->udpPort, m_session->peerId, m_session->datagramKey, m_session->pathToken,
+                  m_session->rowCount);
+  changeState(State::Loading);
+  send(ResolutionRequest{m_options.level});
+  m_secondTimer->start(kSecondMs);
+  m_renewTimer->start(kRenewPollMs);
+}
+
+void SessionClient::onMessage(const ControlMessage& message) {
+  switch (messageType(message)) {
+    case MessageType::ModelBegin: {
+      const ModelBegin& begin = std::get<ModelBegin>(message);
+      m_receiver.begin(begin);
+      emit modelProgress(0, begin.totalSize);
+      return;
+    }
+    case MessageType::ModelChunk:
+      onModelChunk(std::get<ModelChunk>(message));
+      return;
+    case MessageType::Keyframe:
+      onKeyframe(std::get<Keyframe>(message));
+      return;
+    case MessageType::PeerList:
+      m_peers = std::get<PeerList>(message);
+      emit peersChanged();
+      return;
+    case MessageType::LockNotice:
+      sendLock(m_lock->apply(std::get<LockNotice>(message), nowMillis()));
+      emit lockChanged();
+      return;
+    case MessageType::Heartbeat:
+      return;
+    case MessageType::Leave:
+      m_secondTimer->stop();
+      m_renewTimer->stop();
+      m_channel->close();
+      m_errorText = QStringLiteral("the host ended the session");
+      changeState(State::Left);
+      m_socket->abort();
+      return;
+    default:
+      fail(QStringLiteral("protocol error from the host: unexpected message %1").arg(describe(messageType(message))));
+      return;
+  }
+}
+
+void SessionClient::onModelChunk(const ModelChunk& chunk) {
+  const ModelReceiver::Status status = m_receiver.add(chunk);
+  switch (status) {
+    case ModelReceiver::Status::InProgress:
+      emit modelProgress(m_receiver.receivedBytes(), m_receiver.totalBytes());
+      return;
+    case ModelReceiver::Status::Complete:
+      emit modelProgress(m_receiver.totalBytes(), m_receiver.totalBytes());
+      installLevel(m_receiver.take());
+      return;
+    case ModelReceiver::Status::UnknownTransfer:
+      return;  // a chunk of an abandoned transfer
+    case ModelReceiver::Status::OutOfOrder:
+    case ModelReceiver::Status::BadChecksum:
+      m_levelError = QStringLiteral("model transfer failed: %1").arg(QString::fromLatin1(toString(status)));
+      emit levelFailed(m_levelError);
+      return;
+  }
+}
+
+void SessionClient::installLevel(QByteArray payload) {
+  const auto* data = reinterpret_cast<const std::byte*>(payload.constData());
+  spectral::LevelDecodeResult decoded =
+      spectral::decodeResolutionLevel(std::span<const std::byte>(data, static_cast<std::size_t>(payload.size())));
+  QString problem;
+  if (!decoded.ok()) {
+    problem = QStringLiteral("bad level payload: %1").arg(QString::fromStdString(decoded.message));
+  } else if (decoded.level->K.cols() != m_session->rowCount || decoded.level->P.cols() != m_session->vertexCount ||
+             decoded.level->K.rows() != decoded.level->restV.rows()) {
+    problem = QStringLiteral("level does not match the session (m = %1, n = %2)")
+                  .arg(m_session->rowCount)
+                  .arg(m_session->vertexCount);
+  }
+  if (!problem.isEmpty()) {
+    m_levelError = problem;
+    emit levelFailed(problem);
+    return;
+  }
+  m_level = std::move(decoded.level);
+  m_levelPayload = std::move(payload);
+  m_levelError.clear();
+  m_rest = spectral::interleavedPositions(m_level->restV);
+  m_positions.assign(m_rest.size(), 0.0f);
+  recomputePositions();
+  changeState(State::Ready);
+  emit levelReady(levelVertexCount());
+}
+
+std::uint32_t SessionClient::levelVertexCount() const {
+  return m_level ? static_cast<std::uint32_t>(m_level->restV.rows()) : 0;
+}
+
+void SessionClient::onKeyframe(const Keyframe& keyframe) {
+  const auto m = static_cast<Eigen::Index>(keyframe.z.size() / 3);
+  if (!m_session || m != m_session->rowCount) return;  // not this session's shape: ignore
+  Eigen::MatrixXd Z(m, 3);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    for (Eigen::Index c = 0; c < 3; ++c) Z(r, c) = keyframe.z[static_cast<std::size_t>(3 * r + c)];
+  }
+  ++m_keyframes;
+  m_channel->seed(keyframe.frame, Z);  // ignored once datagram frames flow; emits frameUpdated when applied
+  emit keyframeReceived(keyframe.frame, Z);
+}
+
+void SessionClient::recomputePositions() {
+  if (!m_level) return;
+  const Eigen::MatrixXd& Z = m_channel->coefficients();
+  const Eigen::Index m = m_level->K.cols();
+  const Eigen::MatrixXf Zf =
+      Z.rows() == m && Z.cols() == 3 ? Eigen::MatrixXf(Z.cast<float>()) : Eigen::MatrixXf(Eigen::MatrixXf::Zero(m, 3));
+  spectral::reconstructInterleaved(m_level->K, m_rest, Zf, m_positions);
+  ++m_positionUpdates;
+  emit positionsUpdated(m_channel->currentFrame());
+}
+
+// --- sending
+
+bool SessionClient::requestResolution(std::uint32_t wantedVertices) {
+  if (!live()) return false;
+  send(ResolutionRequest{wantedVertices});
+  return true;
+}
+
+bool SessionClient::requestLock() {
+  if (!live() || !m_lock) return false;
+  const std::optional<LockMessage> message = m_lock->request(nowMillis());
+  sendLock(message);
+  if (message) emit lockChanged();
+  return message.has_value();
+}
+
+bool SessionClient::releaseLock() {
+  if (!live() || !m_lock) return false;
+  const std::optional<LockMessage> message = m_lock->release(nowMillis());
+  sendLock(message);
+  if (message) emit lockChanged();
+  return message.has_value();
+}
+
+bool SessionClient::sendConstraints(std::vector<std::vector<std::uint32_t>> groups,
+                                    std::vector<std::uint32_t> anchors) {
+  if (!live() || !m_lock || !m_lock->canDrag()) return false;
+  const QByteArray frame =
+      encodeControlMessage(Constraints{m_lock->heldEpoch(), std::move(groups), std::move(anchors)});
+  if (frame.isEmpty()) return false;
+  m_socket->write(frame);
+  return true;
+}
+
+bool SessionClient::sendDrag(std::vector<HandleTransform> handles) {
+  if (!live() || !m_lock || !m_lock->canDrag()) return false;
+  const QByteArray frame = encodeControlMessage(Drag{m_lock->heldEpoch(), std::move(handles)});
+  if (frame.isEmpty()) return false;
+  m_socket->write(frame);
+  return true;
+}
+
+void SessionClient::setDistortion(double maxPct, double meanPct, double lastPct) {
+  m_hdMax = maxPct;
+  m_hdMean = meanPct;
+  m_hdLast = lastPct;
+}
+
+// --- timers
+
+void SessionClient::renewTick() {
+  if (live() && m_lock) sendLock(m_lock->pollRenew(nowMillis()));
+}
+
+void SessionClient::everySecond() {
+  if (!live()) return;
+  const Micros now = sessionNow();
+  if (now - m_lastHeard > std::chrono::duration_cast<Micros>(m_options.hostTimeout)) {
+    fail(QStringLiteral("host not responding"));
+    return;
+  }
+  send(Heartbeat{m_heartbeatSequence++});
+  const ReceiverReport r = m_channel->report(now);
+  StatsReport stats;
+  stats.vertexCount = levelVertexCount();
+  stats.framesApplied = static_cast<std::uint32_t>(m_channel->framesApplied());
+  stats.received = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.received));
+  stats.lost = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.cumulativeLost));
+  stats.late = r.late;
+  stats.dropped = m_channel->droppedDatagrams();
+  stats.lossFraction = figure(r.lossFraction);
+  stats.jitterMs = figure(r.jitterMs);
+  stats.payloadKbpsIn = figure(r.payloadKbps);
+  stats.wireKbpsIn = figure(r.wireKbps);
+  stats.framesPerSecond = figure(r.framesPerSecond);
+  stats.latencyP50Ms = figure(r.latencyP50Ms);
+  stats.latencyP99Ms = figure(r.latencyP99Ms);
+  stats.hdMaxPct = figure(m_hdMax);
+  stats.hdMeanPct = figure(m_hdMean);
+  stats.hdLastPct = figure(m_hdLast);
+  send(stats);
+}
+
+}  // namespace sc::session

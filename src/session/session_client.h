@@ -1,0 +1,163 @@
+#pragma once
+// A client of a session over real sockets (docs/protocol.md, "Sequence" and "Rules"): the TCP control connection
+// (ClientHandshake, then session messages), a ClientDatagramChannel for the coefficient frames, a ModelReceiver
+// for the level transfer, a LockClient, and the reconstruction X' = X̂' + K·Z of the received level. A thin
+// adapter: protocol decisions are the pure state machines'; this class wires them to sockets and timers.
+//
+// States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level complete--> Ready
+//          any --Leave from the host / leave()--> Left;  any --refusal, error, silence--> Failed (reason in
+//          errorText(): the host's Refused text, "host not responding", the socket's error, …).
+// Contracts
+//   - After the Welcome: the datagram channel is bound and opened toward the host's address and udpPort, and a
+//     ResolutionRequest{options.level} is sent. A new level replaces the displayed one only once it is complete and
+//     decoded; a bad payload (checksum, decode, or shape not matching the Welcome) emits levelFailed(reason) and
+//     keeps the connection and the previous level.
+//   - A Keyframe seeds the channel (ignored by it once a datagram frame arrived) and is re-emitted as
+//     keyframeReceived(frame, Z) (exact references for a DistortionProbe).
+//   - requestLock()/releaseLock() go through the LockClient (renewed every 250 ms poll while held);
+//     sendConstraints()/sendDrag() refuse locally (return false, send nothing) unless the lock is held, and stamp
+//     the held epoch.
+//   - Heartbeat every second; a StatsReport every second from the channel's report() and the distortion figures
+//     set with setDistortion(); a host silent for options.hostTimeout fails the session.
+//   - positions() = X̂' + K·Z (float32, interleaved xyz) recomputed whenever Z or the level changes.
+// Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
+
+#include "session/client_datagram_channel.h"
+#include "session/control_frame.h"
+#include "session/control_messages.h"
+#include "session/handshake_client.h"
+#include "session/lock_client.h"
+#include "session/model_transfer.h"
+#include "spectral/resolution_level.h"
+
+#include <Eigen/Core>
+#include <QtCore/QObject>
+#include <QtCore/QString>
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+class QTcpSocket;
+class QTimer;
+
+namespace sc::session {
+
+struct SessionClientOptions {
+  QString host = QStringLiteral("127.0.0.1");  ///< host name or address of the session host
+  quint16 port = 0;                            ///< the host's TCP port
+  QString name;                                ///< display name, ≤ kMaxNameBytes UTF-8
+  std::optional<QString> password;
+  std::uint32_t level = 0;  ///< wanted display resolution in vertices; 0 = full
+  Concealment concealment = Concealment::HoldLast;
+  std::optional<ImpairmentSettings> impairment;  ///< simulated network conditions on receive
+  std::chrono::milliseconds hostTimeout{10000};  ///< a host silent this long fails the session
+};
+
+class SessionClient final : public QObject {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(SessionClient)
+
+ public:
+  enum class State { Idle, Connecting, Handshaking, Loading, Ready, Left, Failed };
+  Q_ENUM(State)
+
+  explicit SessionClient(SessionClientOptions options, QObject* parent = nullptr);
+  ~SessionClient() override;
+
+  /// Connects to options.host:options.port (from Idle only).
+  void start();
+  /// Sends Leave (once joined) and closes (state Left). Nothing from Idle, Left or Failed. Destroying a joined
+  /// client without leave() just drops the connection (the host notices at once).
+  void leave();
+  /// Asks the host for another display resolution (0 = full); the current level stays until the new one is in.
+  bool requestResolution(std::uint32_t wantedVertices);
+
+  bool requestLock();
+  bool releaseLock();
+  /// Handle groups and anchors (full-resolution vertex ids) for the following drags; false without the lock.
+  bool sendConstraints(std::vector<std::vector<std::uint32_t>> groups, std::vector<std::uint32_t> anchors);
+  /// One 3×4 affine per handle group; false without the lock or when the message breaks a limit.
+  bool sendDrag(std::vector<HandleTransform> handles);
+  /// Distortion figures (% of the bbox diagonal) reported in the next StatsReports.
+  void setDistortion(double maxPct, double meanPct, double lastPct);
+
+  [[nodiscard]] State state() const { return m_state; }
+  [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  /// The handshake (its refusal() holds the host's reason when it refused us).
+  [[nodiscard]] const ClientHandshake& handshake() const { return m_handshake; }
+  /// The Welcome (peer id, m, n, udpPort); nullopt before it.
+  [[nodiscard]] const std::optional<Welcome>& session() const { return m_session; }
+  [[nodiscard]] PeerId peerId() const { return m_session ? m_session->peerId : kNoPeer; }
+  [[nodiscard]] const PeerList& peers() const { return m_peers; }
+  /// The lock state machine (nullptr before the Welcome).
+  [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
+  /// The displayed level (nullptr before the first is complete), its payload bytes as received, its vertex count.
+  [[nodiscard]] const spectral::ResolutionLevel* level() const { return m_level ? &*m_level : nullptr; }
+  [[nodiscard]] const QByteArray& levelPayload() const { return m_levelPayload; }
+  [[nodiscard]] std::uint32_t levelVertexCount() const;
+  [[nodiscard]] const QString& levelError() const { return m_levelError; }
+  /// X̂' + K·Z, 3·n' floats (empty before a level).
+  [[nodiscard]] const std::vector<float>& positions() const { return m_positions; }
+  /// How many times positions() was recomputed.
+  [[nodiscard]] std::uint64_t positionUpdates() const { return m_positionUpdates; }
+  [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
+  [[nodiscard]] ClientDatagramChannel& channel() { return *m_channel; }
+  [[nodiscard]] const ClientDatagramChannel& channel() const { return *m_channel; }
+
+ signals:
+  void stateChanged(sc::session::SessionClient::State state);
+  void failed(const QString& reason);
+  void levelReady(std::uint32_t vertexCount);
+  void levelFailed(const QString& reason);
+  void modelProgress(quint64 received, quint64 total);
+  void lockChanged();
+  void peersChanged();
+  void keyframeReceived(std::uint32_t frame, const Eigen::MatrixXd& Z);
+  void positionsUpdated(std::uint32_t frame);
+
+ private:
+  void changeState(State next);
+  void fail(const QString& reason);
+  void send(const ControlMessage& message);
+  void sendLock(const std::optional<LockMessage>& message);
+  void readAvailable();
+  void handleHandshake(const HandshakeOutput& out);
+  void onJoined();
+  void onMessage(const ControlMessage& message);
+  void onModelChunk(const ModelChunk& chunk);
+  void installLevel(QByteArray payload);
+  void onKeyframe(const Keyframe& keyframe);
+  void recomputePositions();
+  void everySecond();
+  void renewTick();
+  [[nodiscard]] bool live() const { return m_state == State::Loading || m_state == State::Ready; }
+
+  SessionClientOptions m_options;
+  QTcpSocket* m_socket = nullptr;
+  ClientDatagramChannel* m_channel = nullptr;
+  QTimer* m_secondTimer = nullptr;
+  QTimer* m_renewTimer = nullptr;
+  ControlFrameReader m_reader;
+  ClientHandshake m_handshake;
+  ModelReceiver m_receiver;
+  State m_state = State::Idle;
+  QString m_errorText;
+  std::optional<Welcome> m_session;
+  PeerList m_peers;
+  std::unique_ptr<LockClient> m_lock;
+  std::optional<spectral::ResolutionLevel> m_level;
+  QByteArray m_levelPayload;
+  QString m_levelError;
+  std::vector<float> m_rest;  ///< X̂' interleaved
+  std::vector<float> m_positions;
+  std::uint64_t m_positionUpdates = 0;
+  std::uint64_t m_keyframes = 0;
+  std::uint32_t m_heartbeatSequence = 0;
+  std::chrono::microseconds m_lastHeard{0};
+  double m_hdMax = 0.0, m_hdMean = 0.0, m_hdLast = 0.0;
+};
+
+}  // namespace sc::session

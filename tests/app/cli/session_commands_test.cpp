@@ -1,0 +1,174 @@
+// End-to-end runs of the session subcommands as separate processes over real loopback sockets: host, join, drive
+// and the loss experiment, the way two terminals on one machine would use them.
+
+#include "cli_test_support.h"
+
+#include <gtest/gtest.h>
+#include <QDir>
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QProcess>
+#include <QRegularExpression>
+#include <QTemporaryDir>
+#include <QThread>
+
+#include <memory>
+
+namespace sc::testing {
+namespace {
+
+/// A running `shapecast-cli host` on a generated torus; stopped (SIGTERM) at destruction.
+class HostProcess {
+ public:
+  HostProcess(const QString& mesh, const QStringList& extra = {}) {
+    m_process.setProcessChannelMode(QProcess::SeparateChannels);
+    m_process.start(QStringLiteral(SHAPECAST_CLI),
+                    QStringList{QStringLiteral("host"), mesh, QStringLiteral("--port"), QStringLiteral("0"),
+                                QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30"),
+                                QStringLiteral("--reference-every"), QStringLiteral("5")} +
+                        extra);
+    const QRegularExpression portLine(QStringLiteral("TCP port (\\d+)"));
+    for (int i = 0; i < 600 && m_port == 0; ++i) {
+      m_process.waitForReadyRead(100);
+      m_output += m_process.readAllStandardOutput();
+      const QRegularExpressionMatch match = portLine.match(QString::fromUtf8(m_output));
+      if (match.hasMatch()) m_port = match.captured(1).toUShort();
+      if (m_process.state() == QProcess::NotRunning) break;
+    }
+  }
+  ~HostProcess() {
+    m_process.terminate();
+    m_process.waitForFinished(10000);
+  }
+  quint16 port() const { return m_port; }
+  QString address() const { return QStringLiteral("127.0.0.1:%1").arg(m_port); }
+  /// Stops the host (SIGTERM, graceful) and returns everything it printed.
+  QByteArray stop() {
+    m_process.terminate();
+    m_process.waitForFinished(10000);
+    return m_output + m_process.readAllStandardOutput();
+  }
+  int exitCode() const { return m_process.exitCode(); }
+
+ private:
+  QProcess m_process;
+  QByteArray m_output;
+  quint16 m_port = 0;
+};
+
+class SessionCommandsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(m_dir.isValid());
+    m_mesh = m_dir.filePath(QStringLiteral("torus.off"));
+    writeOff(m_mesh, torus(60, 24));
+  }
+  QString path(const char* name) const { return m_dir.filePath(QLatin1String(name)); }
+  void writeFile(const QString& file, const QByteArray& bytes) const {
+    QFile f(file);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    f.write(bytes);
+  }
+
+  QTemporaryDir m_dir;
+  QString m_mesh;
+};
+
+TEST_F(SessionCommandsTest, HostJoinAndDriveInSeparateProcesses) {
+  HostProcess host(m_mesh);
+  ASSERT_NE(host.port(), 0) << "the host did not print its port";
+  const QString stats = path("stats.json");
+  QProcess join;
+  join.start(QStringLiteral(SHAPECAST_CLI),
+             {QStringLiteral("join"), host.address(), QStringLiteral("--name"), QStringLiteral("viewer"),
+              QStringLiteral("--level"), QStringLiteral("300"), QStringLiteral("--seconds"), QStringLiteral("7"),
+              QStringLiteral("--stats-json"), stats});
+  ASSERT_TRUE(join.waitForStarted());
+  QThread::msleep(1500);
+  const QString script = path("drag.json");
+  writeFile(script, R"({"handles":[{"sphere":{"vertex":0,"radius_pct":5}}],
+                        "anchors":{"farther_than_pct":40,"from_vertex":0},
+                        "frames":[{"t":0},{"t":1.5,"translate_pct":[0,10,0]},{"t":3}]})");
+  const CliRun drive =
+      runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), script, QStringLiteral("--json")});
+  EXPECT_EQ(drive.exitCode, 0) << drive.err.toStdString();
+  const QJsonObject driven = QJsonDocument::fromJson(drive.out.trimmed()).object();
+  EXPECT_EQ(driven[QStringLiteral("frames_sent")].toInt(), 91);
+  EXPECT_TRUE(driven[QStringLiteral("complete")].toBool());
+
+  ASSERT_TRUE(join.waitForFinished(30000));
+  EXPECT_EQ(join.exitCode(), 0) << join.readAllStandardError().toStdString();
+  QFile file(stats);
+  ASSERT_TRUE(file.open(QIODevice::ReadOnly));
+  const QJsonObject s = QJsonDocument::fromJson(file.readAll()).object();
+  for (const char* key : {"frames_applied", "loss_fraction", "hd_max_pct", "hd_mean_pct", "kbps_in", "latency_p99_ms"})
+    EXPECT_TRUE(s.contains(QLatin1String(key))) << key;
+  EXPECT_GE(s[QStringLiteral("frames_applied")].toInteger(), 80);  // the drag's 91 frames and slow refreshes
+  EXPECT_EQ(s[QStringLiteral("loss_fraction")].toDouble(), 0.0);   // loopback, no simulated loss
+  EXPECT_GT(s[QStringLiteral("hd_samples")].toInteger(), 0);
+  EXPECT_LT(s[QStringLiteral("hd_max_pct")].toDouble(), 0.05);  // quantisation only
+  EXPECT_GT(s[QStringLiteral("latency_p99_ms")].toDouble(), 0.0);
+  EXPECT_LE(s[QStringLiteral("level_vertices")].toInteger(), 720);  // a decimated level, not the full 1440
+
+  const QString log = QString::fromUtf8(host.stop());
+  EXPECT_TRUE(log.contains(QStringLiteral("viewer joined"))) << log.toStdString();
+  EXPECT_TRUE(log.contains(QStringLiteral("lock: held by driver"))) << log.toStdString();
+  EXPECT_EQ(host.exitCode(), 0);
+}
+
+TEST_F(SessionCommandsTest, WrongPasswordIsRefusedWithItsReason) {
+  writeFile(path("secret"), "correct horse\n");
+  writeFile(path("wrong"), "battery staple\n");
+  HostProcess host(m_mesh, {QStringLiteral("--password-file"), path("secret")});
+  ASSERT_NE(host.port(), 0);
+  const CliRun wrong = runCli({QStringLiteral("join"), host.address(), QStringLiteral("--password-file"), path("wrong"),
+                               QStringLiteral("--seconds"), QStringLiteral("1")});
+  EXPECT_EQ(wrong.exitCode, 4);
+  EXPECT_TRUE(wrong.err.contains("password")) << wrong.err.toStdString();
+  const CliRun right = runCli({QStringLiteral("join"), host.address(), QStringLiteral("--password-file"),
+                               path("secret"), QStringLiteral("--seconds"), QStringLiteral("1")});
+  EXPECT_EQ(right.exitCode, 0) << right.err.toStdString();
+}
+
+TEST_F(SessionCommandsTest, BadAddressesAreUsageErrors) {
+  EXPECT_EQ(runCli({QStringLiteral("join"), QStringLiteral("localhost")}).exitCode, 2);
+  EXPECT_EQ(runCli({QStringLiteral("join"), QStringLiteral("localhost:99999")}).exitCode, 2);
+  EXPECT_EQ(runCli({QStringLiteral("drive"), QStringLiteral("127.0.0.1:1")}).exitCode, 2);  // no --script
+  const CliRun nobody =
+      runCli({QStringLiteral("join"), QStringLiteral("127.0.0.1:1"), QStringLiteral("--seconds"), QStringLiteral("1")});
+  EXPECT_EQ(nobody.exitCode, 4) << nobody.err.toStdString();  // connection refused: a network error, not a crash
+}
+
+TEST_F(SessionCommandsTest, LossExperimentPrintsRowsAndAPlot) {
+  const QString plot = path("loss.png");
+  const CliRun run = runCli({QStringLiteral("experiment"), QStringLiteral("loss"), QStringLiteral("--mesh"), m_mesh,
+                             QStringLiteral("--loss"), QStringLiteral("0,0.3"), QStringLiteral("--json"),
+                             QStringLiteral("--markdown"), QString(), QStringLiteral("--plot"), plot,
+                             QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30")});
+  ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
+  const QJsonArray rows = QJsonDocument::fromJson(run.out.trimmed()).object()[QStringLiteral("rows")].toArray();
+  ASSERT_EQ(rows.size(), 8);  // 2 ratios × {full, low} × {hold-last, zero-fill}
+  double holdLast = 0.0, zeroFill = 0.0;
+  for (const QJsonValue& value : rows) {
+    const QJsonObject row = value.toObject();
+    for (const char* key : {"loss", "concealment", "level", "measured_loss", "hd_max_pct", "hd_mean_pct",
+                            "payload_bytes_per_frame", "latency_p99_ms"})
+      EXPECT_TRUE(row.contains(QLatin1String(key))) << key;
+    EXPECT_GT(row[QStringLiteral("frames")].toInt(), 150);
+    EXPECT_LE(row[QStringLiteral("payload_bytes_per_frame")].toDouble(), 800.0);
+    if (row[QStringLiteral("loss")].toDouble() == 0.0) {
+      EXPECT_EQ(row[QStringLiteral("measured_loss")].toDouble(), 0.0);
+    } else {
+      EXPECT_NEAR(row[QStringLiteral("measured_loss")].toDouble(), 0.3, 0.1);
+      (row[QStringLiteral("concealment")].toString() == QLatin1String("hold-last") ? holdLast : zeroFill) +=
+          row[QStringLiteral("hd_mean_pct")].toDouble();
+    }
+  }
+  EXPECT_LT(holdLast, zeroFill);
+  EXPECT_TRUE(QFile::exists(plot));
+}
+
+}  // namespace
+}  // namespace sc::testing
