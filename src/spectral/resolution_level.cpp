@@ -6,8 +6,11 @@
 #include <array>
 #include <bit>
 #include <cassert>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <unordered_map>
+#include <vector>
 
 namespace sc::spectral {
 namespace {
@@ -136,19 +139,68 @@ LevelDecodeResult readPayload(Reader& in, const Header& h) {
   return r;
 }
 
+/// For each row of Q, a vertex of (V, F) referenced by a face at exactly that position (the first in index
+/// order), or −1. Such a vertex is the query's closest point on the surface (distance 0), so its P row is the unit
+/// row of that vertex — what the closest-point query returns too (weight 1 on that corner of an incident face).
+/// Positions are matched bit for bit (hashing only the #Q queries); a near miss just goes to the tree.
+/// Cost: O(#Q + #V + #F) expected.
+std::vector<int> coincidentVertices(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& Q) {
+  using Key = std::array<std::uint64_t, 3>;
+  const auto key = [](const Eigen::MatrixXd& X, Eigen::Index i) {
+    Key k{};
+    for (int c = 0; c < 3; ++c) k[static_cast<std::size_t>(c)] = std::bit_cast<std::uint64_t>(X(i, c));
+    return k;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = k[0];
+      for (std::size_t c = 1; c < 3; ++c) h = (h ^ (h >> 29)) * 0xBF58476D1CE4E5B9ULL + k[c];
+      return static_cast<std::size_t>(h ^ (h >> 32));
+    }
+  };
+  std::unordered_map<Key, int, KeyHash> vertexAt;  // query position → vertex, −1 while none found
+  vertexAt.reserve(static_cast<std::size_t>(Q.rows()));
+  for (Eigen::Index i = 0; i < Q.rows(); ++i) vertexAt.emplace(key(Q, i), -1);
+  std::vector<bool> referenced(static_cast<std::size_t>(V.rows()), false);
+  for (Eigen::Index i = 0; i < F.size(); ++i) referenced[static_cast<std::size_t>(F.data()[i])] = true;
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    if (!referenced[static_cast<std::size_t>(v)]) continue;
+    if (const auto it = vertexAt.find(key(V, v)); it != vertexAt.end() && it->second < 0)
+      it->second = static_cast<int>(v);
+  }
+  std::vector<int> out(static_cast<std::size_t>(Q.rows()));
+  for (Eigen::Index i = 0; i < Q.rows(); ++i) out[static_cast<std::size_t>(i)] = vertexAt.at(key(Q, i));
+  return out;
+}
+
 }  // namespace
 
 BarycentricMap barycentricMap(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& lowV,
                               Eigen::VectorXd* distances, int threads) {
-  const ClosestPoints hits = ClosestPointQuery(V, F).query(lowV, threads);
+  // === queries on a vertex of the mesh (all of them for a halfedge-collapse decimation) are their own closest point
+  const std::vector<int> coincident = coincidentVertices(V, F, lowV);
+  std::vector<Eigen::Index> rest;  // rows left for the tree
+  for (Eigen::Index i = 0; i < lowV.rows(); ++i)
+    if (coincident[static_cast<std::size_t>(i)] < 0) rest.push_back(i);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(3 * static_cast<std::size_t>(lowV.rows()));
+  if (distances) distances->setZero(lowV.rows());
   for (Eigen::Index i = 0; i < lowV.rows(); ++i)
-    for (int k = 0; k < 3; ++k)
-      if (hits.barycentric(i, k) > 0) entries.emplace_back(i, F(hits.faces(i), k), hits.barycentric(i, k));
+    if (const int v = coincident[static_cast<std::size_t>(i)]; v >= 0) entries.emplace_back(i, v, 1.0);
+  // === exact closest points of the others (CGAL AABB tree), built only when there are any
+  if (!rest.empty()) {
+    Eigen::MatrixXd queries(static_cast<Eigen::Index>(rest.size()), 3);
+    for (std::size_t r = 0; r < rest.size(); ++r) queries.row(static_cast<Eigen::Index>(r)) = lowV.row(rest[r]);
+    const ClosestPoints hits = ClosestPointQuery(V, F).query(queries, threads);
+    for (std::size_t r = 0; r < rest.size(); ++r) {
+      const auto q = static_cast<Eigen::Index>(r);
+      for (int k = 0; k < 3; ++k)
+        if (hits.barycentric(q, k) > 0) entries.emplace_back(rest[r], F(hits.faces(q), k), hits.barycentric(q, k));
+      if (distances) (*distances)(rest[r]) = hits.distances(q);
+    }
+  }
   BarycentricMap P(lowV.rows(), V.rows());
-  P.setFromTriplets(entries.begin(), entries.end());  // sums repeated corners of degenerate faces
-  if (distances) *distances = hits.distances;
+  P.setFromTriplets(entries.begin(), entries.end());  // sorts, and sums repeated corners of degenerate faces
   return P;
 }
 

@@ -79,6 +79,15 @@ TEST(MeshDecimation, TargetAboveTheVertexCountReturnsTheInput) {
   EXPECT_EQ(same.F, sphere.F);
 }
 
+TEST(MeshDecimation, LargeMeshesUseMultipleChoiceAndGiveTheSameLevelEveryRun) {
+  const auto torus = testing::torus(260, 200);  // 52,000 vertices: above the multiple-choice threshold
+  const DecimatedMesh a = decimateMesh(torus.V, torus.F, 2000);
+  const DecimatedMesh b = decimateMesh(torus.V, torus.F, 2000);
+  EXPECT_EQ(a.V, b.V);
+  EXPECT_EQ(a.F, b.F);
+  expectGoodLevel(torus, a, 0.01);
+}
+
 TEST(MeshDecimation, Dragon100kDecimatesToFivePercentAndMaps) {
   const std::filesystem::path path = std::filesystem::path(SHAPECAST_ASSETS_DIR) / "dragon_vrip_res2.ply";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent: run scripts/fetch-meshes.sh";

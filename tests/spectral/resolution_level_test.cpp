@@ -1,6 +1,7 @@
 #include "spectral/resolution_level.h"
 
 #include "model/mesh_decimation.h"
+#include "spectral/closest_point.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/reconstruction_kernel.h"
 
@@ -61,6 +62,30 @@ TEST_F(ResolutionLevelTest, PTimesRestIsTheClosestPointProjection) {
   EXPECT_LT((offsets - distances).cwiseAbs().maxCoeff(), 1e-14);
   // The decimated vertices lie near the surface: within 1% of the bbox diagonal (≈ 2.9).
   EXPECT_LT(distances.maxCoeff(), 0.03);
+}
+
+TEST_F(ResolutionLevelTest, QueriesOnAndOffTheMeshVerticesMapToTheirClosestPoints) {
+  // Every other query is a mesh vertex (mapped directly), the others are off the surface (mapped through the tree);
+  // both must agree with the exact closest points.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> offset(-0.05, 0.05);
+  Eigen::MatrixXd Q(200, 3);
+  for (Eigen::Index i = 0; i < Q.rows(); ++i) {
+    Q.row(i) = s_mesh->V.row((37 * i) % s_mesh->V.rows());
+    if (i % 2 == 1)
+      for (int c = 0; c < 3; ++c) Q(i, c) += offset(rng);
+  }
+  Eigen::VectorXd distances;
+  const BarycentricMap P = barycentricMap(s_mesh->V, s_mesh->F, Q, &distances);
+  const ClosestPoints exact = closestPoints(s_mesh->V, s_mesh->F, Q);
+  const Eigen::MatrixXd projected = P * s_mesh->V;
+  EXPECT_LT((projected - exact.points).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((distances - exact.distances).cwiseAbs().maxCoeff(), 1e-14);
+  for (Eigen::Index i = 0; i < Q.rows(); i += 2) {
+    ASSERT_EQ(P.row(i).nonZeros(), 1) << "query " << i;
+    EXPECT_EQ(P.coeff(i, (37 * i) % s_mesh->V.rows()), 1.0) << "query " << i;
+    EXPECT_EQ(distances(i), 0.0);
+  }
 }
 
 TEST_F(ResolutionLevelTest, KIsPTimesHInFloat) {
