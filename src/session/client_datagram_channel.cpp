@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <utility>
 
 namespace sc::session {
@@ -54,7 +55,10 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
   const auto peer = static_cast<std::uint16_t>(self);
   m_host = host;
   m_hostPort = udpPort;
-  m_pathOpen = encodePathOpen(peer, token, key);
+  m_self = peer;
+  m_key = key;
+  m_token = std::move(token);
+  m_pathSequence = 0;
   m_assembler = std::make_unique<FrameAssembler>(std::move(key), peer, m, m_options.concealment);
   m_impairment = m_options.impairment ? std::make_unique<NetworkImpairment>(*m_options.impairment) : nullptr;
   m_statistics = std::make_unique<ReceiverStatistics>();
@@ -110,7 +114,10 @@ int ClientDatagramChannel::pathOpenIntervalMs() const { return m_pathTimer->isAc
 
 void ClientDatagramChannel::sendPathOpen() {
   if (!m_open) return;
-  if (m_socket->writeDatagram(m_pathOpen, m_host, m_hostPort) == m_pathOpen.size()) ++m_pathOpensSent;
+  // Never wraps (2^32 PathOpens at 500 ms each is 68 years): a wrapped sequence would be dropped as Replayed.
+  if (m_pathSequence == std::numeric_limits<std::uint32_t>::max()) return;
+  const QByteArray pathOpen = encodePathOpen(m_self, m_token, ++m_pathSequence, m_key);
+  if (m_socket->writeDatagram(pathOpen, m_host, m_hostPort) == pathOpen.size()) ++m_pathOpensSent;
 }
 
 void ClientDatagramChannel::readPending() {

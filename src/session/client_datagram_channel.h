@@ -53,7 +53,9 @@ class ClientDatagramChannel : public QObject {
   quint16 localPort() const;
 
   /// Starts receiving frames for `self` and sends a PathOpen to host:udpPort at once, then every
-  /// kPathOpenIntervalMs until the first accepted coefficient datagram, then every kPathRefreshMs.
+  /// kPathOpenIntervalMs until the first accepted coefficient datagram, then every kPathRefreshMs. Each PathOpen
+  /// carries the next sequence number, from 1 per open() (the host drops any not above the highest it accepted);
+  /// rebinding the socket with bind() while open keeps the count, so the next PathOpen moves the host's path.
   /// @param[in] key, token  datagramKey and pathToken from the Welcome. @param[in] m  rows of Z, 1..kMaxRows.
   /// Opening again (e.g. a new session) starts a fresh assembler, statistics and impairment.
   void open(const QHostAddress& host, quint16 udpPort, PeerId self, QByteArray key, QByteArray token, int m);
@@ -86,7 +88,7 @@ class ClientDatagramChannel : public QObject {
   std::uint64_t droppedDatagrams() const;
   /// Datagrams read from the socket (before the impairment).
   std::uint64_t datagramsRead() const { return m_datagramsRead; }
-  /// PathOpen datagrams sent.
+  /// PathOpen datagrams sent (over every open()).
   std::uint64_t pathOpensSent() const { return m_pathOpensSent; }
   /// Current PathOpen interval: kPathOpenIntervalMs until the first accepted datagram, then kPathRefreshMs;
   /// 0 when not open.
@@ -115,7 +117,10 @@ class ClientDatagramChannel : public QObject {
   bool m_open = false;
   QHostAddress m_host;
   quint16 m_hostPort = 0;
-  QByteArray m_pathOpen;  ///< the encoded PathOpen (constant per open())
+  std::uint16_t m_self = 0;          ///< peer id for the PathOpens
+  QByteArray m_key;                  ///< datagram key (PathOpen tag)
+  QByteArray m_token;                ///< path token
+  std::uint32_t m_pathSequence = 0;  ///< of the last PathOpen sent; 0 after open()
   std::unique_ptr<FrameAssembler> m_assembler;
   std::unique_ptr<NetworkImpairment> m_impairment;
   std::unique_ptr<ReceiverStatistics> m_statistics;

@@ -19,6 +19,7 @@ struct HostDatagramChannel::Peer {
   QByteArray token;
   CoefficientEncoder encoder;
   bool open = false;
+  std::uint32_t highestSequence = 0;  ///< of the accepted PathOpens; 0 = none yet
   QHostAddress address;
   quint16 port = 0;
   std::uint64_t datagramsSent = 0;
@@ -114,7 +115,7 @@ void HostDatagramChannel::readPending() {
   const auto lookup = [this](PeerId id) -> std::optional<PathCredentials> {
     const auto it = m_peers.find(id);
     if (it == m_peers.end()) return std::nullopt;
-    return PathCredentials{it->second->key, it->second->token};
+    return PathCredentials{it->second->key, it->second->token, it->second->highestSequence};
   };
   while (m_socket->hasPendingDatagrams()) {
     const QNetworkDatagram datagram = m_socket->receiveDatagram();
@@ -126,6 +127,7 @@ void HostDatagramChannel::readPending() {
     const auto it = m_peers.find(result.peer);
     if (it == m_peers.end()) continue;  // cannot happen: lookup found it
     Peer& peer = *it->second;
+    peer.highestSequence = result.sequence;  // decodePathOpen accepted it: strictly above the previous highest
     const QHostAddress address = datagram.senderAddress();
     const quint16 port = static_cast<quint16>(datagram.senderPort());
     if (peer.open && peer.address == address && peer.port == port) continue;

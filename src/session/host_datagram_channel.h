@@ -5,8 +5,10 @@
 //
 // Path rule (docs/protocol.md, "Datagram key and path"): a peer added with addPeer() receives nothing until a
 // PathOpen with its peer id, key and token arrives; the datagram's source address and port become the peer's UDP
-// address, and a later valid PathOpen from another address moves it there (NAT rebinding). Invalid datagrams are
-// dropped and counted per PathOpenError (style.md item 6), never answered.
+// address, and a later valid PathOpen from another address moves it there (NAT rebinding). A PathOpen is valid
+// only if its sequence is above the highest accepted from that peer since addPeer(), so a recorded one resent
+// from elsewhere is dropped as Replayed and moves nothing. Invalid datagrams are dropped and counted per
+// PathOpenError (style.md item 6), never answered.
 // Not thread-safe: use from the thread that owns it (its socket's thread).
 
 #include "session/coefficient_codec.h"
@@ -49,11 +51,12 @@ class HostDatagramChannel : public QObject {
 
   /// Registers a joined client: its peer id (1..65535, the datagram header holds 16 bits; others are ignored),
   /// datagram key (non-empty) and path token (kPathTokenSize bytes). Its path stays closed until a valid PathOpen.
-  /// Re-adding a peer replaces its credentials, closes its path and restarts its encoder (sequence 0).
+  /// Re-adding a peer replaces its credentials, closes its path, restarts its encoder (sequence 0) and forgets the
+  /// highest PathOpen sequence accepted from it (the client starts again at 1 after a new Welcome).
   void addPeer(PeerId peer, QByteArray key, QByteArray token);
   /// Forgets a peer (it left): nothing more is sent to it and its PathOpens count as Stranger.
   void removePeer(PeerId peer);
-  /// True once a valid PathOpen of this (added) peer arrived.
+  /// True once a valid (accepted) PathOpen of this (added) peer arrived.
   bool pathOpen(PeerId peer) const;
 
   /// Encodes Z once per open path (each peer has its own key and sequence numbers) and sends the datagrams.
@@ -82,7 +85,7 @@ class HostDatagramChannel : public QObject {
   quint16 peerPort(PeerId peer) const;
 
  signals:
-  /// The first valid PathOpen of a peer, and again whenever its source address or port changes.
+  /// The first accepted PathOpen of a peer, and again whenever an accepted one comes from another address or port.
   void pathOpened(PeerId peer);
 
  private:

@@ -9,7 +9,7 @@ namespace {
 constexpr qsizetype kSignedSize = kPathOpenSize - kTagSize;
 }  // namespace
 
-QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, const QByteArray& key) {
+QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, std::uint32_t sequence, const QByteArray& key) {
   QByteArray out;
   ByteWriter writer(out);
   writer.u16(kMagic);
@@ -17,6 +17,7 @@ QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, const QByt
   writer.u8(static_cast<std::uint8_t>(MessageType::PathOpen));
   writer.u16(peerId);
   writer.bytes(token);
+  writer.u32(sequence);
   out.append(datagramTag(key, out));
   return out;
 }
@@ -33,6 +34,8 @@ const char* toString(PathOpenError error) {
       return "bad-tag";
     case PathOpenError::Malformed:
       return "malformed";
+    case PathOpenError::Replayed:
+      return "replayed";
     case PathOpenError::Count:
       break;
   }
@@ -48,6 +51,7 @@ PathOpenResult decodePathOpen(QByteArrayView bytes,
   const std::uint8_t type = reader.u8();
   const PeerId peer = reader.u16();
   const QByteArray token = reader.bytes(kPathTokenSize);
+  const std::uint32_t sequence = reader.u32();
   const std::optional<PathCredentials> credentials = peer == kNoPeer ? std::nullopt : lookup(peer);
   if (!credentials) return {PathOpenError::Stranger};
   if (!constantTimeEquals(datagramTag(credentials->key, bytes.first(kSignedSize)), bytes.sliced(kSignedSize))) {
@@ -57,7 +61,9 @@ PathOpenResult decodePathOpen(QByteArrayView bytes,
     return {PathOpenError::Malformed};
   }
   if (!constantTimeEquals(token, credentials->token)) return {PathOpenError::Stranger};
-  return {PathOpenError::None, peer};
+  // Last, after authentication: only an authentic datagram may be judged a replay (RFC 6347 §4.1.2.6 order).
+  if (sequence <= credentials->highestSequence) return {PathOpenError::Replayed};
+  return {PathOpenError::None, peer, sequence};
 }
 
 }  // namespace sc::session

@@ -14,27 +14,34 @@
 
 namespace sc::session {
 
-/// The exact kPathOpenSize bytes a client sends. `key`: its datagram key; `token`: kPathTokenSize bytes.
-/// Cost: one HMAC over 22 bytes.
-QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, const QByteArray& key);
+/// The exact kPathOpenSize bytes a client sends. `key`: its datagram key; `token`: kPathTokenSize bytes;
+/// `sequence`: 1 for the first PathOpen after a Welcome, +1 for every later one (the host drops any sequence not
+/// above the highest it accepted from that peer). Deterministic: the same arguments give the same bytes.
+/// Cost: one HMAC over 26 bytes.
+QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, std::uint32_t sequence, const QByteArray& key);
 
-/// Why the host dropped a path-open datagram. `None`: accepted.
-enum class PathOpenError : std::uint8_t { None, Truncated, Stranger, BadTag, Malformed, Count };
+/// Why the host dropped a path-open datagram. `None`: accepted. `Replayed`: authentic, but its sequence is not
+/// above the highest accepted for that peer (a recorded PathOpen resent, or an old one delivered late).
+enum class PathOpenError : std::uint8_t { None, Truncated, Stranger, BadTag, Malformed, Replayed, Count };
 
 const char* toString(PathOpenError error);
 
-/// What the host knows of a joined client: its datagram key and path token.
+/// What the host knows of a joined client: its datagram key, path token and the highest PathOpen sequence it
+/// accepted from it (0: none yet, so every sequence ≥ 1 is fresh).
 struct PathCredentials {
   QByteArray key;
   QByteArray token;
+  std::uint32_t highestSequence = 0;
 };
 
-/// Checks a datagram in the order of wire_format.h (length, known peer, tag, magic/version/type, token) and
-/// returns the peer id it opens the path for. `lookup` maps a peer id to its credentials (nullopt: unknown peer).
-/// Never reads outside `bytes`; the token comparison is constant-time. Cost: one HMAC over 22 bytes.
+/// Checks a datagram in the order of wire_format.h (length, known peer, tag, magic/version/type, token, sequence)
+/// and returns the peer id it opens the path for and its sequence. `lookup` maps a peer id to its credentials
+/// (nullopt: unknown peer). Pure: the caller records `sequence` as the peer's new highest when error == None.
+/// Never reads outside `bytes`; the tag and token comparisons are constant-time. Cost: one HMAC over 26 bytes.
 struct PathOpenResult {
   PathOpenError error = PathOpenError::Truncated;
-  PeerId peer = kNoPeer;  ///< set when error == None
+  PeerId peer = kNoPeer;       ///< set when error == None
+  std::uint32_t sequence = 0;  ///< set when error == None
 };
 PathOpenResult decodePathOpen(QByteArrayView bytes,
                               const std::function<std::optional<PathCredentials>(PeerId)>& lookup);

@@ -46,7 +46,7 @@
 // Path-open datagram (UDP, client -> host), MessageType::PathOpen: opens (and keeps open, through NATs) the path
 // the host sends coefficient datagrams on. The host answers nothing; it records the datagram's source address as
 // the client's UDP address. Sent after the Welcome every 500 ms until the first coefficient datagram arrives, then
-// every kPathRefreshMs. 38 bytes:
+// every kPathRefreshMs. 42 bytes:
 //
 //  offset size field      meaning
 //     0    2   magic      0x5343
@@ -54,10 +54,13 @@
 //     3    1   type       MessageType::PathOpen
 //     4    2   peerId     the client's id from the Welcome (selects the key on the host)
 //     6   16   token      pathToken from the Welcome
-//    22   16   tag        HMAC-SHA256(datagramKey, bytes 0..21), truncated
+//    22    4   sequence   u32: 1 for the first PathOpen after a Welcome, +1 for every one sent (never wraps)
+//    26   16   tag        HMAC-SHA256(datagramKey, bytes 0..25), truncated
 //
 // Host order of checks: exact length (Truncated), peerId known (Stranger), tag (BadTag), magic/version/type
-// (Malformed), token (Stranger). Every drop is counted.
+// (Malformed), token (Stranger), sequence > the highest accepted from that peer since its Welcome (Replayed).
+// Every drop is counted. Only an accepted PathOpen raises the highest sequence and may move the path to its
+// source address and port, so a recorded PathOpen resent from another address moves nothing.
 //
 // ==================================================================================================================
 // Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
@@ -204,7 +207,7 @@ inline constexpr int kMaxPeers = 64;
 inline constexpr int kMaxHandles = 64;
 inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
 inline constexpr int kHandleEntrySize = 2 + 12 * 8;
-inline constexpr int kPathOpenSize = 6 + kPathTokenSize + kTagSize;  ///< 38 bytes
+inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;  ///< 42 bytes
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
