@@ -1,6 +1,7 @@
 #include "session/level_library.h"
 
 #include "model/mesh_decimation.h"
+#include "session/model_transfer.h"
 #include "spectral/resolution_level.h"
 
 #include <QtCore/QMetaObject>
@@ -101,6 +102,7 @@ LevelLibrary::BuildResult LevelLibrary::build(const HostModel& model, std::uint3
       return result;
     }
     out.payload = QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
+    out.sha256 = sha256(out.payload);  // once per level, here rather than per transfer on the network thread
     result.level = std::move(out);
   } catch (const std::exception& e) {
     result.error = QStringLiteral("building the level for %1 vertices failed: %2").arg(target).arg(e.what());

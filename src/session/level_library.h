@@ -4,10 +4,12 @@
 // (spectral::encodeResolutionLevel), which is what a ModelBegin/ModelChunk transfer carries.
 //
 // Threading contract: a LevelLibrary lives on one thread (the host's network thread). Building a level
-// (decimation + barycentric map + K = P·H + encoding) runs on ONE worker std::thread at a time (decimateMesh is
-// not thread-safe with other OpenMesh users), never on the owner's thread; the result is handed back through a
-// queued call, so levelReady()/levelFailed() are emitted on the owner's thread. The destructor joins a running
-// build (it waits for it to finish). Each target is built at most once; a failure is cached too.
+// (decimation + barycentric map + K = P·H, or fullResolutionLevel for the full model; then its encoding and the
+// payload's SHA-256) runs on ONE worker std::thread at a time (decimateMesh is not thread-safe with other OpenMesh
+// users), never on the owner's thread: the owner only hands out the cached payload and digest (ModelSender's
+// precomputed-digest constructor), so no transfer encodes or hashes on the network thread. The result is handed
+// back through a queued call, so levelReady()/levelFailed() are emitted on the owner's thread. The destructor
+// joins a running build (it waits for it to finish). Each target is built at most once; a failure is cached too.
 
 #include "session/control_messages.h"
 #include "session/host_model.h"
@@ -37,6 +39,7 @@ class LevelLibrary final : public QObject {
     std::uint32_t vertexCount = 0;  ///< the level's actual vertex count n' (decimation may miss the target)
     TransferKind kind = TransferKind::FullModel;
     QByteArray payload;  ///< encodeResolutionLevel() bytes, 1..kMaxTransferSize
+    QByteArray sha256;   ///< sha256(payload), computed once on the worker (ModelBegin::sha256 of every transfer)
   };
 
   /// @param model  non-null, with #V ≥ 3 and a basis of #V rows.
@@ -68,7 +71,7 @@ class LevelLibrary final : public QObject {
     std::optional<Level> level;
     QString error;
   };
-  /// Runs on the worker thread: builds and encodes one level. Never throws.
+  /// Runs on the worker thread: builds, encodes and hashes one level. Never throws.
   static BuildResult build(const HostModel& model, std::uint32_t target, std::uint32_t full);
   void startNext();
   void finishBuild(std::uint32_t target, const std::shared_ptr<BuildResult>& result);

@@ -10,12 +10,22 @@ namespace sc::session {
 
 QByteArray sha256(QByteArrayView bytes) { return QCryptographicHash::hash(bytes, QCryptographicHash::Sha256); }
 
+bool checksumMatches(QByteArrayView payload, QByteArrayView expected) {
+  return expected.size() == kChecksumSize && QByteArrayView(sha256(payload)) == expected;
+}
+
 ModelSender::ModelSender(std::uint32_t transferId, TransferKind kind, std::uint32_t vertexCount, QByteArray payload,
                          std::uint32_t chunkBytes)
+    : ModelSender(transferId, kind, vertexCount, payload, sha256(payload), chunkBytes) {}
+
+ModelSender::ModelSender(std::uint32_t transferId, TransferKind kind, std::uint32_t vertexCount, QByteArray payload,
+                         QByteArray payloadSha256, std::uint32_t chunkBytes)
     : m_payload(std::move(payload)), m_chunkBytes(chunkBytes) {
   assert(!m_payload.isEmpty() && static_cast<std::uint64_t>(m_payload.size()) <= kMaxTransferSize);
   assert(transferId >= 1 && vertexCount >= 1 && chunkBytes >= 1 && chunkBytes <= kMaxChunkBytes);
-  m_begin = ModelBegin{transferId, kind, vertexCount, static_cast<std::uint32_t>(m_payload.size()), sha256(m_payload)};
+  assert(payloadSha256.size() == kChecksumSize);
+  m_begin =
+      ModelBegin{transferId, kind, vertexCount, static_cast<std::uint32_t>(m_payload.size()), std::move(payloadSha256)};
 }
 
 std::optional<ModelChunk> ModelSender::nextChunk() {
@@ -32,7 +42,11 @@ void ModelReceiver::begin(const ModelBegin& begin) {
   m_complete = false;
 }
 
-ModelReceiver::Status ModelReceiver::add(const ModelChunk& chunk) {
+ModelReceiver::Status ModelReceiver::add(const ModelChunk& chunk) { return append(chunk, true); }
+
+ModelReceiver::Status ModelReceiver::addUnchecked(const ModelChunk& chunk) { return append(chunk, false); }
+
+ModelReceiver::Status ModelReceiver::append(const ModelChunk& chunk, bool verify) {
   if (!m_begin || m_complete || chunk.transferId != m_begin->transferId) return Status::UnknownTransfer;
   if (chunk.offset != static_cast<std::uint32_t>(m_bytes.size()) || chunk.totalSize != m_begin->totalSize ||
       std::uint64_t{chunk.offset} + static_cast<std::uint64_t>(chunk.bytes.size()) > m_begin->totalSize) {
@@ -41,7 +55,7 @@ ModelReceiver::Status ModelReceiver::add(const ModelChunk& chunk) {
   }
   m_bytes.append(chunk.bytes);
   if (static_cast<std::uint32_t>(m_bytes.size()) < m_begin->totalSize) return Status::InProgress;
-  if (sha256(m_bytes) != m_begin->sha256) {
+  if (verify && !checksumMatches(m_bytes, m_begin->sha256)) {
     abandon();
     return Status::BadChecksum;
   }

@@ -4,7 +4,7 @@
 // for the level transfer, a LockClient, and the reconstruction X' = X̂' + K·Z of the received level. A thin
 // adapter: protocol decisions are the pure state machines'; this class wires them to sockets and timers.
 //
-// States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level complete--> Ready
+// States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level decoded--> Ready
 //          any --Leave from the host / leave()--> Left;  any --refusal, error, silence--> Failed (reason in
 //          errorText(): the host's Refused text, "host not responding", the socket's error, …).
 // Contracts
@@ -12,6 +12,13 @@
 //     ResolutionRequest{options.level} is sent. A new level replaces the displayed one only once it is complete and
 //     decoded; a bad payload (checksum, decode, or shape not matching the Welcome) emits levelFailed(reason) and
 //     keeps the connection and the previous level.
+//   - Level decoding off the client's thread: the last chunk only completes the reassembly; the SHA-256 check,
+//     decodeResolutionLevel, the shape check and the interleaved rest positions run on one worker std::thread at
+//     a time, so heartbeats and datagrams are never stuck behind them. The result comes back through a queued call
+//     (levelReady()/levelFailed() are emitted on the client's thread); until then the previous level stays
+//     displayed (levelDecoding() is true). A transfer completed while another decodes waits, and supersedes it:
+//     only the latest completed transfer is installed. A result arriving after leave() or a failure is dropped.
+//     The destructor joins a running decode (it waits for it to finish; nothing is delivered to the dead object).
 //   - A Keyframe seeds the channel (ignored by it once a datagram frame arrived) and is re-emitted as
 //     keyframeReceived(frame, Z) (exact references for a DistortionProbe).
 //   - requestLock()/releaseLock() go through the LockClient (renewed every 250 ms poll while held);
@@ -19,7 +26,10 @@
 //     the held epoch.
 //   - Heartbeat every second; a StatsReport every second from the channel's report() and the distortion figures
 //     set with setDistortion(); a host silent for options.hostTimeout fails the session.
-//   - positions() = X̂' + K·Z (float32, interleaved xyz) recomputed whenever Z or the level changes.
+//   - positions() = X̂' + K·Z (float32, interleaved xyz), recomputed at once when a level is installed and, when Z
+//     changes (frameUpdated of the channel, once per applied datagram or seed), coalesced: Z changes only mark the
+//     positions dirty and arm a zero-timeout single-shot timer, so every datagram already pending is decoded first
+//     and one recompute (one positionsUpdated(frame)) serves them all.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
 #include "session/client_datagram_channel.h"
@@ -38,6 +48,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <thread>
+#include <utility>
 #include <vector>
 
 class QTcpSocket;
@@ -99,9 +111,14 @@ class SessionClient final : public QObject {
   [[nodiscard]] const QByteArray& levelPayload() const { return m_levelPayload; }
   [[nodiscard]] std::uint32_t levelVertexCount() const;
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
+  /// True while a completed transfer is being checked and decoded off-thread (the previous level is still shown).
+  [[nodiscard]] bool levelDecoding() const { return m_decoding; }
   /// X̂' + K·Z, 3·n' floats (empty before a level).
   [[nodiscard]] const std::vector<float>& positions() const { return m_positions; }
-  /// How many times positions() was recomputed.
+  /// Frame number of the Z that positions() reflects (the channel's current frame at the last recompute).
+  [[nodiscard]] std::uint32_t positionsFrame() const { return m_positionsFrame; }
+  /// How many times positions() was recomputed (one per level installed, plus at most one per event-loop pass in
+  /// which Z changed, however many datagrams changed it); each recompute emits positionsUpdated() once.
   [[nodiscard]] std::uint64_t positionUpdates() const { return m_positionUpdates; }
   [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
   [[nodiscard]] ClientDatagramChannel& channel() { return *m_channel; }
@@ -127,9 +144,17 @@ class SessionClient final : public QObject {
   void handleHandshake(const HandshakeOutput& out);
   void onJoined();
   void onMessage(const ControlMessage& message);
+  struct DecodedLevel;
+  /// Runs on the worker thread: checksum, decode, shape check (m, n of the Welcome), interleaved rest positions.
+  static DecodedLevel decodeLevel(QByteArray payload, const QByteArray& expectedSha256, std::uint16_t rowCount,
+                                  std::uint32_t vertexCount);
+
   void onModelChunk(const ModelChunk& chunk);
-  void installLevel(QByteArray payload);
+  void startDecode(QByteArray payload, QByteArray expectedSha256);
+  void finishDecode(const std::shared_ptr<DecodedLevel>& result);
+  void installLevel(DecodedLevel& decoded);
   void onKeyframe(const Keyframe& keyframe);
+  void onFrameUpdated();
   void recomputePositions();
   void everySecond();
   void renewTick();
@@ -140,6 +165,7 @@ class SessionClient final : public QObject {
   ClientDatagramChannel* m_channel = nullptr;
   QTimer* m_secondTimer = nullptr;
   QTimer* m_renewTimer = nullptr;
+  QTimer* m_recomputeTimer = nullptr;  ///< zero-timeout single-shot: coalesced recompute after pending datagrams
   ControlFrameReader m_reader;
   ClientHandshake m_handshake;
   ModelReceiver m_receiver;
@@ -153,7 +179,13 @@ class SessionClient final : public QObject {
   QString m_levelError;
   std::vector<float> m_rest;  ///< X̂' interleaved
   std::vector<float> m_positions;
+  std::uint32_t m_positionsFrame = 0;
+  bool m_positionsDirty = false;
   std::uint64_t m_positionUpdates = 0;
+  // level decoding (one worker at a time; the destructor joins it)
+  std::thread m_decoder;
+  bool m_decoding = false;
+  std::optional<std::pair<QByteArray, QByteArray>> m_nextDecode;  ///< (payload, sha256) completed meanwhile
   std::uint64_t m_keyframes = 0;
   std::uint32_t m_heartbeatSequence = 0;
   std::chrono::microseconds m_lastHeard{0};

@@ -282,7 +282,7 @@ void SessionHost::startTransfer(Peer& peer, std::uint32_t target) {
   peer.transferTarget = target;
   peer.transferVertexCount = level->vertexCount;
   peer.connection->startTransfer(
-      std::make_unique<ModelSender>(m_transferId, level->kind, level->vertexCount, level->payload));
+      std::make_unique<ModelSender>(m_transferId, level->kind, level->vertexCount, level->payload, level->sha256));
 }
 
 void SessionHost::onLevelReady(std::uint32_t target) {

@@ -7,8 +7,9 @@
 // Behaviour (all on the thread that owns the host):
 //   - Peer ids: the host's own user is peer 1 (kHostPeer); clients get 2, 3, … (ids in use are skipped).
 //   - After a Welcome: PeerList to everybody, the current grant (if any) to the newcomer. A ResolutionRequest
-//     starts a model transfer of LevelLibrary::pick(wanted) (built off-thread when first asked for); when its last
-//     chunk is queued the peer gets Keyframe{current frame, Z} and everybody a PeerList with its new level.
+//     starts a model transfer of LevelLibrary::pick(wanted) (built, encoded and hashed off-thread once, when first
+//     asked for; a transfer reuses the cached payload and SHA-256); when its last chunk is queued the peer gets
+//     Keyframe{current frame, Z} and everybody a PeerList with its new level.
 //   - Lock: LockMessages go to the arbiter (ticked every 100 ms); its events are sent (broadcast or to one peer).
 //   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); a rejected one is counted (NotHolder / StaleEpoch /
 //     bad vertex ids). An accepted drag solves at once and sends a frame (timestamp = the drag's arrival), unless

@@ -83,5 +83,53 @@ TEST(ModelTransfer, ANewBeginAbandonsTheUnfinishedTransfer) {
   EXPECT_EQ(receiver.take(), payload(2500));
 }
 
+TEST(ModelTransfer, PrecomputedDigestAnnouncesTheSameBegin) {
+  const QByteArray bytes = payload(7000);
+  ModelSender hashing(9, TransferKind::Level, 40, bytes, 2000);
+  ModelSender precomputed(9, TransferKind::Level, 40, bytes, sha256(bytes), 2000);
+  EXPECT_EQ(precomputed.begin(), hashing.begin());
+  while (auto chunk = hashing.nextChunk()) {
+    const std::optional<ModelChunk> other = precomputed.nextChunk();
+    ASSERT_TRUE(other.has_value());
+    EXPECT_EQ(*other, *chunk);
+  }
+  EXPECT_FALSE(precomputed.nextChunk().has_value());
+}
+
+TEST(ModelTransfer, UncheckedCompletionLeavesTheChecksumToTheCaller) {
+  // Intact: Complete without hashing; the payload verifies against the announced digest.
+  ModelSender sender(4, TransferKind::FullModel, 10, payload(10000), 3000);
+  ModelReceiver receiver;
+  receiver.begin(sender.begin());
+  ModelReceiver::Status status = ModelReceiver::Status::InProgress;
+  while (auto chunk = sender.nextChunk()) status = receiver.addUnchecked(*chunk);
+  ASSERT_EQ(status, ModelReceiver::Status::Complete);
+  ASSERT_TRUE(receiver.current().has_value());
+  const QByteArray expected = receiver.current()->sha256;
+  const QByteArray bytes = receiver.take();
+  EXPECT_FALSE(receiver.active());
+  EXPECT_EQ(bytes, payload(10000));
+  EXPECT_TRUE(checksumMatches(bytes, expected));
+
+  // Corrupted: still Complete (not hashed), and the caller's check catches it.
+  ModelSender again(5, TransferKind::FullModel, 10, payload(10000), 3000);
+  receiver.begin(again.begin());
+  while (auto chunk = again.nextChunk()) {
+    if (chunk->offset == 6000) chunk->bytes[0] = static_cast<char>(chunk->bytes[0] ^ 0x40);
+    status = receiver.addUnchecked(*chunk);
+  }
+  ASSERT_EQ(status, ModelReceiver::Status::Complete);
+  const QByteArray digest = receiver.current()->sha256;
+  EXPECT_FALSE(checksumMatches(receiver.take(), digest));
+  EXPECT_FALSE(checksumMatches(payload(10000), QByteArray()));  // a digest of the wrong size never matches
+
+  // The ordering rules are those of add().
+  ModelSender third(6, TransferKind::Level, 10, payload(9000), 3000);
+  receiver.begin(third.begin());
+  (void)third.nextChunk();
+  EXPECT_EQ(receiver.addUnchecked(*third.nextChunk()), ModelReceiver::Status::OutOfOrder);
+  EXPECT_FALSE(receiver.active());
+}
+
 }  // namespace
 }  // namespace sc::session

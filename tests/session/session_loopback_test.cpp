@@ -16,6 +16,7 @@
 #include "session/handle_transforms.h"
 #include "session/host_datagram_channel.h"
 #include "session/level_library.h"
+#include "session/model_transfer.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/laplace_operators.h"
 #include "spectral/resolution_level.h"
@@ -200,6 +201,9 @@ TEST_F(SessionLoopback, LevelLibraryPicksTheClosestTargetAndBuildsOnce) {
   ASSERT_NE(library.find(target), nullptr);
   EXPECT_EQ(library.find(n())->kind, TransferKind::FullModel);
   EXPECT_EQ(library.find(n())->vertexCount, n());
+  // Hashed once, on the worker, with the payload.
+  EXPECT_EQ(library.find(n())->sha256, sha256(library.find(n())->payload));
+  EXPECT_EQ(library.find(target)->sha256, sha256(library.find(target)->payload));
   library.request(target);  // cached: nothing more
   QTest::qWait(50);
   EXPECT_EQ(ready.size(), 2u);
@@ -314,8 +318,10 @@ TEST_F(SessionLoopback, LateJoinGetsTheCurrentDeformationAtOnce) {
   EXPECT_EQ(keyframe->first, host->currentFrame());
   EXPECT_EQ(keyframe->second, expected);  // exact: float64 on the wire
   EXPECT_EQ(late->channel().coefficients(), expected);
-  // The displayed positions are the deformed shape: the cap moved up by about the drag.
+  // The displayed positions are the deformed shape: the cap moved up by about the drag. The keyframe may come in
+  // after the level was installed: its recompute is then coalesced into the next event-loop pass.
   const auto top = static_cast<std::size_t>(handle.front());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return late->positionsFrame() == keyframe->first; }, kWaitMs));
   EXPECT_GT(late->positions()[3 * top + 2], static_cast<float>(s_model->V(handle.front(), 2)) + 0.2f);
   // The lock holder is announced to the newcomer.
   ASSERT_TRUE(QTest::qWaitFor([&] { return late->lock()->holder() == kHostPeer; }, kWaitMs));
@@ -527,6 +533,10 @@ TEST_F(SessionLoopback, DragByTheHolderProducesFramesAtTheOtherClients) {
   const Eigen::MatrixXd& Z = host->coefficients();
   EXPECT_LT((viewer->channel().coefficients() - Z).cwiseAbs().maxCoeff(), 1e-3 * Z.cwiseAbs().maxCoeff());
   EXPECT_EQ(dragger->channel().currentFrame(), host->currentFrame());
+  // Recomputes are coalesced (at most one per event-loop pass, never more than one per applied datagram plus the
+  // level install) and follow the latest frame.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return viewer->positionsFrame() == host->currentFrame(); }, kWaitMs));
+  EXPECT_LE(viewer->positionUpdates(), viewer->channel().framesApplied() + viewer->keyframesReceived() + 1);
   // The viewer's low-resolution positions moved: X' = X̂' + K·Z.
   const spectral::ResolutionLevel& level = *viewer->level();
   double maxMove = 0.0;
@@ -540,6 +550,61 @@ TEST_F(SessionLoopback, DragByTheHolderProducesFramesAtTheOtherClients) {
   // The viewer reports its statistics about once a second.
   ASSERT_TRUE(QTest::qWaitFor([&] { return host->stats(viewer->peerId()).has_value(); }, 3000));
   EXPECT_EQ(host->stats(viewer->peerId())->vertexCount, viewer->levelVertexCount());
+}
+
+TEST_F(SessionLoopback, ZChangesWithinOneEventLoopPassAreReconstructedOnce) {
+  SessionHostOptions options = hostOptions();
+  options.idleRefresh = std::chrono::milliseconds(60000);  // no datagram frames: the seeds below stay applicable
+  auto host = startHost(options);
+  auto client = join(*host, QStringLiteral("coalesced"));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return client->keyframesReceived() >= 1; }, kWaitMs));
+  QTest::qWait(50);  // let a recompute scheduled by the join keyframe run
+  const std::uint64_t before = client->positionUpdates();
+  std::vector<std::uint32_t> emitted;
+  QObject::connect(client.get(), &SessionClient::positionsUpdated, client.get(),
+                   [&](std::uint32_t frame) { emitted.push_back(frame); });
+
+  // Three Z changes back to back, as from three datagrams read in one pass: each emits frameUpdated at once ...
+  const auto m = static_cast<Eigen::Index>(s_model->rowCount());
+  int updatedSignals = 0;
+  QObject::connect(&client->channel(), &ClientDatagramChannel::frameUpdated, client.get(), [&] { ++updatedSignals; });
+  for (std::uint32_t frame = 1; frame <= 3; ++frame) {
+    client->channel().seed(frame, Eigen::MatrixXd::Constant(m, 3, 0.01 * frame));
+  }
+  EXPECT_EQ(updatedSignals, 3);
+  EXPECT_EQ(client->positionUpdates(), before);  // ... but nothing is reconstructed synchronously
+  // ... and one recompute, of the latest Z, follows.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return client->positionUpdates() > before; }, kWaitMs));
+  QTest::qWait(50);
+  EXPECT_EQ(client->positionUpdates(), before + 1);
+  EXPECT_EQ(emitted, (std::vector<std::uint32_t>{3}));
+  EXPECT_EQ(client->positionsFrame(), 3u);
+  const spectral::ResolutionLevel& level = *client->level();
+  const Eigen::MatrixXd Z = Eigen::MatrixXd::Constant(m, 3, 0.03);
+  for (const Eigen::Index i : {Eigen::Index{0}, level.restV.rows() / 2, level.restV.rows() - 1}) {
+    for (int c = 0; c < 3; ++c) {
+      const double expected = level.restV(i, c) + level.K.row(i).transpose().cast<double>().dot(Z.col(c));
+      EXPECT_NEAR(client->positions()[static_cast<std::size_t>(3 * i + c)], expected, 1e-5);
+    }
+  }
+}
+
+TEST_F(SessionLoopback, ClientDestroyedWhileItsLevelDecodesDoesNotCrash) {
+  auto host = startHost();
+  for (int round = 0; round < 4; ++round) {
+    auto client = connectClient(*host, QStringLiteral("brief%1").arg(round), round % 2 == 0 ? 0 : 30);
+    bool lastChunk = false;
+    QObject::connect(client.get(), &SessionClient::modelProgress, client.get(), [&](quint64 received, quint64 total) {
+      if (total > 0 && received == total) lastChunk = true;  // the decode starts right after this signal
+    });
+    ASSERT_TRUE(QTest::qWaitFor([&] { return lastChunk; }, kWaitMs)) << client->errorText().toStdString();
+    client.reset();  // whether the decode is still running or its result is queued: nothing may reach it
+    ASSERT_TRUE(QTest::qWaitFor([&] { return host->peerList().peers.size() == 1; }, kWaitMs));
+  }
+  // The host is unaffected: a new client still gets its level.
+  auto after = join(*host, QStringLiteral("after"));
+  EXPECT_EQ(after->levelVertexCount(), n());
+  EXPECT_FALSE(after->levelDecoding());
 }
 
 }  // namespace
