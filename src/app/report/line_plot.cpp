@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace sc::report {
 namespace {
@@ -38,9 +39,11 @@ QString tickText(double value, double step) {
 void drawPanel(QPainter& painter, const PlotPanel& panel, const QRect& area) {
   const QRect plot = area.adjusted(70, 40, -20, -55);
   const double xStep = niceStep(seriesMaximum(panel, true), 5);
-  const double yStep = niceStep(seriesMaximum(panel, false), 5);
+  // Head room above the data for the legend box (top left), so no curve runs under it.
+  const double yData = seriesMaximum(panel, false) * 1.4;
+  const double yStep = niceStep(yData, 5);
   const double xMax = std::max(xStep, std::ceil(seriesMaximum(panel, true) / xStep) * xStep);
-  const double yMax = std::max(yStep, std::ceil(seriesMaximum(panel, false) / yStep) * yStep);
+  const double yMax = std::max(yStep, std::ceil(yData / yStep) * yStep);
   const auto toPixel = [&](double x, double y) {
     return QPointF(plot.left() + x / xMax * plot.width(), plot.bottom() - y / yMax * plot.height());
   };
@@ -72,9 +75,10 @@ void drawPanel(QPainter& painter, const PlotPanel& panel, const QRect& area) {
   painter.drawText(QRect(-plot.height() / 2, -10, plot.height(), 22), Qt::AlignHCenter, panel.yLabel);
   painter.restore();
 
-  int legendRow = 0;
+  std::vector<const PlotSeries*> drawn;
   for (const PlotSeries& s : panel.series) {
     if (s.x.empty()) continue;
+    drawn.push_back(&s);
     QPen pen(s.color, 2.0);
     if (s.dashed) pen.setStyle(Qt::DashLine);
     painter.setPen(pen);
@@ -89,10 +93,27 @@ void drawPanel(QPainter& painter, const PlotPanel& panel, const QRect& area) {
       painter.drawEllipse(p, 2.5, 2.5);
     }
     painter.drawPath(path);
-    const QPointF legend(plot.left() + 12, plot.top() + 14 + 18 * legendRow++);
-    painter.drawLine(legend, legend + QPointF(24, 0));
+  }
+
+  // Legend on a white box above the curves (top left of the plot).
+  int legendWidth = 0;
+  for (const PlotSeries* s : drawn)
+    legendWidth = std::max(legendWidth, painter.fontMetrics().horizontalAdvance(s->label));
+  const QRectF box(plot.left() + 6, plot.top() + 5, legendWidth + 50, 18.0 * static_cast<double>(drawn.size()) + 6);
+  if (!drawn.empty()) {
+    painter.setPen(QColor(200, 200, 200));
+    painter.setBrush(QColor(255, 255, 255, 235));
+    painter.drawRect(box);
+    painter.setBrush(Qt::NoBrush);
+  }
+  for (std::size_t row = 0; row < drawn.size(); ++row) {
+    QPen pen(drawn[row]->color, 2.0);
+    if (drawn[row]->dashed) pen.setStyle(Qt::DashLine);
+    painter.setPen(pen);
+    const QPointF legend(box.left() + 8, box.top() + 12 + 18.0 * static_cast<double>(row));
+    painter.drawLine(legend, legend + QPointF(28, 0));
     painter.setPen(Qt::black);
-    painter.drawText(legend + QPointF(30, 5), s.label);
+    painter.drawText(legend + QPointF(36, 5), drawn[row]->label);
   }
 }
 
