@@ -5,7 +5,7 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(spectra 1.0 REQUIRED CONFIG PATHS /usr/share/spectra/cmake)
 find_package(OpenMesh REQUIRED CONFIG)
 find_package(Threads REQUIRED)
-find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets Network OpenGL OpenGLWidgets Test)
+find_package(Qt6 6.4 REQUIRED COMPONENTS Core Gui Widgets Network OpenGL OpenGLWidgets Charts Test)
 
 # SuiteSparse 5.x ships no CMake package: find CHOLMOD by hand and wrap it in an imported target.
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)

@@ -7,6 +7,7 @@
 #include <QtCore/QTimer>
 #include <QtNetwork/QTcpSocket>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <span>
@@ -169,6 +170,11 @@ void SessionClient::onJoined() {
   m_channel->open(host, m_session->udpPort, m_session->peerId, m_session->datagramKey, m_session->pathToken,
                   m_session->rowCount);
   changeState(State::Loading);
+  if (m_options.levelFraction) {
+    const double fraction = *m_options.levelFraction;
+    const double wanted = fraction >= 1.0 || !(fraction > 0.0) ? 0.0 : std::round(fraction * m_session->vertexCount);
+    m_options.level = static_cast<std::uint32_t>(std::max(0.0, wanted));
+  }
   send(ResolutionRequest{m_options.level});
   m_secondTimer->start(kSecondMs);
   m_renewTimer->start(kRenewPollMs);

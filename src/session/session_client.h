@@ -63,6 +63,9 @@ struct SessionClientOptions {
   QString name;                                ///< display name, ≤ kMaxNameBytes UTF-8
   std::optional<QString> password;
   std::uint32_t level = 0;  ///< wanted display resolution in vertices; 0 = full
+  /// When set (in (0, 1)), overrides `level` with round(fraction · n) once the Welcome tells n, so that a client
+  /// can ask for "20 %" without knowing the mesh; 1 or more means full resolution.
+  std::optional<double> levelFraction;
   Concealment concealment = Concealment::HoldLast;
   std::optional<ImpairmentSettings> impairment;  ///< simulated network conditions on receive
   std::chrono::milliseconds hostTimeout{10000};  ///< a host silent this long fails the session

@@ -1,13 +1,20 @@
 // shapecast: the desktop application.
 //
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
+//   shapecast --host MESH [--port P] [--name N] [--m M]
+//   shapecast --join HOST:PORT [--name N] [--level full|N|P%]
 //
+// --host starts hosting MESH at once (the basis is computed in the background), --join joins a session at once;
+// a password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
 // With MESH, the mesh is loaded at start-up. With --screenshot, the first rendered frame of the viewport is saved
 // to FILE and the program exits: 0 on success, 1 when MESH could not be loaded, 2 when the image could not be
 // written, 64 for bad arguments. Load errors then go to stderr instead of a dialog.
 
+#include "app/gui/host_dialog.h"
+#include "app/gui/join_dialog.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/session_controller.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -58,11 +65,40 @@ void saveFirstFrameAndQuit(sc::app::MeshViewport* viewport, const QString& file)
   timeout->start(kFirstFrameTimeoutMs);
 }
 
+/// "HOST:PORT" (HOST may be a name, an IPv4 address or a bracketed IPv6 address) into (host, port).
+std::optional<std::pair<QString, quint16>> parseHostPort(const QString& text) {
+  static const QRegularExpression pattern(QStringLiteral("^(\\[[^\\]]+\\]|[^:\\s]+):(\\d{1,5})$"));
+  const QRegularExpressionMatch match = pattern.match(text);
+  if (!match.hasMatch()) return std::nullopt;
+  const uint port = match.captured(2).toUInt();
+  if (port == 0 || port > 65535) return std::nullopt;
+  QString host = match.captured(1);
+  if (host.startsWith(QLatin1Char('['))) host = host.mid(1, host.size() - 2);
+  return std::pair<QString, quint16>(host, static_cast<quint16>(port));
+}
+
+/// "--level": "full", a vertex count N, or a percentage "P%" (0 < P ≤ 100) of the host's vertices.
+bool parseLevel(const QString& text, sc::app::JoinSettings& settings) {
+  if (text == QLatin1String("full")) return true;
+  bool ok = false;
+  if (text.endsWith(QLatin1Char('%'))) {
+    const double percent = text.chopped(1).toDouble(&ok);
+    if (!ok || !(percent > 0.0) || percent > 100.0) return false;
+    if (percent < 100.0) settings.levelFraction = percent / 100.0;
+    return true;
+  }
+  const uint vertices = text.toUInt(&ok);
+  if (!ok) return false;
+  settings.level = vertices;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char* argv[]) {
   QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
   QApplication app(argc, argv);
+  QApplication::setOrganizationName(QStringLiteral("ShapeCast"));
   QApplication::setApplicationName(QStringLiteral("shapecast"));
   QApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
 
@@ -79,6 +115,23 @@ int main(int argc, char* argv[]) {
                                       QStringLiteral("WIDTHxHEIGHT"), QStringLiteral("1024x768"));
   parser.addOption(screenshotOption);
   parser.addOption(sizeOption);
+  const QCommandLineOption hostOption(QStringLiteral("host"), QStringLiteral("Host a session sharing <mesh>."),
+                                      QStringLiteral("mesh"));
+  const QCommandLineOption joinOption(QStringLiteral("join"), QStringLiteral("Join the session at <host:port>."),
+                                      QStringLiteral("host:port"));
+  const QCommandLineOption nameOption(QStringLiteral("name"), QStringLiteral("Your display name in the session."),
+                                      QStringLiteral("name"));
+  const QCommandLineOption levelOption(
+      QStringLiteral("level"),
+      QStringLiteral("Display resolution when joining: full, a vertex count, or a percentage such as 20%."),
+      QStringLiteral("level"), QStringLiteral("full"));
+  const QCommandLineOption portOption(QStringLiteral("port"),
+                                      QStringLiteral("TCP port to host on (default 47100; 0 = any free port)."),
+                                      QStringLiteral("port"), QStringLiteral("47100"));
+  const QCommandLineOption frequenciesOption(QStringLiteral("m"),
+                                             QStringLiteral("Number of frequencies when hosting (default 100)."),
+                                             QStringLiteral("m"), QStringLiteral("100"));
+  parser.addOptions({hostOption, joinOption, nameOption, levelOption, portOption, frequenciesOption});
   parser.process(app);
 
   const QStringList positional = parser.positionalArguments();
@@ -88,6 +141,44 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "%s\n", qUtf8Printable(parser.helpText()));
     return kExitUsage;
   }
+  const auto usageError = [](const QString& message) {
+    std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message));
+    return kExitUsage;
+  };
+  if (parser.isSet(hostOption) && parser.isSet(joinOption)) {
+    return usageError(QStringLiteral("--host and --join cannot be used together"));
+  }
+  std::optional<sc::app::HostSettings> hostSettings;
+  std::optional<sc::app::JoinSettings> joinSettings;
+  const QString name = parser.value(nameOption).trimmed();
+  if (parser.isSet(hostOption)) {
+    sc::app::HostSettings settings;
+    settings.meshPath = parser.value(hostOption);
+    bool ok = false;
+    const uint port = parser.value(portOption).toUInt(&ok);
+    if (!ok || port > 65535) return usageError(QStringLiteral("--port takes a number from 0 to 65535"));
+    settings.port = static_cast<quint16>(port);
+    settings.m = parser.value(frequenciesOption).toInt(&ok);
+    if (!ok) return usageError(QStringLiteral("--m takes a number"));
+    settings.name = name.isEmpty() ? QStringLiteral("host") : name;
+    const QString problem = sc::app::validateHostSettings(settings);
+    if (!problem.isEmpty()) return usageError(problem);
+    hostSettings = settings;
+  }
+  if (parser.isSet(joinOption)) {
+    const auto address = parseHostPort(parser.value(joinOption));
+    if (!address) return usageError(QStringLiteral("--join takes HOST:PORT, e.g. 192.168.1.20:47100"));
+    sc::app::JoinSettings settings;
+    settings.host = address->first;
+    settings.port = address->second;
+    settings.name = name.isEmpty() ? qEnvironmentVariable("USER", QStringLiteral("guest")) : name;
+    if (!parseLevel(parser.value(levelOption), settings)) {
+      return usageError(QStringLiteral("--level takes full, a vertex count or a percentage such as 20%"));
+    }
+    const QString problem = sc::app::validateJoinSettings(settings);
+    if (!problem.isEmpty()) return usageError(problem);
+    joinSettings = settings;
+  }
 
   sc::app::MainWindow window;
   window.setErrorDialogsEnabled(!screenshot);
@@ -95,6 +186,8 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message));
   });
   const bool loaded = positional.isEmpty() || window.openMesh(positional.first());
+  if (hostSettings) window.hostSession(*hostSettings);
+  if (joinSettings) window.joinSession(*joinSettings);
   if (!screenshot) {
     window.show();
     return QApplication::exec();

@@ -1,10 +1,17 @@
 #pragma once
-// MainWindow: the application window. Wiring only: menus → mesh loading (sc::model) → MeshViewport and status bar.
+// MainWindow: the application window. Wiring only: menus → mesh loading (sc::model) → MeshViewport and status bar;
+// Session menu, lock toolbar and resolution selector → SessionController (which owns the session).
 
+#include "app/gui/session_controller.h"
+
+#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QString>
 
+class QComboBox;
 class QLabel;
+class QProgressBar;
+class QToolButton;
 
 namespace Ui {
 class MainWindow;
@@ -36,7 +43,30 @@ class MainWindow : public QMainWindow {
 
   [[nodiscard]] MeshViewport* viewport() const;
 
+  // --- sessions (Session menu; also used by main.cpp's --host/--join and by tests)
+  /// Leaves any current session, then hosts `settings` (mesh load and basis run off the GUI thread; progress in
+  /// the status bar with a Cancel button). Failures arrive as sessionFailed() (and a dialog if enabled).
+  void hostSession(const HostSettings& settings);
+  /// Leaves any current session, then joins `settings`.
+  void joinSession(const JoinSettings& settings);
+  /// Leaves the current session (the last shape stays displayed).
+  void leaveSession();
+  /// The current session's controller (nullptr before the first Host/Join). Replaced by each host/join:
+  /// sessionStarted() announces the new one (docks re-bind to it).
+  [[nodiscard]] SessionController* session() const { return m_session; }
+  /// Time of the last reconstruction and of the last redraw (update request → frame swapped), milliseconds.
+  [[nodiscard]] double reconstructionMs() const;
+  [[nodiscard]] double redrawMs() const { return m_redrawMs; }
+
+ public slots:
+  void showHostDialog();
+  void showJoinDialog();
+
  signals:
+  /// A new session controller was created (before it starts); the previous one is being deleted.
+  void sessionStarted(sc::app::SessionController* controller);
+  /// A session failed (readable text: unreachable, wrong password, version mismatch, host gone, …).
+  void sessionFailed(const QString& message);
   /// A mesh was loaded from path and is shown.
   void meshLoaded(const QString& path, int vertexCount, int triangleCount);
   /// Loading path failed; message names the file and the problem.
@@ -46,8 +76,28 @@ class MainWindow : public QMainWindow {
   void chooseAndOpenMesh();
 
  private:
+  SessionController* newSession();
+  void onSessionMesh();
+  /// Shows the controller's positions in the viewport (the per-frame path) and starts the redraw timing.
+  void showSessionPositions();
+  void updateLockControls();
+  void updateLevelCombo();
+  void updateSessionActions();
+  void updateTimingLabel();
+  void onSessionFailed(const QString& message);
+  void onProgress(int percent, const QString& what);
+
   Ui::MainWindow* ui;
   QLabel* m_meshSizeLabel = nullptr;
+  QLabel* m_lockLabel = nullptr;
+  QComboBox* m_levelCombo = nullptr;
+  QLabel* m_timingLabel = nullptr;
+  QProgressBar* m_progressBar = nullptr;
+  QToolButton* m_cancelButton = nullptr;
+  SessionController* m_session = nullptr;
+  QElapsedTimer m_redrawClock;
+  bool m_redrawPending = false;
+  double m_redrawMs = 0.0;
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
 };

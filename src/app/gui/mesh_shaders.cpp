@@ -24,12 +24,15 @@ void main() {
 const char* const kMeshVertex = R"(#version 330 core
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec4 aTint;
 uniform mat4 uModelView;
 uniform mat4 uProjection;
 uniform mat3 uNormalMatrix;
 out vec3 vPosition;
 out vec3 vNormal;
+out vec4 vTint;
 void main() {
+  vTint = aTint;
   vec4 p = uModelView * vec4(aPosition, 1.0);
   vPosition = p.xyz;
   vNormal = uNormalMatrix * aNormal;
@@ -40,7 +43,9 @@ void main() {
 const char* const kMeshFragment = R"(#version 330 core
 in vec3 vPosition;
 in vec3 vNormal;
+in vec4 vTint;
 uniform vec3 uBaseColor;
+uniform vec4 uLineColor;
 out vec4 fragColor;
 
 vec3 toLinear(vec3 c) { return pow(c, vec3(2.2)); }
@@ -54,6 +59,10 @@ vec3 shade(vec3 n, vec3 v, vec3 l, vec3 lightColor, vec3 albedo, float specular,
 }
 
 void main() {
+  if (uLineColor.a > 0.0) {
+    fragColor = vec4(uLineColor.rgb, 1.0);
+    return;
+  }
   vec3 v = normalize(-vPosition);
   float len = length(vNormal);
   vec3 n = len > 1e-12 ? vNormal / len : v;
@@ -62,7 +71,7 @@ void main() {
   // vertex normals already agree with its neighbours, so keep them (no dark speckles).
   if (!gl_FrontFacing && dot(n, v) < 0.0) n = -n;
 
-  vec3 albedo = toLinear(uBaseColor);
+  vec3 albedo = toLinear(mix(uBaseColor, vTint.rgb, vTint.a));
   vec3 keyDir = normalize(vec3(-0.45, 0.65, 0.62));
   vec3 fillDir = normalize(vec3(0.75, -0.05, 0.45));
   vec3 color = shade(n, v, keyDir, vec3(1.00, 0.96, 0.90) * 1.05, albedo, 0.28, 48.0);

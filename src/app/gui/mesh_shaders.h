@@ -8,13 +8,16 @@ extern const char* const kBackgroundVertex;
 /// Vertical gradient; uniforms vec3 uTopColor, uBottomColor (sRGB, as written to the framebuffer).
 extern const char* const kBackgroundFragment;
 
-/// Mesh vertex shader. Attributes: location 0 = position, 1 = normal. Uniforms: mat4 uModelView, uProjection;
-/// mat3 uNormalMatrix. Outputs view-space position and normal.
+/// Mesh vertex shader. Attributes: location 0 = position, 1 = normal, 2 = tint (vec4: rgb sRGB colour, a = how
+/// much it replaces the base colour, 0 = untinted; fed as normalised unsigned bytes). Uniforms: mat4 uModelView,
+/// uProjection; mat3 uNormalMatrix. Outputs view-space position and normal, and the tint.
 extern const char* const kMeshVertex;
 /// Mesh fragment shader: two view-space lights (warm key, cool fill), hemispherical ambient, Blinn specular and a
 /// faint rim, computed in linear space and gamma-encoded. A back-facing fragment whose normal faces away from the
 /// eye is lit with the flipped normal, so open meshes, clockwise meshes and meshes with a few flipped triangles
-/// all shade correctly. Uniform vec3 uBaseColor (sRGB).
+/// all shade correctly. The albedo is mix(uBaseColor, tint.rgb, tint.a) (both sRGB). Uniforms: vec3 uBaseColor;
+/// vec4 uLineColor — when its alpha is > 0 the fragment is a wireframe line of exactly that colour (the wireframe
+/// pass draws the same triangles with GL_LINE polygon mode), otherwise it is shaded.
 extern const char* const kMeshFragment;
 
 }  // namespace sc::app::shaders

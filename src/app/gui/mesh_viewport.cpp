@@ -1,28 +1,34 @@
+// MeshViewport, the data and GL side: host buffers, upload, the shaded/wireframe/overlay passes and the depth
+// read-back used for picking. The mouse side is in mesh_viewport_input.cpp.
+
 #include "app/gui/mesh_viewport.h"
 
+#include "app/gui/drag_gesture.h"
 #include "app/gui/mesh_shaders.h"
 #include "app/gui/vertex_normals.h"
 
-#include <QMouseEvent>
 #include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
+#include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
-#include <QWheelEvent>
+#include <QOpenGLVersionFunctionsFactory>
+#include <QPainter>
 #include <QtDebug>
 
+#include <algorithm>
 #include <cassert>
+#include <limits>
 
 namespace sc::app {
 
 namespace {
 
-constexpr int kFloatsPerVertex = 6;  // position xyz, normal xyz
 const QVector3D kBackgroundTop{0.40f, 0.44f, 0.51f};
 const QVector3D kBackgroundBottom{0.11f, 0.12f, 0.15f};
 const QVector3D kMeshColor{0.76f, 0.70f, 0.62f};  // warm clay
-
-QVector3D toQVector(const Eigen::RowVector3d& v) {
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-}
+const QVector4D kWireColor{0.16f, 0.14f, 0.13f, 1.0f};
+constexpr std::uint8_t kHandleTint[4] = {255, 72, 20, 230};   // orange-red
+constexpr std::uint8_t kAnchorTint[4] = {40, 110, 255, 210};  // blue
 
 // Compiles and links a program, or warns with the driver log and returns null.
 std::unique_ptr<QOpenGLShaderProgram> makeProgram(const char* vertexSource, const char* fragmentSource) {
@@ -49,7 +55,13 @@ QSurfaceFormat MeshViewport::preferredSurfaceFormat() {
 
 MeshViewport::MeshViewport(QWidget* parent) : QOpenGLWidget(parent) {
   setFocusPolicy(Qt::StrongFocus);
-  m_F.resize(0, 3);
+  setMouseTracking(true);  // the brush outline follows the cursor
+  m_hintTimer.setSingleShot(true);
+  m_hintTimer.setInterval(kHintMilliseconds);
+  connect(&m_hintTimer, &QTimer::timeout, this, [this] {
+    m_visibleHint.clear();
+    update();
+  });
 }
 
 MeshViewport::~MeshViewport() { cleanup(); }
@@ -64,12 +76,11 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     clearMesh();
     return;
   }
+  endGesture();
   const Eigen::RowVector3d lo = V.colwise().minCoeff();
   const Eigen::RowVector3d hi = V.colwise().maxCoeff();
   m_origin = 0.5 * (lo + hi);
-  m_F = F;
   m_vertexCount = static_cast<int>(V.rows());
-  fillVertexData(V);
   m_indices.resize(static_cast<std::size_t>(F.size()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -77,6 +88,10 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     }
   }
   m_indicesDirty = true;
+  setPositions(V);
+  m_handles.clear();
+  m_anchors.clear();
+  rebuildTints();
   emit meshChanged();
   resetView();
 }
@@ -86,44 +101,96 @@ void MeshViewport::setPositions(const Eigen::MatrixXd& V) {
   if (V.rows() != m_vertexCount || V.cols() != 3 || m_vertexCount == 0) {
     return;
   }
-  fillVertexData(V);
-  m_camera.setSceneBounds(toQVector(V.colwise().minCoeff() - m_origin), toQVector(V.colwise().maxCoeff() - m_origin));
+  m_positions.resize(static_cast<std::size_t>(3 * V.rows()));
+  for (Eigen::Index i = 0; i < V.rows(); ++i) {
+    for (Eigen::Index k = 0; k < 3; ++k) {
+      m_positions[static_cast<std::size_t>(3 * i + k)] = static_cast<float>(V(i, k) - m_origin(k));
+    }
+  }
+  positionsChanged();
+}
+
+void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
+  const auto n = static_cast<std::size_t>(m_vertexCount);
+  assert(xyz.size() == 3 * n && "setPositionsInterleaved needs 3 floats per vertex of the current mesh");
+  if (xyz.size() != 3 * n || n == 0) {
+    return;
+  }
+  const float origin[3] = {static_cast<float>(m_origin(0)), static_cast<float>(m_origin(1)),
+                           static_cast<float>(m_origin(2))};
+  m_positions.resize(3 * n);
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    m_positions[i] = xyz[i] - origin[i % 3];
+  }
+  positionsChanged();
+}
+
+// m_positions changed: recompute the normals and the scene bounds, mark the upload and repaint.
+void MeshViewport::positionsChanged() {
+  m_normals.resize(m_positions.size());
+  vertexNormals(m_positions, m_indices, m_normals);
+  QVector3D lo(std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max());
+  QVector3D hi = -lo;
+  for (std::size_t i = 0; i < m_positions.size(); i += 3) {
+    const QVector3D p(m_positions[i], m_positions[i + 1], m_positions[i + 2]);
+    lo = QVector3D(std::min(lo.x(), p.x()), std::min(lo.y(), p.y()), std::min(lo.z(), p.z()));
+    hi = QVector3D(std::max(hi.x(), p.x()), std::max(hi.y(), p.y()), std::max(hi.z(), p.z()));
+  }
+  m_camera.setSceneBounds(lo, hi);
+  m_vertexDataDirty = true;
   update();
 }
 
 void MeshViewport::clearMesh() {
-  m_F.resize(0, 3);
-  m_vertexData.clear();
+  endGesture();
+  m_positions.clear();
+  m_normals.clear();
   m_indices.clear();
+  m_handles.clear();
+  m_anchors.clear();
   m_vertexCount = 0;
+  rebuildTints();
   m_vertexDataDirty = true;
   m_indicesDirty = true;
   emit meshChanged();
   update();
 }
 
-void MeshViewport::resetView() {
-  std::vector<QVector3D> positions(static_cast<std::size_t>(m_vertexCount));
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    const float* p = m_vertexData.data() + kFloatsPerVertex * i;
-    positions[i] = QVector3D{p[0], p[1], p[2]};
+void MeshViewport::setSelection(std::vector<int> handles, std::vector<int> anchors) {
+  for (std::vector<int>* set : {&handles, &anchors}) {
+    std::erase_if(*set, [this](int i) { return i < 0 || i >= m_vertexCount; });
+    std::sort(set->begin(), set->end());
+    set->erase(std::unique(set->begin(), set->end()), set->end());
   }
-  m_camera.setViewportSize(width(), height());
-  m_camera.frame(positions);
+  m_handles = std::move(handles);
+  m_anchors = std::move(anchors);
+  rebuildTints();
   update();
 }
 
-void MeshViewport::fillVertexData(const Eigen::MatrixXd& V) {
-  const Eigen::MatrixXd N = vertexNormals(V, m_F);
-  m_vertexData.resize(static_cast<std::size_t>(kFloatsPerVertex * V.rows()));
-  for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    float* out = m_vertexData.data() + kFloatsPerVertex * i;
-    for (Eigen::Index k = 0; k < 3; ++k) {
-      out[k] = static_cast<float>(V(i, k) - m_origin(k));
-      out[3 + k] = static_cast<float>(N(i, k));
+void MeshViewport::rebuildTints() {
+  m_tints.assign(4 * static_cast<std::size_t>(m_vertexCount), 0);
+  for (const auto& [set, tint] : {std::pair{&m_anchors, kAnchorTint}, std::pair{&m_handles, kHandleTint}}) {
+    for (const int v : *set) {
+      std::copy(tint, tint + 4, m_tints.begin() + 4 * static_cast<std::ptrdiff_t>(v));
     }
   }
-  m_vertexDataDirty = true;
+  m_tintsDirty = true;
+}
+
+void MeshViewport::setWireframe(bool on) {
+  m_wireframe = on;
+  update();
+}
+
+void MeshViewport::resetView() {
+  std::vector<QVector3D> points(static_cast<std::size_t>(m_vertexCount));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    points[i] = QVector3D{m_positions[3 * i], m_positions[3 * i + 1], m_positions[3 * i + 2]};
+  }
+  m_camera.setViewportSize(width(), height());
+  m_camera.frame(points);
+  update();
 }
 
 void MeshViewport::cleanup() {
@@ -131,12 +198,15 @@ void MeshViewport::cleanup() {
     return;
   }
   makeCurrent();
-  m_vertexBuffer.destroy();
-  m_indexBuffer.destroy();
+  m_pickFbo.reset();
+  for (QOpenGLBuffer* buffer : {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer}) {
+    buffer->destroy();
+  }
   m_meshVao.destroy();
   m_backgroundVao.destroy();
   m_meshProgram.reset();
   m_backgroundProgram.reset();
+  m_gl33 = nullptr;
   doneCurrent();
   if (context() != nullptr) {
     QObject::disconnect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &MeshViewport::cleanup);
@@ -148,6 +218,7 @@ void MeshViewport::initializeGL() {
   // and re-create them here when initializeGL() follows (hellogl2).
   connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &MeshViewport::cleanup);
   initializeOpenGLFunctions();
+  m_gl33 = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(context());
 
   m_backgroundProgram = makeProgram(shaders::kBackgroundVertex, shaders::kBackgroundFragment);
   m_meshProgram = makeProgram(shaders::kMeshVertex, shaders::kMeshFragment);
@@ -157,46 +228,73 @@ void MeshViewport::initializeGL() {
     return;
   }
 
-  // === the mesh VAO records the interleaved attribute layout and the index buffer binding.
+  // === the mesh VAO records one buffer per attribute (positions change per frame, tints per selection) and
+  // the index buffer binding.
   QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
-  m_vertexBuffer.create();
-  m_vertexBuffer.setUsagePattern(QOpenGLBuffer::DynamicDraw);
-  m_vertexBuffer.bind();
+  m_meshProgram->bind();
+  struct Attribute {
+    QOpenGLBuffer* buffer;
+    GLenum type;
+    int size;
+  };
+  const Attribute attributes[] = {
+      {&m_positionBuffer, GL_FLOAT, 3}, {&m_normalBuffer, GL_FLOAT, 3}, {&m_tintBuffer, GL_UNSIGNED_BYTE, 4}};
+  for (int location = 0; location < 3; ++location) {
+    const Attribute& a = attributes[location];
+    a.buffer->create();
+    a.buffer->setUsagePattern(location == 2 ? QOpenGLBuffer::StaticDraw : QOpenGLBuffer::DynamicDraw);
+    a.buffer->bind();
+    m_meshProgram->enableAttributeArray(location);
+    if (a.type == GL_UNSIGNED_BYTE) {
+      glVertexAttribPointer(static_cast<GLuint>(location), a.size, a.type, GL_TRUE, 0, nullptr);
+    } else {
+      m_meshProgram->setAttributeBuffer(location, a.type, 0, a.size, 0);
+    }
+    a.buffer->release();
+  }
   m_indexBuffer.create();
   m_indexBuffer.setUsagePattern(QOpenGLBuffer::StaticDraw);
   m_indexBuffer.bind();
-  constexpr int stride = kFloatsPerVertex * static_cast<int>(sizeof(float));
-  m_meshProgram->bind();
-  m_meshProgram->enableAttributeArray(0);
-  m_meshProgram->enableAttributeArray(1);
-  m_meshProgram->setAttributeBuffer(0, GL_FLOAT, 0, 3, stride);
-  m_meshProgram->setAttributeBuffer(1, GL_FLOAT, 3 * static_cast<int>(sizeof(float)), 3, stride);
   m_meshProgram->release();
-  m_vertexBuffer.release();
 
   // A new context has empty buffers: upload whatever the host side holds.
   m_vertexDataDirty = true;
+  m_tintsDirty = true;
   m_indicesDirty = true;
 }
 
 void MeshViewport::resizeGL(int width, int height) { m_camera.setViewportSize(width, height); }
 
 void MeshViewport::paintGL() {
+  // QPainter (the overlay) may leave state behind: reset what the passes below rely on.
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_CULL_FACE);
   glClearColor(kBackgroundBottom.x(), kBackgroundBottom.y(), kBackgroundBottom.z(), 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   drawBackground();
   if (m_meshProgram) {
     uploadIfDirty();
-    drawMesh();
+    drawMesh(m_wireframe);
   }
+  drawOverlay();
 }
 
 void MeshViewport::uploadIfDirty() {
+  const auto upload = [](QOpenGLBuffer& buffer, const auto& values) {
+    buffer.bind();
+    buffer.allocate(values.data(), static_cast<int>(values.size() * sizeof(values[0])));
+    buffer.release();
+  };
   if (m_vertexDataDirty) {
-    m_vertexBuffer.bind();
-    m_vertexBuffer.allocate(m_vertexData.data(), static_cast<int>(m_vertexData.size() * sizeof(float)));
-    m_vertexBuffer.release();
+    upload(m_positionBuffer, m_positions);
+    upload(m_normalBuffer, m_normals);
     m_vertexDataDirty = false;
+  }
+  if (m_tintsDirty) {
+    upload(m_tintBuffer, m_tints);
+    m_tintsDirty = false;
   }
   if (m_indicesDirty) {
     QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
@@ -221,45 +319,96 @@ void MeshViewport::drawBackground() {
   glDepthMask(GL_TRUE);
 }
 
-void MeshViewport::drawMesh() {
+void MeshViewport::drawMesh(bool wireframe) {
   if (m_indices.empty()) {
     return;
   }
+  wireframe = wireframe && m_gl33 != nullptr;
   glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
+  glDepthFunc(GL_LEQUAL);
   const QMatrix4x4 modelView = m_camera.view();
   m_meshProgram->bind();
   m_meshProgram->setUniformValue("uModelView", modelView);
   m_meshProgram->setUniformValue("uNormalMatrix", modelView.normalMatrix());
   m_meshProgram->setUniformValue("uProjection", m_camera.projection());
   m_meshProgram->setUniformValue("uBaseColor", kMeshColor);
+  m_meshProgram->setUniformValue("uLineColor", QVector4D(0, 0, 0, 0));
   QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(m_indices.size()), GL_UNSIGNED_INT, nullptr);
+  const auto count = static_cast<GLsizei>(m_indices.size());
+  // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
+  if (wireframe) {
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0f, 1.0f);
+  }
+  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  // === line pass: the same triangles as edges.
+  if (wireframe) {
+    m_meshProgram->setUniformValue("uLineColor", kWireColor);
+    m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  }
   m_meshProgram->release();
 }
 
-void MeshViewport::mousePressEvent(QMouseEvent* event) { m_lastMousePos = event->position().toPoint(); }
-
-void MeshViewport::mouseMoveEvent(QMouseEvent* event) {
-  const QPoint pos = event->position().toPoint();
-  const QPoint delta = pos - m_lastMousePos;
-  m_lastMousePos = pos;
-  if (event->buttons() & Qt::LeftButton) {
-    m_camera.orbit(static_cast<float>(delta.x()), static_cast<float>(delta.y()));
-  } else if (event->buttons() & (Qt::RightButton | Qt::MiddleButton)) {
-    m_camera.pan(static_cast<float>(delta.x()), static_cast<float>(delta.y()));
-  } else {
+// QPainter over the GL picture: the brush outline and the drag hint. Skipped (no QPainter) when neither shows.
+void MeshViewport::drawOverlay() {
+  const bool brush =
+      (m_tool == ViewportTool::HandleBrush || m_tool == ViewportTool::AnchorBrush) && m_cursor.has_value();
+  if (!brush && m_visibleHint.isEmpty()) {
     return;
   }
-  update();
+  QPainter painter(this);
+  painter.setRenderHint(QPainter::Antialiasing);
+  if (brush) {
+    const QColor color = m_tool == ViewportTool::HandleBrush ? QColor(255, 110, 60) : QColor(90, 150, 255);
+    painter.setPen(QPen(color, 1.5));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawEllipse(*m_cursor, m_brushRadius, m_brushRadius);
+  }
+  if (!m_visibleHint.isEmpty()) {
+    QFont font = painter.font();
+    font.setPointSizeF(font.pointSizeF() * 1.2);
+    painter.setFont(font);
+    const QRect text = painter.fontMetrics().boundingRect(m_visibleHint).adjusted(-12, -7, 12, 7);
+    const QRect box(QPoint((width() - text.width()) / 2, height() - text.height() - 16), text.size());
+    painter.setPen(Qt::NoPen);
+    painter.setBrush(QColor(20, 20, 24, 200));
+    painter.drawRoundedRect(box, 6, 6);
+    painter.setPen(QColor(245, 245, 245));
+    painter.drawText(box, Qt::AlignCenter, m_visibleHint);
+  }
 }
 
-void MeshViewport::mouseDoubleClickEvent(QMouseEvent* /*event*/) { resetView(); }
-
-void MeshViewport::wheelEvent(QWheelEvent* event) {
-  m_camera.zoom(static_cast<float>(event->angleDelta().y()) / 120.0f);
-  update();
-  event->accept();
+// Renders the mesh's depth into an offscreen, single-sampled framebuffer of the widget's device-pixel size and
+// reads it back (the widget's own framebuffer is multisampled and cannot be read as depth).
+DepthImage MeshViewport::renderDepth() {
+  DepthImage image;
+  if (!m_meshProgram || m_indices.empty() || context() == nullptr) {
+    return image;
+  }
+  makeCurrent();
+  const QSize size = (QSizeF(width(), height()) * devicePixelRatioF()).toSize();
+  if (!m_pickFbo || m_pickFbo->size() != size) {
+    m_pickFbo = std::make_unique<QOpenGLFramebufferObject>(size, QOpenGLFramebufferObject::Depth);
+  }
+  m_pickFbo->bind();
+  glViewport(0, 0, size.width(), size.height());
+  glClearDepthf(1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  uploadIfDirty();
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  drawMesh(false);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  image.width = size.width();
+  image.height = size.height();
+  image.depth.resize(static_cast<std::size_t>(size.width()) * static_cast<std::size_t>(size.height()));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadPixels(0, 0, size.width(), size.height(), GL_DEPTH_COMPONENT, GL_FLOAT, image.depth.data());
+  m_pickFbo->release();
+  doneCurrent();
+  return image;
 }
 
 }  // namespace sc::app

@@ -1,0 +1,87 @@
+#include "app/gui/host_dialog.h"
+
+#include "ui_host_dialog.h"
+
+#include "app/gui/recent_sessions.h"
+#include "session/wire_format.h"
+
+#include <QDialogButtonBox>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QPushButton>
+#include <QSettings>
+
+namespace sc::app {
+
+QString validateHostSettings(const HostSettings& settings) {
+  const QString path = settings.meshPath.trimmed();
+  if (path.isEmpty()) return HostDialog::tr("Choose a mesh file to host.");
+  const QFileInfo file(path);
+  if (!file.exists()) return HostDialog::tr("The mesh file “%1” does not exist.").arg(path);
+  if (!file.isFile() || !file.isReadable()) return HostDialog::tr("The mesh file “%1” cannot be read.").arg(path);
+  if (settings.m < 1 || settings.m > session::kMaxRows)
+    return HostDialog::tr("The number of frequencies must be between 1 and %1.").arg(session::kMaxRows);
+  const QString name = settings.name.trimmed();
+  if (name.isEmpty()) return HostDialog::tr("Enter a display name, so the others know who you are.");
+  if (name.toUtf8().size() > session::kMaxNameBytes)
+    return HostDialog::tr("The display name is too long (at most %1 bytes).").arg(session::kMaxNameBytes);
+  return {};
+}
+
+HostDialog::HostDialog(QWidget* parent) : QDialog(parent), ui(new Ui::HostDialog) {
+  ui->setupUi(this);
+  QSettings store;
+  const RecentSessions recent = RecentSessions::load(store);
+  ui->meshPathCombo->addItems(recent.meshPaths);
+  ui->nameCombo->addItems(recent.names);
+  if (recent.names.isEmpty()) ui->nameCombo->setEditText(QStringLiteral("host"));
+  ui->portSpin->setValue(recent.hostPort);
+  ui->frequenciesSpin->setMaximum(session::kMaxRows);
+  ui->frequenciesSpin->setValue(recent.frequencies);
+  connect(ui->browseButton, &QPushButton::clicked, this, &HostDialog::browse);
+  connect(ui->buttonBox, &QDialogButtonBox::accepted, this, &HostDialog::accept);
+}
+
+HostDialog::~HostDialog() { delete ui; }
+
+HostSettings HostDialog::settings() const {
+  HostSettings s;
+  s.meshPath = ui->meshPathCombo->currentText().trimmed();
+  s.port = static_cast<quint16>(ui->portSpin->value());
+  if (!ui->passwordEdit->text().isEmpty()) s.password = ui->passwordEdit->text();
+  s.m = ui->frequenciesSpin->value();
+  s.name = ui->nameCombo->currentText().trimmed();
+  return s;
+}
+
+void HostDialog::setSettings(const HostSettings& settings) {
+  ui->meshPathCombo->setEditText(settings.meshPath);
+  ui->portSpin->setValue(settings.port);
+  if (settings.password) ui->passwordEdit->setText(*settings.password);
+  ui->frequenciesSpin->setValue(settings.m);
+  ui->nameCombo->setEditText(settings.name);
+}
+
+QString HostDialog::errorText() const { return ui->errorLabel->text(); }
+
+void HostDialog::accept() {
+  const HostSettings s = settings();
+  const QString error = validateHostSettings(s);
+  ui->errorLabel->setText(error);
+  if (!error.isEmpty()) return;
+  QSettings store;
+  RecentSessions recent = RecentSessions::load(store);
+  recent.rememberHost(s);
+  recent.save(store);
+  QDialog::accept();
+}
+
+void HostDialog::browse() {
+  const QString current = ui->meshPathCombo->currentText();
+  const QString path = QFileDialog::getOpenFileName(
+      this, tr("Mesh to Host"), current.isEmpty() ? QString() : QFileInfo(current).absolutePath(),
+      tr("Meshes (*.off *.obj *.ply *.stl *.OFF *.OBJ *.PLY *.STL);;All files (*)"));
+  if (!path.isEmpty()) ui->meshPathCombo->setEditText(path);
+}
+
+}  // namespace sc::app

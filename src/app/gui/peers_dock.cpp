@@ -1,0 +1,86 @@
+#include "app/gui/peers_dock.h"
+
+#include "model/peer_table_model.h"
+
+#include <QHeaderView>
+#include <QItemSelectionModel>
+#include <QSortFilterProxyModel>
+#include <QTableView>
+
+namespace sc::app {
+
+using sc::model::PeerTableModel;
+
+PeersDock::PeersDock(PeerTableModel* model, QWidget* parent) : QDockWidget(tr("Peers"), parent) {
+  setObjectName(QStringLiteral("peersDock"));
+
+  m_proxy = new QSortFilterProxyModel(this);
+  m_proxy->setSortRole(PeerTableModel::SortRole);
+  m_proxy->setSortCaseSensitivity(Qt::CaseInsensitive);
+  m_proxy->setDynamicSortFilter(true);
+
+  m_view = new QTableView(this);
+  m_view->setObjectName(QStringLiteral("peersTable"));
+  m_view->setModel(m_proxy);
+  m_view->setSelectionBehavior(QAbstractItemView::SelectRows);
+  m_view->setSelectionMode(QAbstractItemView::SingleSelection);
+  m_view->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  m_view->setAlternatingRowColors(true);
+  m_view->setWordWrap(false);
+  m_view->verticalHeader()->hide();
+  m_view->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  m_view->horizontalHeader()->setStretchLastSection(true);
+  m_view->setSortingEnabled(true);
+  m_view->sortByColumn(PeerTableModel::Role, Qt::AscendingOrder);
+  setWidget(m_view);
+
+  connect(m_view->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
+          [this](const QModelIndex& current, const QModelIndex&) { onCurrentRowChanged(current); });
+
+  setModel(model);
+}
+
+PeersDock::~PeersDock() = default;
+
+void PeersDock::setModel(PeerTableModel* model) {
+  if (model == m_model) {
+    return;
+  }
+  m_view->clearSelection();
+  m_model = model;
+  m_proxy->setSourceModel(model);  // QSortFilterProxyModel drops a destroyed source itself.
+}
+
+PeerTableModel* PeersDock::model() const { return m_model; }
+
+std::optional<quint32> PeersDock::selectedPeerId() const {
+  const QModelIndexList rows = m_view->selectionModel()->selectedRows();
+  if (rows.isEmpty()) {
+    return std::nullopt;
+  }
+  return rows.first().data(PeerTableModel::PeerIdRole).toUInt();
+}
+
+bool PeersDock::selectPeer(quint32 peerId) {
+  if (m_model == nullptr) {
+    return false;
+  }
+  const int sourceRow = m_model->rowOfPeer(peerId);
+  if (sourceRow < 0) {
+    return false;
+  }
+  const QModelIndex index = m_proxy->mapFromSource(m_model->index(sourceRow, 0));
+  m_view->selectionModel()->setCurrentIndex(index, QItemSelectionModel::ClearAndSelect | QItemSelectionModel::Rows);
+  m_view->scrollTo(index);
+  return true;
+}
+
+void PeersDock::onCurrentRowChanged(const QModelIndex& current) {
+  if (!current.isValid()) {
+    emit currentPeerCleared();
+    return;
+  }
+  emit currentPeerChanged(current.data(PeerTableModel::PeerIdRole).toUInt());
+}
+
+}  // namespace sc::app

@@ -1,0 +1,61 @@
+#pragma once
+// PeersDock: the dock that lists a session's peers (sc::model::PeerTableModel) in a sortable table.
+
+#include <QDockWidget>
+#include <QPointer>
+
+#include <optional>
+
+class QSortFilterProxyModel;
+class QTableView;
+
+namespace sc::model {
+class PeerTableModel;
+}
+
+namespace sc::app {
+
+/// A QDockWidget (objectName "peersDock", title "Peers") holding a QTableView (objectName "peersTable") on a
+/// QSortFilterProxyModel over a PeerTableModel. Clicking a header sorts on PeerTableModel::SortRole (numbers as
+/// numbers, unknown figures first ascending); the initial order is by Role (host first), then arrival order.
+/// Rows are selected whole, one at a time; the selection follows its peer through model updates and re-sorting.
+///
+/// The dock does not own the model: it observes it and forgets it if it is destroyed. View only: no session or
+/// protocol logic; the app's controller feeds the model and listens to currentPeerChanged().
+class PeersDock : public QDockWidget {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(PeersDock)
+
+ public:
+  /// @param[in] model  the peers to show, or nullptr for an empty table (setModel() later).
+  explicit PeersDock(sc::model::PeerTableModel* model = nullptr, QWidget* parent = nullptr);
+  ~PeersDock() override;
+
+  /// Shows model instead of the current one (nullptr: an empty table). Clears the selection.
+  void setModel(sc::model::PeerTableModel* model);
+  [[nodiscard]] sc::model::PeerTableModel* model() const;
+
+  /// The table and the sorting proxy between it and the model (for tests and for the window's layout).
+  [[nodiscard]] QTableView* view() const { return m_view; }
+  [[nodiscard]] QSortFilterProxyModel* proxy() const { return m_proxy; }
+
+  /// The peerId of the selected row, or nullopt if none is selected.
+  [[nodiscard]] std::optional<quint32> selectedPeerId() const;
+  /// Selects the row of peerId (and scrolls to it); returns false, leaving the selection, if it is not listed.
+  bool selectPeer(quint32 peerId);
+
+ signals:
+  /// The selected peer changed to peerId (the host then shows that peer's statistics).
+  void currentPeerChanged(quint32 peerId);
+  /// The selection became empty.
+  void currentPeerCleared();
+
+ private:
+  void onCurrentRowChanged(const QModelIndex& current);
+
+  QTableView* m_view = nullptr;
+  QSortFilterProxyModel* m_proxy = nullptr;
+  QPointer<sc::model::PeerTableModel> m_model;
+};
+
+}  // namespace sc::app

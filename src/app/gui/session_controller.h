@@ -1,0 +1,263 @@
+#pragma once
+// SessionController: the desktop app's glue between the window and a session (src/session). It owns either a
+// SessionHost (this instance hosts; its own user is peer 1) or a SessionClient (this instance joined), and gives the
+// window one uniform API whichever it is: lock, constraints, drags, displayed mesh and positions, levels, peers and
+// statistics, errors as readable text. No protocol or math decisions live here: they are the session's and the
+// spectral module's; this class only adapts them (style.md item 1, "app is composition").
+//
+// Lifecycle (state()):
+//   Idle --host()--> Preparing (mesh load + basis on a worker thread; progress(), cancel()) --> Live
+//   Idle --join()--> Connecting (TCP, handshake, model download; progress()) --> Live
+//   Live --leave()--> Left;  any --error--> Failed (failed(text) emitted once, with readable text).
+//   A controller is used for one session: after Left or Failed, make a new one to host or join again.
+//
+// Threading: lives on the GUI thread. The only worker is the host's preparation thread (loadMesh, basisForMesh,
+// the full-resolution level); it reports back through queued calls and is cancelled and joined by cancel(), by
+// leave() and by the destructor (which therefore waits for a running mesh load; the eigensolve stops at its next
+// progress callback). Nothing blocks the GUI thread for longer than one reconstruction of the displayed level.
+//
+// Errors never throw: every failure (unreadable mesh, basis failure, port in use, unreachable host, wrong password,
+// version mismatch (the host's Refused text), host gone or silent) becomes failed(QString).
+
+#include "session/control_messages.h"
+#include "session/lock_messages.h"
+
+#include <Eigen/Core>
+#include <QObject>
+#include <QString>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <thread>
+#include <vector>
+
+class QTimer;
+
+namespace sc::session {
+class SessionHost;
+class SessionClient;
+class DistortionMeter;
+struct HostModel;
+}  // namespace sc::session
+
+namespace sc::spectral {
+struct ResolutionLevel;
+}
+
+namespace sc::app {
+
+/// What host() needs. Validation of user input happens in the dialog; host() fails with failed() on what only
+/// the attempt can reveal (unreadable mesh, port in use).
+struct HostSettings {
+  QString meshPath;                 ///< OFF, OBJ, PLY or STL
+  quint16 port = 47100;             ///< TCP port; 0 = any free port (see tcpPort())
+  std::optional<QString> password;  ///< none: open session
+  int m = 100;                      ///< number of frequencies, 1 ≤ m < #V (clamped to #V − 1)
+  QString name = QStringLiteral("host");
+  bool useBasisCache = true;  ///< look up / store the basis in model::basisCacheDirectory()
+};
+
+/// What join() needs.
+struct JoinSettings {
+  QString host = QStringLiteral("127.0.0.1");
+  quint16 port = 47100;
+  std::optional<QString> password;
+  QString name;
+  std::uint32_t level = 0;  ///< wanted display vertices; 0 = full resolution
+  /// Overrides `level`: this fraction of the host's vertex count (e.g. 0.2 for "20 %"); ≥ 1 = full resolution.
+  std::optional<double> levelFraction;
+};
+
+/// One entry of the resolution selector.
+struct LevelChoice {
+  std::uint32_t target = 0;  ///< what setLevel() takes (0 = full resolution)
+  QString label;             ///< "Full (N vertices)" or "≈ N vertices"
+};
+
+class SessionController final : public QObject {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(SessionController)
+
+ public:
+  enum class Role { None, Host, Client };
+  Q_ENUM(Role)
+  enum class State { Idle, Preparing, Connecting, Live, Left, Failed };
+  Q_ENUM(State)
+
+  explicit SessionController(QObject* parent = nullptr);
+  /// Cancels and joins a running preparation; a live host shuts down (Leave to every peer is queued, not
+  /// guaranteed to be written), a live client leaves.
+  ~SessionController() override;
+
+  // --- starting and ending
+  /// Starts hosting: loads the mesh and computes its basis on a worker thread (progress() with percent 0..100),
+  /// then starts a SessionHost (hostingStarted(port)). False (nothing started) unless state() is Idle.
+  bool host(const HostSettings& settings);
+  /// Joins a host: the SessionClient connects, authenticates and downloads its level (progress()). Live once the
+  /// first level is displayed (meshChanged()). False (nothing started) unless state() is Idle.
+  bool join(const JoinSettings& settings);
+  /// Cancels a running preparation (host) or connection (client): state Failed with failed("Cancelled").
+  void cancel();
+  /// Leaves the session (client: Leave to the host; host: Leave to every peer). State Left. No-op when not
+  /// Preparing, Connecting or Live.
+  void leave();
+
+  [[nodiscard]] Role role() const { return m_role; }
+  [[nodiscard]] State state() const { return m_state; }
+  [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  /// The host's TCP port (0 unless hosting and live).
+  [[nodiscard]] quint16 tcpPort() const;
+  /// This user's peer id: 1 on a host, the Welcome's id on a client, kNoPeer before.
+  [[nodiscard]] session::PeerId selfId() const;
+
+  // --- lock
+  /// Asks for the edit lock (false when already asked for, held, or not live).
+  bool requestLock();
+  /// Releases (or cancels the request for) the lock; ends a drag in progress.
+  bool releaseLock();
+  /// True when this user holds the lock (drags would be accepted).
+  [[nodiscard]] bool canDrag() const;
+  /// True while the lock is requested, queued or held by this user.
+  [[nodiscard]] bool lockWanted() const;
+  /// Who holds the lock, for the UI: "You hold the lock", "Lock held by NAME", "Lock free", plus the queue
+  /// position ("you are 2nd in the queue") or "requesting…" while this user waits. Empty when not live.
+  [[nodiscard]] QString lockText() const;
+  [[nodiscard]] session::PeerId lockHolder() const;
+  /// Peers waiting for the lock, first in line first (host: the arbiter's queue; client: unknown, empty).
+  [[nodiscard]] std::vector<session::PeerId> lockQueue() const;
+
+  // --- constraints and drags (ids are vertex ids of the displayed mesh)
+  /// The handle group (displayed vertex ids). Sent with the anchors to the host at once when this user holds the
+  /// lock, otherwise when the lock is granted. On a client at a low level each displayed vertex is mapped to the
+  /// full-resolution vertex with the largest barycentric weight in its row of P (duplicates removed). Ids out of
+  /// range are dropped. Returns true when the constraints were sent now.
+  bool setHandle(std::vector<int> displayedIds);
+  /// The anchors (displayed vertex ids), as setHandle().
+  bool setAnchors(std::vector<int> displayedIds);
+  [[nodiscard]] const std::vector<int>& handle() const { return m_handle; }
+  [[nodiscard]] const std::vector<int>& anchors() const { return m_anchors; }
+  /// Starts a drag of the handle: false without the lock or without a handle.
+  bool beginDrag();
+  /// The handle's pose since beginDrag(), as MeshViewport::dragMoved gives it: x ↦ R(x − c₀) + c₀ + t, c₀ the
+  /// handle's centroid at the start of this drag. Composed with the pose the previous drags (same constraints)
+  /// left, (R₀, t₀), into the deformer's pose about the rest centroid: (R·R₀, t₀ + t); exact when the handle sits
+  /// on its target (c₀ = c_rest + t₀), which the soft constraints meet up to the handle residual. False outside
+  /// beginDrag()/endDrag() or when refused (lock lost meanwhile).
+  bool dragTo(const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation);
+  /// Handle and anchors at once (one constraints message instead of two); as setHandle().
+  bool setSelection(std::vector<int> handle, std::vector<int> anchors);
+  /// Ends the drag (the shape stays where the last pose put it).
+  void endDrag();
+  [[nodiscard]] bool dragging() const { return m_dragging; }
+
+  // --- what to display
+  /// The current level's rest mesh: #V' by 3 positions X̂' and #F' by 3 faces (empty before the first level).
+  [[nodiscard]] const Eigen::MatrixXd& displayRestPositions() const;
+  [[nodiscard]] const Eigen::MatrixXi& displayFaces() const;
+  /// Current display positions, 3·#V' floats interleaved xyz: X̂' + K·Z (client: SessionClient::positions();
+  /// host: X̂ + H·Z of the full level). Empty before the first level.
+  [[nodiscard]] std::span<const float> positions() const;
+  /// Current coefficients Z (m by 3): the host's latest frame, or the client's current frame (empty before).
+  [[nodiscard]] Eigen::MatrixXd coefficients() const;
+  /// The displayed level (full level on a host), nullptr before the first.
+  [[nodiscard]] const spectral::ResolutionLevel* level() const;
+  /// Time of the latest reconstruction of positions() in milliseconds (client: measured once a second on the same
+  /// K and Z, since SessionClient reconstructs internally).
+  [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
+
+  // --- levels
+  /// The resolution choices: full, then model::levelTargets(n) largest first, labelled "≈ N vertices" (the host
+  /// sends the ladder level closest to N). A host displays only the full level.
+  [[nodiscard]] std::vector<LevelChoice> levels() const;
+  /// The target last asked for (0 = full).
+  [[nodiscard]] std::uint32_t levelTarget() const { return m_levelTarget; }
+  /// Client: asks the host for another level; the current one (and the deformation, which lives in Z) stays
+  /// until the new one is in, then meshChanged(). False on a host or when not live.
+  bool setLevel(std::uint32_t target);
+
+  // --- peers and statistics
+  [[nodiscard]] session::PeerList peers() const;
+  /// A peer's latest figures: on a host every client's StatsReport; on a client only its own (selfId()),
+  /// assembled from its receiver statistics and distortion meter. nullopt when unknown.
+  [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const;
+
+  /// The underlying session objects (nullptr when not of that role or not started), for tests and docks.
+  [[nodiscard]] session::SessionHost* sessionHost() const { return m_host; }
+  [[nodiscard]] session::SessionClient* sessionClient() const { return m_client; }
+
+ signals:
+  void stateChanged(sc::app::SessionController::State state);
+  /// The displayed mesh (level) was replaced: re-read displayRestPositions()/displayFaces()/positions().
+  void meshChanged();
+  /// positions() changed (same mesh).
+  void positionsChanged();
+  void lockChanged();
+  void peersChanged();
+  void statsChanged();
+  /// A readable error; state() is Failed (or, for a rejected level, stays Live).
+  void failed(const QString& message);
+  void hostingStarted(quint16 port);
+  /// Long work: percent 0..100 and what is being done.
+  void progress(int percent, const QString& what);
+
+ private:
+  struct Prepared;
+  void changeState(State next);
+  void fail(const QString& message);
+  void finishPreparation(const std::shared_ptr<Prepared>& prepared);
+  void joinWorker();
+  void onHostFrame();
+  void onClientState();
+  void onClientLevel();
+  void onLockChanged();
+  bool sendConstraints();
+  void everySecond();
+  [[nodiscard]] std::vector<int> toFullIds(const std::vector<int>& displayed) const;
+  [[nodiscard]] const spectral::ResolutionLevel* clientLevel() const;
+
+  Role m_role = Role::None;
+  State m_state = State::Idle;
+  QString m_errorText;
+  bool m_leaving = false;
+
+  // host
+  session::SessionHost* m_host = nullptr;
+  std::shared_ptr<const session::HostModel> m_model;
+  std::unique_ptr<spectral::ResolutionLevel> m_fullLevel;  ///< host display: K = float(H)
+  std::vector<float> m_rest;                               ///< host: X̂ interleaved
+  std::vector<float> m_hostPositions;
+  Eigen::MatrixXd m_lastZ;
+  HostSettings m_hostSettings;
+  std::optional<double> m_joinFraction;
+  std::thread m_worker;
+  std::shared_ptr<std::atomic<bool>> m_cancel;
+
+  // client
+  session::SessionClient* m_client = nullptr;
+  session::DistortionMeter* m_meter = nullptr;
+  Eigen::MatrixXd m_clientRestV;  ///< X̂' of the displayed client level (double, for the view)
+  std::vector<float> m_scratch;   ///< client: reconstruction timing sample
+
+  // shared
+  std::vector<int> m_handle;
+  std::vector<int> m_anchors;
+  bool m_constraintsSent = false;
+  bool m_hadLock = false;
+  bool m_dragging = false;
+  Eigen::Matrix3d m_baseRotation = Eigen::Matrix3d::Identity();  ///< pose left by the previous drags (R₀, t₀)
+  Eigen::Vector3d m_baseTranslation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d m_lastRotation = Eigen::Matrix3d::Identity();  ///< the last pose sent
+  Eigen::Vector3d m_lastTranslation = Eigen::Vector3d::Zero();
+  std::uint32_t m_levelTarget = 0;
+  double m_reconstructionMs = 0.0;
+  QTimer* m_secondTimer = nullptr;
+};
+
+/// Human-readable state, for status texts.
+QString toString(SessionController::State state);
+
+}  // namespace sc::app

@@ -1,0 +1,123 @@
+// Tests for src/app/gui/peers_dock.cpp.
+
+#include "app/gui/peers_dock.h"
+#include "model/peer_table_model.h"
+
+#include <gtest/gtest.h>
+
+#include <QHeaderView>
+#include <QImage>
+#include <QSignalSpy>
+#include <QSortFilterProxyModel>
+#include <QTableView>
+
+#include <memory>
+
+using sc::app::PeersDock;
+using sc::model::PeerRow;
+using sc::model::PeerTableModel;
+
+namespace {
+
+PeerRow peer(std::uint32_t id, const char* name, std::uint32_t vertices, bool host = false) {
+  PeerRow row;
+  row.peerId = id;
+  row.name = QString::fromUtf8(name);
+  row.vertexCount = vertices;
+  row.isHost = host;
+  return row;
+}
+
+/// Variance of the grey level over an image (0 for a blank one).
+double greyVariance(const QImage& image) {
+  double sum = 0.0;
+  double sumSq = 0.0;
+  const double n = static_cast<double>(image.width()) * image.height();
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      const double g = qGray(image.pixel(x, y));
+      sum += g;
+      sumSq += g * g;
+    }
+  }
+  const double mean = sum / n;
+  return sumSq / n - mean * mean;
+}
+
+}  // namespace
+
+TEST(PeersDock, ShowsTheModelSortedWithHostFirst) {
+  PeerTableModel model;
+  model.setFullVertexCount(22982);
+  PeersDock dock(&model);
+  EXPECT_EQ(dock.objectName(), QStringLiteral("peersDock"));
+  EXPECT_EQ(dock.model(), &model);
+
+  PeerRow self = peer(2, "bob", 1719);
+  self.isSelf = true;
+  model.setPeers({self, peer(1, "ada", 22982, true), peer(3, "cy", 5000)});
+  QAbstractItemModel* shown = dock.view()->model();
+  ASSERT_EQ(shown->rowCount(), 3);
+  EXPECT_EQ(shown->index(0, PeerTableModel::Name).data().toString(), QStringLiteral("ada"));
+  EXPECT_EQ(shown->index(0, PeerTableModel::Resolution).data().toString(), QStringLiteral("full (22,982)"));
+  EXPECT_EQ(shown->headerData(PeerTableModel::LatencyMs, Qt::Horizontal).toString(), QStringLiteral("Latency (ms)"));
+
+  // Sorting by resolution uses the raw vertex count (1,719 < 5,000 < 22,982).
+  dock.view()->sortByColumn(PeerTableModel::Resolution, Qt::AscendingOrder);
+  EXPECT_EQ(shown->index(0, PeerTableModel::Name).data().toString(), QStringLiteral("bob"));
+  EXPECT_EQ(shown->index(1, PeerTableModel::Name).data().toString(), QStringLiteral("cy"));
+  EXPECT_EQ(shown->index(2, PeerTableModel::Name).data().toString(), QStringLiteral("ada"));
+}
+
+TEST(PeersDock, SelectionFollowsThePeerAndSignals) {
+  PeerTableModel model;
+  PeersDock dock(&model);
+  QSignalSpy changed(&dock, &PeersDock::currentPeerChanged);
+  model.setPeers({peer(1, "ada", 10, true), peer(2, "bob", 10), peer(3, "cy", 10)});
+  EXPECT_FALSE(dock.selectedPeerId().has_value());
+
+  ASSERT_TRUE(dock.selectPeer(3));
+  ASSERT_EQ(changed.count(), 1);
+  EXPECT_EQ(changed.at(0).at(0).toUInt(), 3u);
+  EXPECT_EQ(dock.selectedPeerId(), 3u);
+  EXPECT_FALSE(dock.selectPeer(42));
+
+  // An update that re-sorts and removes another peer keeps the selection on the same peer.
+  dock.view()->sortByColumn(PeerTableModel::Name, Qt::DescendingOrder);
+  model.setPeers({peer(1, "ada", 10, true), peer(3, "cy", 20)});
+  EXPECT_EQ(dock.selectedPeerId(), 3u);
+
+  // Switching the model clears the selection.
+  PeerTableModel other;
+  dock.setModel(&other);
+  EXPECT_FALSE(dock.selectedPeerId().has_value());
+  EXPECT_EQ(dock.view()->model()->rowCount(), 0);
+}
+
+TEST(PeersDock, ForgetsADestroyedModel) {
+  auto model = std::make_unique<PeerTableModel>();
+  PeersDock dock(model.get());
+  model->setPeers({peer(1, "ada", 10, true)});
+  model.reset();
+  EXPECT_EQ(dock.model(), nullptr);
+  EXPECT_EQ(dock.view()->model()->rowCount(), 0);
+}
+
+TEST(PeersDock, RendersNotBlank) {
+  PeerTableModel model;
+  model.setFullVertexCount(22982);
+  PeerRow client = peer(2, "bob", 1719);
+  client.hasStats = true;
+  client.lossPct = 9.5;
+  client.kbpsIn = 41.0;
+  client.lock = PeerRow::Lock::Queued;
+  client.queuePosition = 1;
+  PeerRow host = peer(1, "ada", 22982, true);
+  host.lock = PeerRow::Lock::Holder;
+  model.setPeers({host, client});
+  PeersDock dock(&model);
+  dock.resize(720, 200);
+  const QImage image = dock.grab().toImage();
+  ASSERT_FALSE(image.isNull());
+  EXPECT_GT(greyVariance(image), 50.0);
+}

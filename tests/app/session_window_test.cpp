@@ -1,0 +1,344 @@
+// A real session on loopback inside one process: a hosting MainWindow and a joining MainWindow (real TCP and UDP
+// sockets, the real basis, the real level transfer). The host takes the lock, sets a handle and anchors and drags
+// through its SessionController; the client's displayed positions follow, the client cannot drag without the lock,
+// switching its resolution keeps the deformation, and both windows' screenshots show something.
+
+#include "app/gui/host_dialog.h"
+#include "app/gui/join_dialog.h"
+#include "app/gui/main_window.h"
+#include "app/gui/mesh_viewport.h"
+#include "app/gui/recent_sessions.h"
+#include "app/gui/session_controller.h"
+#include "app_test_support.h"
+#include "session/client_datagram_channel.h"
+#include "session/session_client.h"
+#include "session/session_host.h"
+#include "spectral/reconstruction_kernel.h"
+#include "spectral/resolution_level.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QComboBox>
+#include <QImage>
+#include <QLabel>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QTemporaryDir>
+#include <QTest>
+
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace sc::app {
+namespace {
+
+using State = SessionController::State;
+constexpr int kLiveTimeoutMs = 60000;
+
+/// Standard deviation of the grey level over the image: 0 for a blank (uniform) image.
+double pixelStdDev(const QImage& image) {
+  const QImage grey = image.convertToFormat(QImage::Format_Grayscale8);
+  double sum = 0.0, sumSq = 0.0;
+  const double count = double(grey.width()) * grey.height();
+  for (int y = 0; y < grey.height(); ++y) {
+    const uchar* row = grey.constScanLine(y);
+    for (int x = 0; x < grey.width(); ++x) {
+      sum += row[x];
+      sumSq += double(row[x]) * row[x];
+    }
+  }
+  const double mean = sum / count;
+  return std::sqrt(std::max(0.0, sumSq / count - mean * mean));
+}
+
+float maxDifference(std::span<const float> a, std::span<const float> b) {
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
+
+std::vector<float> interleaved(const Eigen::MatrixXd& V) {
+  std::vector<float> out;
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int c = 0; c < 3; ++c) out.push_back(float(V(i, c)));
+  return out;
+}
+
+class SessionWindowTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
+    ASSERT_TRUE(m_dir.isValid());
+    m_mesh = sc::testing::torus(48, 24);
+    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
+    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, m_mesh.V, m_mesh.F));
+  }
+
+  /// Starts hosting the torus in `window` (m = 20, any port, password "secret") and waits until it is live.
+  SessionController* host(MainWindow& window) {
+    HostSettings settings;
+    settings.meshPath = m_meshPath;
+    settings.port = 0;
+    settings.password = QStringLiteral("secret");
+    settings.m = 20;
+    settings.name = QStringLiteral("alice");
+    settings.useBasisCache = false;
+    window.hostSession(settings);
+    SessionController* session = window.session();
+    EXPECT_TRUE(QTest::qWaitFor([session] { return session->state() != State::Preparing; }, kLiveTimeoutMs));
+    EXPECT_EQ(session->state(), State::Live) << session->errorText().toStdString();
+    return session;
+  }
+
+  JoinSettings joinSettings(quint16 port, const QString& password) const {
+    JoinSettings settings;
+    settings.host = QStringLiteral("127.0.0.1");
+    settings.port = port;
+    settings.password = password;
+    settings.name = QStringLiteral("bob");
+    return settings;
+  }
+
+  QTemporaryDir m_dir;
+  sc::testing::GeneratedMesh m_mesh;
+  QString m_meshPath;
+};
+
+TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
+  MainWindow hostWindow;
+  hostWindow.setErrorDialogsEnabled(false);
+  hostWindow.resize(640, 480);
+  hostWindow.show();
+  SessionController* hosting = host(hostWindow);
+  ASSERT_EQ(hosting->state(), State::Live);
+  EXPECT_EQ(hosting->role(), SessionController::Role::Host);
+  const quint16 port = hosting->tcpPort();
+  ASSERT_NE(port, 0);
+  const auto n = static_cast<int>(m_mesh.V.rows());
+  EXPECT_EQ(hostWindow.viewport()->vertexCount(), n);
+  EXPECT_EQ(hosting->positions().size(), std::size_t(3 * n));
+
+  // A wrong password fails with a readable message and never crashes.
+  {
+    MainWindow intruder;
+    intruder.setErrorDialogsEnabled(false);
+    QSignalSpy failures(&intruder, &MainWindow::sessionFailed);
+    intruder.joinSession(joinSettings(port, QStringLiteral("wrong")));
+    ASSERT_TRUE(QTest::qWaitFor([&failures] { return failures.count() > 0; }, 20000));
+    EXPECT_EQ(intruder.session()->state(), State::Failed);
+    EXPECT_FALSE(failures.first().first().toString().isEmpty());
+  }
+
+  MainWindow clientWindow;
+  clientWindow.setErrorDialogsEnabled(false);
+  clientWindow.resize(640, 480);
+  clientWindow.show();
+  clientWindow.joinSession(joinSettings(port, QStringLiteral("secret")));
+  SessionController* joined = clientWindow.session();
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->state() == State::Live; }, kLiveTimeoutMs))
+      << joined->errorText().toStdString();
+  EXPECT_EQ(joined->role(), SessionController::Role::Client);
+  EXPECT_EQ(clientWindow.viewport()->vertexCount(), n);  // the client shows the mesh
+  const std::vector<float> rest = interleaved(joined->displayRestPositions());
+  ASSERT_EQ(joined->positions().size(), rest.size());
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->peers().peers.size() == 2; }, 10000));
+
+  // The host takes the lock; the client sees who holds it.
+  ASSERT_TRUE(hosting->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->canDrag(); }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->lockText().contains(QStringLiteral("alice")); }, 5000))
+      << joined->lockText().toStdString();
+  EXPECT_TRUE(hosting->lockText().contains(QStringLiteral("You hold")));
+  EXPECT_EQ(hostWindow.findChild<QLabel*>(QStringLiteral("lockLabel"))->text(), hosting->lockText());
+
+  // Handle: the outer rim at +x; anchors: everything at x < 0.
+  std::vector<int> handle, anchors;
+  for (int i = 0; i < n; ++i) {
+    if (m_mesh.V(i, 0) > 1.2) handle.push_back(i);
+    if (m_mesh.V(i, 0) < 0.0) anchors.push_back(i);
+  }
+  ASSERT_FALSE(handle.empty());
+  ASSERT_TRUE(hosting->setSelection(handle, anchors));
+  ASSERT_TRUE(hosting->beginDrag());
+  ASSERT_TRUE(hosting->dragTo(Eigen::Vector3d(0.0, 0.0, 0.4), Eigen::Matrix3d::Identity()));
+  hosting->endDrag();
+
+  // The client's displayed positions change and converge to the host's.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.1f; }, 10000));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
+  EXPECT_GT(maxDifference(hosting->positions(), rest), 0.1f);
+
+  // Without the lock the client can neither constrain nor drag, and its viewport refuses drags.
+  EXPECT_FALSE(joined->canDrag());
+  EXPECT_FALSE(joined->setHandle({0, 1, 2}));
+  EXPECT_FALSE(joined->beginDrag());
+  EXPECT_FALSE(joined->dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
+  EXPECT_FALSE(clientWindow.viewport()->dragAllowed());
+  EXPECT_TRUE(hostWindow.viewport()->dragAllowed());
+  // The client asks: it waits in the queue while the host holds the lock.
+  ASSERT_TRUE(joined->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->lockText().contains(QStringLiteral("queue")); }, 5000))
+      << joined->lockText().toStdString();
+
+  // Switching the client's resolution keeps the deformation: positions of the new level are X̂' + K·Z.
+  const std::vector<LevelChoice> levels = joined->levels();
+  ASSERT_EQ(levels.size(), 4u);
+  QSignalSpy meshChanges(joined, &SessionController::meshChanged);
+  auto* combo = clientWindow.findChild<QComboBox*>(QStringLiteral("levelCombo"));
+  ASSERT_NE(combo, nullptr);
+  ASSERT_EQ(combo->count(), 4);
+  EXPECT_TRUE(combo->isEnabled());
+  ASSERT_TRUE(joined->setLevel(levels[2].target));  // ≈ 20 %
+  ASSERT_TRUE(QTest::qWaitFor([&meshChanges] { return meshChanges.count() > 0; }, 20000));
+  const spectral::ResolutionLevel* level = joined->level();
+  ASSERT_NE(level, nullptr);
+  const auto lowN = static_cast<int>(level->restV.rows());
+  EXPECT_LT(lowN, n / 2);
+  EXPECT_EQ(clientWindow.viewport()->vertexCount(), lowN);
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->sessionClient()->channel().hasFrame(); }, 5000));
+  const Eigen::MatrixXd Z = joined->coefficients();
+  ASSERT_GT(Z.norm(), 0.0);  // still deformed
+  std::vector<float> expected(3 * static_cast<std::size_t>(lowN));
+  spectral::reconstructInterleaved(level->K, interleaved(level->restV), Z.cast<float>(), expected);
+  EXPECT_LT(maxDifference(joined->positions(), expected), 1e-4f);
+  EXPECT_GT(maxDifference(joined->positions(), interleaved(level->restV)), 0.05f);
+
+  // Handles picked at the low level map to full-resolution ids (the client's turn needs the lock: release ours).
+  ASSERT_TRUE(hosting->releaseLock());
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->canDrag(); }, 5000)) << joined->lockText().toStdString();
+  EXPECT_TRUE(joined->lockText().contains(QStringLiteral("You hold")));
+  std::vector<int> lowHandle;
+  for (int i = 0; i < lowN; ++i)
+    if (level->restV(i, 1) > 1.0) lowHandle.push_back(i);
+  ASSERT_FALSE(lowHandle.empty());
+  EXPECT_TRUE(joined->setHandle(lowHandle));
+  ASSERT_TRUE(joined->beginDrag());
+  EXPECT_TRUE(joined->dragTo(Eigen::Vector3d(0.0, 0.3, 0.0), Eigen::Matrix3d::Identity()));
+  joined->endDrag();
+  // The constraints and the drag travel over TCP: wait for the host to accept both.
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().constraintsAccepted >= 2; }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().dragsAccepted >= 2; }, 5000));
+  EXPECT_EQ(hosting->sessionHost()->counters().constraintsRejected, 0u);
+
+  // Screenshots are not blank.
+  QTest::qWait(200);
+  const QImage hostShot = hostWindow.grab().toImage();
+  const QImage clientShot = clientWindow.grab().toImage();
+  ASSERT_FALSE(hostShot.isNull());
+  ASSERT_FALSE(clientShot.isNull());
+  EXPECT_GT(pixelStdDev(hostShot), 5.0);
+  EXPECT_GT(pixelStdDev(clientShot), 5.0);
+  const QImage clientView = clientWindow.viewport()->grabFramebuffer();
+  EXPECT_GT(pixelStdDev(clientView), 5.0);
+  const QString out = qEnvironmentVariable("SHAPECAST_TEST_SCREENSHOTS");
+  if (!out.isEmpty()) {
+    hostShot.save(out + QStringLiteral("/session_host.png"));
+    clientShot.save(out + QStringLiteral("/session_client.png"));
+  }
+
+  // The host leaves: the client reports that the host is gone.
+  QSignalSpy clientFailures(&clientWindow, &MainWindow::sessionFailed);
+  hostWindow.leaveSession();
+  ASSERT_TRUE(QTest::qWaitFor([&clientFailures] { return clientFailures.count() > 0; }, 15000));
+  EXPECT_TRUE(clientFailures.first().first().toString().contains(QStringLiteral("host")))
+      << clientFailures.first().first().toString().toStdString();
+}
+
+TEST_F(SessionWindowTest, JoiningNobodyFailsReadably) {
+  MainWindow window;
+  window.setErrorDialogsEnabled(false);
+  QSignalSpy failures(&window, &MainWindow::sessionFailed);
+  JoinSettings settings = joinSettings(1, QString());  // nothing listens on port 1
+  settings.password.reset();
+  window.joinSession(settings);
+  ASSERT_TRUE(QTest::qWaitFor([&failures] { return failures.count() > 0; }, 20000));
+  EXPECT_TRUE(failures.first().first().toString().startsWith(QStringLiteral("Could not join")));
+  EXPECT_EQ(window.session()->state(), State::Failed);
+}
+
+TEST_F(SessionWindowTest, HostingAMissingFileFailsAndCancelWorks) {
+  SessionController controller;
+  QSignalSpy failures(&controller, &SessionController::failed);
+  HostSettings settings;
+  settings.meshPath = m_dir.filePath(QStringLiteral("missing.off"));
+  settings.port = 0;
+  settings.useBasisCache = false;
+  ASSERT_TRUE(controller.host(settings));
+  EXPECT_FALSE(controller.host(settings));  // one session per controller
+  ASSERT_TRUE(QTest::qWaitFor([&failures] { return failures.count() > 0; }, 20000));
+  EXPECT_EQ(controller.state(), State::Failed);
+
+  SessionController cancelled;
+  QSignalSpy cancelFailures(&cancelled, &SessionController::failed);
+  settings.meshPath = m_meshPath;
+  ASSERT_TRUE(cancelled.host(settings));
+  cancelled.cancel();
+  ASSERT_TRUE(QTest::qWaitFor([&cancelled] { return cancelled.state() != State::Preparing; }, 20000));
+  // Either the cancellation won the race or the (tiny) preparation finished first.
+  EXPECT_TRUE(cancelled.state() == State::Failed || cancelled.state() == State::Live);
+}
+
+TEST(SessionDialogs, ValidationMessages) {
+  HostSettings host;
+  EXPECT_FALSE(validateHostSettings(host).isEmpty());  // no mesh
+  QTemporaryDir dir;
+  host.meshPath = dir.filePath(QStringLiteral("nothing.off"));
+  EXPECT_TRUE(validateHostSettings(host).contains(QStringLiteral("does not exist")));
+  const auto mesh = sc::testing::torus(8, 6);
+  host.meshPath = dir.filePath(QStringLiteral("t.off"));
+  ASSERT_TRUE(sc::testing::writeOff(host.meshPath, mesh.V, mesh.F));
+  EXPECT_TRUE(validateHostSettings(host).isEmpty());
+  host.m = 0;
+  EXPECT_FALSE(validateHostSettings(host).isEmpty());
+  host.m = 50;
+  host.name = QString(100, QLatin1Char('x'));
+  EXPECT_TRUE(validateHostSettings(host).contains(QStringLiteral("too long")));
+
+  JoinSettings join;
+  join.name = QStringLiteral("bob");
+  EXPECT_TRUE(validateJoinSettings(join).isEmpty());
+  join.host = QStringLiteral("not a host");
+  EXPECT_FALSE(validateJoinSettings(join).isEmpty());
+  join.host = QStringLiteral("example.org");
+  join.port = 0;
+  EXPECT_FALSE(validateJoinSettings(join).isEmpty());
+  join.port = 47100;
+  join.name.clear();
+  EXPECT_FALSE(validateJoinSettings(join).isEmpty());
+}
+
+TEST(SessionDialogs, RecentSessionsNeverStorePasswords) {
+  QTemporaryDir dir;
+  const QString file = dir.filePath(QStringLiteral("recent.ini"));
+  {
+    QSettings settings(file, QSettings::IniFormat);
+    RecentSessions recent = RecentSessions::load(settings);
+    HostSettings host;
+    host.meshPath = QStringLiteral("/meshes/a.off");
+    host.password = QStringLiteral("hunter2");
+    host.port = 5000;
+    recent.rememberHost(host);
+    JoinSettings join;
+    join.host = QStringLiteral("10.0.0.2");
+    join.port = 6000;
+    join.name = QStringLiteral("bob");
+    join.password = QStringLiteral("hunter2");
+    recent.rememberJoin(join);
+    recent.rememberJoin(join);  // no duplicates
+    recent.save(settings);
+  }
+  QSettings settings(file, QSettings::IniFormat);
+  const RecentSessions recent = RecentSessions::load(settings);
+  EXPECT_EQ(recent.meshPaths, QStringList{QStringLiteral("/meshes/a.off")});
+  EXPECT_EQ(recent.hosts, QStringList{QStringLiteral("10.0.0.2")});
+  EXPECT_EQ(recent.hostPort, 5000);
+  EXPECT_EQ(recent.joinPort, 6000);
+  QFile raw(file);
+  ASSERT_TRUE(raw.open(QIODevice::ReadOnly));
+  EXPECT_FALSE(raw.readAll().contains("hunter2"));
+}
+
+}  // namespace
+}  // namespace sc::app
