@@ -18,9 +18,11 @@ DistortionMeter::DistortionMeter(SessionClient& client, Mode mode, QObject* pare
           [this, &channel](std::uint32_t frame) { m_probe.displayed(frame, channel.coefficients()); });
   connect(&client, &SessionClient::keyframeReceived, this,
           [this](std::uint32_t frame, const Eigen::MatrixXd& Z) { m_probe.reference(frame, Z); });
-  connect(&client, &SessionClient::levelReady, this, [this] {
+  connect(&client, &SessionClient::levelReady, this, [this, &channel] {
     m_probe.reset();
     m_recorded.clear();
+    // The new level shows the current Z at once: that is what is displayed from now on.
+    if (channel.hasFrame()) m_probe.displayed(channel.currentFrame(), channel.coefficients());
   });
   m_timer = new QTimer(this);
   connect(m_timer, &QTimer::timeout, this, &DistortionMeter::tick);
@@ -39,6 +41,9 @@ void DistortionMeter::tick() {
   m_skipped += static_cast<std::uint64_t>(first - ready.begin());
   const double diagonal = spectral::boundingBoxDiagonal(level->restV);
   for (auto it = first; it != ready.end(); ++it) {
+    // Without any displayed frame at or before the reference (just joined, or a new level) there is nothing to
+    // compare yet; the rest shape would make a meaningless distortion.
+    if (!it->displayedAny) continue;
     if (it->shown.rows() != level->K.cols() || it->exact.rows() != level->K.cols()) continue;
     m_summary.add(distortionPercent(*level, it->shown, it->exact, diagonal));
   }

@@ -6,7 +6,8 @@
 //
 // Live mode measures at most `maxPerTick` pairs per tick (the newest; older ones are skipped and counted) so a
 // full-resolution client at a high reference rate stays cheap: ≈ 10–20 ms per pair at 23k vertices.
-// Lives in the client's thread; a new level resets the probe (frames of another resolution are not comparable).
+// Lives in the client's thread; a new level resets the probe (frames of another resolution are not comparable) and
+// records the current Z as displayed. Live mode skips references for which nothing was displayed yet.
 
 #include "session/distortion_probe.h"
 

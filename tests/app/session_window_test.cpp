@@ -9,7 +9,10 @@
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/recent_sessions.h"
 #include "app/gui/session_controller.h"
+#include "app/gui/session_docks.h"
 #include "app_test_support.h"
+#include "model/peer_table_model.h"
+#include "model/statistics_model.h"
 #include "session/client_datagram_channel.h"
 #include "session/session_client.h"
 #include "session/session_host.h"
@@ -221,6 +224,23 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().constraintsAccepted >= 2; }, 5000));
   ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().dragsAccepted >= 2; }, 5000));
   EXPECT_EQ(hosting->sessionHost()->counters().constraintsRejected, 0u);
+
+  // The host's docks: both peers in the table, the client's figures in its statistics model with non-zero
+  // bandwidth (StatsReports arrive about once a second).
+  SessionDocks* docks = hostWindow.docks();
+  ASSERT_NE(docks, nullptr);
+  EXPECT_EQ(docks->peerModel()->rowCount(), 2);
+  const quint32 clientId = joined->selfId();
+  ASSERT_TRUE(QTest::qWaitFor(
+      [docks, clientId] {
+        const sc::model::StatisticsModel* statistics = docks->statisticsOf(clientId);
+        return statistics != nullptr && statistics->latest() && statistics->latest()->kbpsIn > 0.0;
+      },
+      10000));
+  const int clientRow = docks->peerModel()->rowOfPeer(clientId);
+  ASSERT_GE(clientRow, 0);
+  EXPECT_TRUE(docks->peerModel()->peerAt(clientRow).hasStats);
+  EXPECT_GT(docks->statisticsOf(clientId)->latest()->kbpsOut, 0.0);
 
   // Screenshots are not blank.
   QTest::qWait(200);

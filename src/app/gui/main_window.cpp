@@ -6,6 +6,7 @@
 #include "app/gui/join_dialog.h"
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/session_docks.h"
 #include "model/mesh_loader.h"
 
 #include <QActionGroup>
@@ -117,6 +118,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
     m_redrawMs = static_cast<double>(m_redrawClock.nsecsElapsed()) / 1e6;
     updateTimingLabel();
   });
+  // Peers and statistics docks follow whichever session is current.
+  m_docks = new SessionDocks(this);
+  connect(this, &MainWindow::sessionStarted, m_docks, &SessionDocks::bind);
   updateLockControls();
 }
 

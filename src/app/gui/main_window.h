@@ -20,6 +20,7 @@ class MainWindow;
 namespace sc::app {
 
 class MeshViewport;
+class SessionDocks;
 
 /// The ShapeCast main window: File → Open…/Quit, View → Reset View, a MeshViewport as central widget and a status
 /// bar with the mesh size (permanent, objectName "meshSizeLabel") and, briefly, the cleaning report.
@@ -54,6 +55,8 @@ class MainWindow : public QMainWindow {
   /// The current session's controller (nullptr before the first Host/Join). Replaced by each host/join:
   /// sessionStarted() announces the new one (docks re-bind to it).
   [[nodiscard]] SessionController* session() const { return m_session; }
+  /// The Peers and Statistics docks (bound to session()).
+  [[nodiscard]] SessionDocks* docks() const { return m_docks; }
   /// Time of the last reconstruction and of the last redraw (update request → frame swapped), milliseconds.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
@@ -95,6 +98,7 @@ class MainWindow : public QMainWindow {
   QProgressBar* m_progressBar = nullptr;
   QToolButton* m_cancelButton = nullptr;
   SessionController* m_session = nullptr;
+  SessionDocks* m_docks = nullptr;
   QElapsedTimer m_redrawClock;
   bool m_redrawPending = false;
   double m_redrawMs = 0.0;
