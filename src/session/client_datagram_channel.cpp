@@ -74,6 +74,27 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
   m_pathTimer->start(kPathOpenIntervalMs);
 }
 
+void ClientDatagramChannel::setImpairment(std::optional<ImpairmentSettings> settings) {
+  m_options.impairment = std::move(settings);
+  if (!m_open || !m_assembler) {
+    m_impairment.reset();  // open() creates it from m_options
+    m_releaseTimer->stop();
+    return;
+  }
+  std::unique_ptr<NetworkImpairment> old = std::move(m_impairment);
+  m_impairment = m_options.impairment ? std::make_unique<NetworkImpairment>(*m_options.impairment) : nullptr;
+  m_releaseTimer->stop();
+  if (old) {
+    // Everything the old impairment still holds, in its release order (see the header).
+    const Micros now = sessionNow();
+    for (const QByteArray& bytes : old->popDue(Millis::max())) {
+      process(bytes, now);
+      if (!m_open || !m_assembler) return;  // a slot of frameUpdated closed the channel
+    }
+  }
+  if (m_impairment) armReleaseTimer();
+}
+
 void ClientDatagramChannel::close() {
   m_open = false;
   m_pathTimer->stop();

@@ -99,6 +99,17 @@ class ClientDatagramChannel : public QObject {
   /// The impairment in use (nullptr without one configured, or before open()).
   const NetworkImpairment* impairment() const { return m_impairment.get(); }
 
+  /// Changes the simulated network conditions, also while open (a user moving a "loss" slider); nullopt removes
+  /// the impairment. Datagrams read from then on go through the new settings. Datagrams the old impairment still
+  /// holds back (its delay, jitter or reordering) are delivered at once, in their release order, before anything
+  /// else: the old model already decided they survive, so dropping them would add loss neither setting asked for,
+  /// and holding them on the old schedule would mix two models. The new impairment starts a fresh loss chain (in
+  /// Good) from settings->seed. Receiver statistics, Z and counters carry on (loss intervals simply see the new
+  /// rate). Before open() the settings are kept for open(); a later open() uses the latest settings.
+  void setImpairment(std::optional<ImpairmentSettings> settings);
+  /// The settings set at construction or by setImpairment() (nullopt: none).
+  const std::optional<ImpairmentSettings>& impairmentSettings() const { return m_options.impairment; }
+
  signals:
   /// After each accepted datagram (or applied seed) changed Z; `frame` is the current frame number.
   void frameUpdated(std::uint32_t frame);

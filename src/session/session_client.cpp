@@ -394,6 +394,11 @@ bool SessionClient::sendDrag(std::vector<HandleTransform> handles) {
   return true;
 }
 
+void SessionClient::setImpairment(std::optional<ImpairmentSettings> settings) {
+  m_options.impairment = settings;
+  m_channel->setImpairment(std::move(settings));
+}
+
 void SessionClient::setDistortion(double maxPct, double meanPct, double lastPct) {
   m_hdMax = maxPct;
   m_hdMean = meanPct;

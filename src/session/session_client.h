@@ -96,6 +96,10 @@ class SessionClient final : public QObject {
   bool sendConstraints(std::vector<std::vector<std::uint32_t>> groups, std::vector<std::uint32_t> anchors);
   /// One 3×4 affine per handle group; false without the lock or when the message breaks a limit.
   bool sendDrag(std::vector<HandleTransform> handles);
+  /// Changes the simulated network conditions on receive, live (ClientDatagramChannel::setImpairment: datagrams
+  /// the old impairment holds back are delivered at once); nullopt removes them. Also before start().
+  void setImpairment(std::optional<ImpairmentSettings> settings);
+  [[nodiscard]] const std::optional<ImpairmentSettings>& impairment() const { return m_options.impairment; }
   /// Distortion figures (% of the bbox diagonal) reported in the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
 

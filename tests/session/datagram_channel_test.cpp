@@ -431,4 +431,57 @@ TEST(DatagramChannel, ImpairmentDelayIsAppliedByThePreciseTimer) {
   EXPECT_LT(report.latencyP99Ms, 30.0 + 50.0);
 }
 
+TEST(DatagramChannel, ImpairmentChangesLiveWhileOpen) {
+  Session s;  // no impairment at first
+  ASSERT_TRUE(s.open());
+  ASSERT_TRUE(s.stream(1, 500));
+  EXPECT_EQ(s.client.impairment(), nullptr);
+  ReceiverReport report = s.client.report(sessionNow());
+  EXPECT_EQ(report.received, 1000);
+  EXPECT_NEAR(report.intervalLossFraction, 0.0, 1e-12);
+
+  // 30% Bernoulli loss, switched on while open: the next interval measures it.
+  ImpairmentSettings lossy;
+  lossy.loss = 0.3;
+  lossy.seed = 77;
+  s.client.setImpairment(lossy);
+  ASSERT_NE(s.client.impairment(), nullptr);
+  ASSERT_TRUE(s.client.impairmentSettings().has_value());
+  ASSERT_TRUE(s.stream(501, 1500));
+  ASSERT_TRUE(waitUntil([&] { return s.client.impairment()->inFlight() == 0; }));
+  report = s.client.report(sessionNow());
+  EXPECT_NEAR(report.intervalLossFraction, 0.3, 0.03);
+  EXPECT_EQ(s.client.impairment()->offered(), 3000u);
+
+  // A delayed impairment holding datagrams is replaced: what it held is delivered at once, nothing is lost.
+  ImpairmentSettings delayed;
+  delayed.delay = Millis{400};
+  s.client.setImpairment(delayed);
+  const std::uint64_t acceptedBefore = s.client.assembler()->accepted();
+  ASSERT_TRUE(s.stream(2001, 10));
+  EXPECT_EQ(s.client.impairment()->inFlight(), 20u);
+  EXPECT_EQ(s.client.assembler()->accepted(), acceptedBefore);
+  s.client.setImpairment(std::nullopt);
+  EXPECT_EQ(s.client.impairment(), nullptr);
+  EXPECT_EQ(s.client.assembler()->accepted(), acceptedBefore + 20);
+
+  // Back to no impairment: no loss again.
+  (void)s.client.report(sessionNow());
+  ASSERT_TRUE(s.stream(2011, 500));
+  report = s.client.report(sessionNow());
+  EXPECT_NEAR(report.intervalLossFraction, 0.0, 1e-12);
+  EXPECT_EQ(s.client.droppedDatagrams(), 0u);
+}
+
+TEST(DatagramChannel, ImpairmentSetBeforeOpenIsUsedByOpen) {
+  Session s;
+  ImpairmentSettings lossy;
+  lossy.loss = 0.5;
+  s.client.setImpairment(lossy);
+  EXPECT_EQ(s.client.impairment(), nullptr);  // not open yet
+  ASSERT_TRUE(s.open());
+  ASSERT_NE(s.client.impairment(), nullptr);
+  EXPECT_DOUBLE_EQ(s.client.impairment()->settings().loss, 0.5);
+}
+
 }  // namespace

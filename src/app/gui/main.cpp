@@ -1,15 +1,22 @@
 // shapecast: the desktop application.
 //
+//   shapecast                                   (first start: host the default mesh, ready to drag)
+//   shapecast --demo [MESH]                     (one host and two client windows on loopback)
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
 //   shapecast --host MESH [--port P] [--name N] [--m M]
 //   shapecast --join HOST:PORT [--name N] [--level full|N|P%]
 //
 // --host starts hosting MESH at once (the basis is computed in the background), --join joins a session at once;
 // a password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
-// With MESH, the mesh is loaded at start-up. With --screenshot, the first rendered frame of the viewport is saved
-// to FILE and the program exits: 0 on success, 1 when MESH could not be loaded, 2 when the image could not be
-// written, 64 for bad arguments. Load errors then go to stderr instead of a dialog.
+// With no arguments at all, the window hosts the default mesh (first_start.h: the fetched dragon, else another
+// fetched mesh, else a generated torus) on port 47100 (any free port if taken) with a default handle and anchors,
+// the lock requested and the Drag tool active. --demo is demo.h. With MESH, the mesh is loaded (viewed) at start-up.
+// With --screenshot, the first rendered frame of the viewport is saved to FILE and the program exits: 0 on success, 1
+// when MESH could not be loaded, 2 when the image could not be written, 64 for bad arguments. Load errors then go to
+// stderr instead of a dialog.
 
+#include "app/gui/demo.h"
+#include "app/gui/first_start.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/join_dialog.h"
 #include "app/gui/main_window.h"
@@ -131,7 +138,11 @@ int main(int argc, char* argv[]) {
   const QCommandLineOption frequenciesOption(QStringLiteral("m"),
                                              QStringLiteral("Number of frequencies when hosting (default 100)."),
                                              QStringLiteral("m"), QStringLiteral("100"));
-  parser.addOptions({hostOption, joinOption, nameOption, levelOption, portOption, frequenciesOption});
+  const QCommandLineOption demoOption(
+      QStringLiteral("demo"),
+      QStringLiteral("Open a host and two client windows (full and 5% resolution, 10% emulated loss) on loopback, "
+                     "sharing MESH or the default mesh."));
+  parser.addOptions({hostOption, joinOption, nameOption, levelOption, portOption, frequenciesOption, demoOption});
   parser.process(app);
 
   const QStringList positional = parser.positionalArguments();
@@ -147,6 +158,18 @@ int main(int argc, char* argv[]) {
   };
   if (parser.isSet(hostOption) && parser.isSet(joinOption)) {
     return usageError(QStringLiteral("--host and --join cannot be used together"));
+  }
+  if (parser.isSet(demoOption)) {
+    if (parser.isSet(hostOption) || parser.isSet(joinOption) || screenshot) {
+      return usageError(QStringLiteral("--demo cannot be used with --host, --join or --screenshot"));
+    }
+    sc::app::DemoOptions options;
+    if (!positional.isEmpty()) options.meshPath = positional.first();
+    sc::app::Demo demo(options);
+    QObject::connect(&demo, &sc::app::Demo::failed,
+                     [](const QString& message) { std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message)); });
+    if (!demo.start()) return kExitLoadFailed;
+    return QApplication::exec();
   }
   std::optional<sc::app::HostSettings> hostSettings;
   std::optional<sc::app::JoinSettings> joinSettings;
@@ -186,6 +209,19 @@ int main(int argc, char* argv[]) {
     std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message));
   });
   const bool loaded = positional.isEmpty() || window.openMesh(positional.first());
+  const bool firstStart = positional.isEmpty() && !hostSettings && !joinSettings && !screenshot;
+  if (firstStart) {
+    QString error;
+    sc::app::HostSettings settings;
+    settings.meshPath = sc::app::defaultMeshOrGenerated(sc::app::defaultMeshFolders(), &error);
+    settings.port = sc::app::availablePort(settings.port);
+    settings.name = name.isEmpty() ? QStringLiteral("host") : name;
+    if (settings.meshPath.isEmpty()) {
+      std::fprintf(stderr, "shapecast: no default mesh: %s\n", qUtf8Printable(error));
+    } else {
+      sc::app::hostReadyToDrag(window, settings);
+    }
+  }
   if (hostSettings) window.hostSession(*hostSettings);
   if (joinSettings) window.joinSession(*joinSettings);
   if (!screenshot) {

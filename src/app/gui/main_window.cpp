@@ -2,19 +2,26 @@
 
 #include "ui_main_window.h"
 
+#include "app/gui/drag_commands.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/join_dialog.h"
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_docks.h"
 #include "model/mesh_loader.h"
+#include "model/mesh_writer.h"
 
 #include <QActionGroup>
 #include <QComboBox>
+#include <QDir>
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QImage>
 #include <QLabel>
+#include <QMenu>
+#include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QStatusBar>
@@ -102,15 +109,19 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   connect(ui->viewport, &MeshViewport::anchorsPainted, this, [this](std::vector<int> anchors) {
     if (m_session != nullptr) m_session->setAnchors(std::move(anchors));
   });
+  // Committed drags of the host's own user go to the undo history (Edit menu).
+  m_dragHistory = new DragHistory(this);
   connect(ui->viewport, &MeshViewport::dragStarted, this, [this] {
-    if (m_session != nullptr) m_session->beginDrag();
+    if (m_session != nullptr && m_session->beginDrag()) m_dragHistory->dragStarted();
   });
   connect(ui->viewport, &MeshViewport::dragMoved, this,
           [this](const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation) {
             if (m_session != nullptr) m_session->dragTo(translation, rotation);
           });
   connect(ui->viewport, &MeshViewport::dragFinished, this, [this] {
-    if (m_session != nullptr) m_session->endDrag();
+    if (m_session == nullptr) return;
+    m_session->endDrag();
+    m_dragHistory->dragFinished();
   });
   connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
     if (!m_redrawPending) return;
@@ -121,10 +132,130 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   // Peers and statistics docks follow whichever session is current.
   m_docks = new SessionDocks(this);
   connect(this, &MainWindow::sessionStarted, m_docks, &SessionDocks::bind);
+  // Network conditions (emulated loss, burst, delay) of a client, under the other docks; View menu toggles it.
+  m_networkDock = new NetworkConditionsDock(this);
+  addDockWidget(Qt::RightDockWidgetArea, m_networkDock);
+  ui->menuView->addAction(m_networkDock->toggleViewAction());
+  connect(this, &MainWindow::sessionStarted, m_networkDock, &NetworkConditionsDock::bind);
+  connect(this, &MainWindow::sessionStarted, m_dragHistory, &DragHistory::bind);
+  connect(m_dragHistory, &DragHistory::restored, this, [this] {
+    if (m_session != nullptr) ui->viewport->setSelection(m_session->handle(), m_session->anchors());
+  });
+  setUpEditAndExport();
   updateLockControls();
 }
 
-MainWindow::~MainWindow() { delete ui; }
+void MainWindow::setUpEditAndExport() {
+  // Edit → Undo/Redo (the drag history), before the View menu.
+  auto* editMenu = new QMenu(tr("&Edit"), this);
+  editMenu->setObjectName(QStringLiteral("menuEdit"));
+  editMenu->addAction(m_dragHistory->undoAction());
+  editMenu->addAction(m_dragHistory->redoAction());
+  menuBar()->insertMenu(ui->menuView->menuAction(), editMenu);
+  addAction(m_dragHistory->undoAction());  // shortcuts work whichever widget has the focus
+  addAction(m_dragHistory->redoAction());
+  // File → Export Deformed Mesh… / Save Screenshot…, before Quit's separator.
+  auto* exportAction = new QAction(tr("&Export Deformed Mesh…"), this);
+  exportAction->setObjectName(QStringLiteral("actionExportMesh"));
+  exportAction->setStatusTip(tr("Write the displayed mesh (this resolution, current shape) as OBJ or PLY"));
+  auto* screenshotAction = new QAction(tr("Save &Screenshot…"), this);
+  screenshotAction->setObjectName(QStringLiteral("actionSaveScreenshot"));
+  screenshotAction->setStatusTip(tr("Save the 3D view as a PNG image"));
+  const QList<QAction*> fileActions = ui->menuFile->actions();
+  const qsizetype openAt = fileActions.indexOf(ui->actionOpen);
+  QAction* before = openAt >= 0 && openAt + 1 < fileActions.size() ? fileActions[openAt + 1] : nullptr;
+  ui->menuFile->insertActions(before, {exportAction, screenshotAction});
+  connect(exportAction, &QAction::triggered, this, &MainWindow::chooseAndExportMesh);
+  connect(screenshotAction, &QAction::triggered, this, &MainWindow::chooseAndSaveScreenshot);
+  const auto updateEnabled = [this, exportAction, screenshotAction] {
+    const bool hasMesh = ui->viewport->vertexCount() > 0;
+    exportAction->setEnabled(hasMesh);
+    screenshotAction->setEnabled(hasMesh);
+  };
+  connect(ui->viewport, &MeshViewport::meshChanged, this, updateEnabled);
+  updateEnabled();
+}
+
+bool MainWindow::exportDeformedMesh(const QString& path, QString* error) {
+  Eigen::MatrixXd V;
+  const Eigen::MatrixXi* F = nullptr;
+  const std::span<const float> positions = m_session != nullptr ? m_session->positions() : std::span<const float>();
+  if (!positions.empty() && m_session->displayFaces().rows() > 0 &&
+      positions.size() == static_cast<std::size_t>(m_session->displayRestPositions().rows()) * 3) {
+    V.resize(static_cast<Eigen::Index>(positions.size() / 3), 3);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      for (Eigen::Index c = 0; c < 3; ++c) V(i, c) = positions[static_cast<std::size_t>(3 * i + c)];
+    }
+    F = &m_session->displayFaces();
+  } else if (m_openedV.rows() > 0) {
+    V = m_openedV;
+    F = &m_openedF;
+  } else {
+    if (error != nullptr) *error = tr("There is no mesh to export.");
+    return false;
+  }
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  if (suffix != QStringLiteral("obj") && suffix != QStringLiteral("ply")) {
+    if (error != nullptr) *error = tr("Export writes OBJ or PLY files: %1").arg(path);
+    return false;
+  }
+  const std::optional<model::MeshWriteError> failure =
+      model::writeMesh(std::filesystem::path(QFile::encodeName(path).toStdString()), V, *F);
+  if (failure) {
+    if (error != nullptr) *error = QString::fromStdString(failure->message);
+    return false;
+  }
+  return true;
+}
+
+bool MainWindow::saveScreenshot(const QString& path, QString* error) {
+  const QImage image = ui->viewport->grabFramebuffer();
+  if (image.isNull() || !image.save(path, "PNG")) {
+    if (error != nullptr) *error = tr("Could not save the screenshot to %1").arg(path);
+    return false;
+  }
+  return true;
+}
+
+void MainWindow::chooseAndExportMesh() {
+  QString selectedFilter;
+  QString path = QFileDialog::getSaveFileName(this, tr("Export Deformed Mesh"), m_lastDirectory,
+                                              tr("Wavefront OBJ (*.obj);;Stanford PLY (*.ply)"), &selectedFilter);
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) {
+    path += selectedFilter.contains(QStringLiteral("ply")) ? QStringLiteral(".ply") : QStringLiteral(".obj");
+  }
+  QString error;
+  if (exportDeformedMesh(path, &error)) {
+    statusBar()->showMessage(tr("Exported %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+  } else {
+    statusBar()->showMessage(error, kCleaningMessageMs);
+    if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Export"), error);
+  }
+}
+
+void MainWindow::chooseAndSaveScreenshot() {
+  QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), m_lastDirectory, tr("PNG image (*.png)"));
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
+  QString error;
+  if (saveScreenshot(path, &error)) {
+    statusBar()->showMessage(tr("Saved %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+  } else {
+    statusBar()->showMessage(error, kCleaningMessageMs);
+    if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Screenshot"), error);
+  }
+}
+
+MainWindow::~MainWindow() {
+  // The session (a child) outlives ui: its leave() on destruction emits signals that would reach this half-destroyed
+  // window (a joined client's window closing used to crash here).
+  if (m_session != nullptr) {
+    m_session->disconnect(this);
+    m_session->leave();
+  }
+  delete ui;
+}
 
 MeshViewport* MainWindow::viewport() const { return ui->viewport; }
 
@@ -143,6 +274,8 @@ bool MainWindow::openMesh(const QString& path) {
 
   const auto& mesh = std::get<model::LoadedMesh>(result);
   ui->viewport->setMesh(mesh.V, mesh.F);
+  m_openedV = mesh.V;
+  m_openedF = mesh.F;
   const int vertexCount = static_cast<int>(mesh.V.rows());
   const int triangleCount = static_cast<int>(mesh.F.rows());
   m_meshSizeLabel->setText(meshSizeText(vertexCount, triangleCount));

@@ -20,7 +20,9 @@ class MainWindow;
 namespace sc::app {
 
 class MeshViewport;
+class DragHistory;
 class SessionDocks;
+class NetworkConditionsDock;
 
 /// The ShapeCast main window: File → Open…/Quit, View → Reset View, a MeshViewport as central widget and a status
 /// bar with the mesh size (permanent, objectName "meshSizeLabel") and, briefly, the cleaning report.
@@ -57,9 +59,21 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] SessionController* session() const { return m_session; }
   /// The Peers and Statistics docks (bound to session()).
   [[nodiscard]] SessionDocks* docks() const { return m_docks; }
+  /// The client's Network conditions dock (objectName "networkConditionsDock", bound to session()).
+  [[nodiscard]] NetworkConditionsDock* networkConditionsDock() const { return m_networkDock; }
   /// Time of the last reconstruction and of the last redraw (update request → frame swapped), milliseconds.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
+  /// Undo/redo of the host user's committed drags (Edit menu; see drag_commands.h).
+  [[nodiscard]] DragHistory* dragHistory() const { return m_dragHistory; }
+
+  // --- export (File menu; also used by tests)
+  /// Writes the displayed mesh (the session's current positions at this peer's resolution with that level's
+  /// faces; without a session the mesh last opened) to `path`, OBJ or PLY by its extension (model::writeMesh).
+  /// False with a readable `error` when there is no mesh, the extension is neither, or the write fails.
+  bool exportDeformedMesh(const QString& path, QString* error = nullptr);
+  /// Saves the viewport's framebuffer as a PNG image. False with `error` on failure.
+  bool saveScreenshot(const QString& path, QString* error = nullptr);
 
  public slots:
   void showHostDialog();
@@ -77,9 +91,12 @@ class MainWindow : public QMainWindow {
 
  private slots:
   void chooseAndOpenMesh();
+  void chooseAndExportMesh();
+  void chooseAndSaveScreenshot();
 
  private:
   SessionController* newSession();
+  void setUpEditAndExport();
   void onSessionMesh();
   /// Shows the controller's positions in the viewport (the per-frame path) and starts the redraw timing.
   void showSessionPositions();
@@ -99,11 +116,15 @@ class MainWindow : public QMainWindow {
   QToolButton* m_cancelButton = nullptr;
   SessionController* m_session = nullptr;
   SessionDocks* m_docks = nullptr;
+  NetworkConditionsDock* m_networkDock = nullptr;
   QElapsedTimer m_redrawClock;
   bool m_redrawPending = false;
   double m_redrawMs = 0.0;
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
+  DragHistory* m_dragHistory = nullptr;
+  Eigen::MatrixXd m_openedV;  ///< the mesh last opened with openMesh() (exported when not in a session)
+  Eigen::MatrixXi m_openedF;
 };
 
 }  // namespace sc::app

@@ -1,5 +1,8 @@
 #include "app/gui/mesh_shaders.h"
 
+#include <QOpenGLShaderProgram>
+#include <QtDebug>
+
 namespace sc::app::shaders {
 
 const char* const kBackgroundVertex = R"(#version 330 core
@@ -40,12 +43,48 @@ void main() {
 }
 )";
 
+// kMaxGroups = 64 appears literally in uZ's size.
+const char* const kMeshReconstructVertex = R"(#version 330 core
+layout(location = 0) in vec3 aRest;
+layout(location = 2) in vec4 aTint;
+uniform samplerBuffer uBasis;
+uniform vec4 uZ[192];
+uniform int uGroups;
+uniform mat4 uModelView;
+uniform mat4 uProjection;
+out vec3 vPosition;
+out vec3 vNormal;
+out vec4 vTint;
+out vec3 vModelPosition;
+void main() {
+  vec4 sx = vec4(0.0);
+  vec4 sy = vec4(0.0);
+  vec4 sz = vec4(0.0);
+  int row = gl_VertexID * uGroups;
+  for (int g = 0; g < uGroups; ++g) {
+    vec4 k = texelFetch(uBasis, row + g);
+    sx += k * uZ[g];
+    sy += k * uZ[uGroups + g];
+    sz += k * uZ[2 * uGroups + g];
+  }
+  const vec4 one = vec4(1.0);
+  vec3 x = aRest + vec3(dot(sx, one), dot(sy, one), dot(sz, one));
+  vModelPosition = x;
+  vTint = aTint;
+  vNormal = vec3(0.0);
+  vec4 p = uModelView * vec4(x, 1.0);
+  vPosition = p.xyz;
+  gl_Position = uProjection * p;
+}
+)";
+
 const char* const kMeshFragment = R"(#version 330 core
 in vec3 vPosition;
 in vec3 vNormal;
 in vec4 vTint;
 uniform vec3 uBaseColor;
 uniform vec4 uLineColor;
+uniform bool uFaceNormals;
 out vec4 fragColor;
 
 vec3 toLinear(vec3 c) { return pow(c, vec3(2.2)); }
@@ -64,8 +103,10 @@ void main() {
     return;
   }
   vec3 v = normalize(-vPosition);
-  float len = length(vNormal);
-  vec3 n = len > 1e-12 ? vNormal / len : v;
+  // Face normals: the plane of the drawn triangle, facing the eye (derivatives within one primitive).
+  vec3 raw = uFaceNormals ? cross(dFdx(vPosition), dFdy(vPosition)) : vNormal;
+  float len = length(raw);
+  vec3 n = len > (uFaceNormals ? 0.0 : 1e-12) ? raw / len : v;
   // A back face whose normal also faces away is seen from behind (open mesh, or a mesh wound clockwise): flip.
   // A back face whose normal faces the eye is a single flipped triangle in an otherwise consistent mesh: the
   // vertex normals already agree with its neighbours, so keep them (no dark speckles).
@@ -86,5 +127,25 @@ void main() {
   fragColor = vec4(toSrgb(color), 1.0);
 }
 )";
+
+// Compiles and links a program, or warns with the driver log and returns null. `beforeLink` (optional) runs
+// on the program id between compiling and linking (transform feedback varyings).
+std::unique_ptr<QOpenGLShaderProgram> makeProgram(const char* vertexSource, const char* fragmentSource,
+                                                  const std::function<void(GLuint)>& beforeLink) {
+  auto program = std::make_unique<QOpenGLShaderProgram>();
+  if (!program->addShaderFromSourceCode(QOpenGLShader::Vertex, vertexSource) ||
+      !program->addShaderFromSourceCode(QOpenGLShader::Fragment, fragmentSource)) {
+    qWarning().noquote() << "MeshViewport: shader compilation failed:" << program->log();
+    return nullptr;
+  }
+  if (beforeLink) {
+    beforeLink(program->programId());
+  }
+  if (!program->link()) {
+    qWarning().noquote() << "MeshViewport: shader program failed:" << program->log();
+    return nullptr;
+  }
+  return program;
+}
 
 }  // namespace sc::app::shaders

@@ -7,6 +7,7 @@
 #include "app/gui/mesh_shaders.h"
 #include "app/gui/vertex_normals.h"
 
+#include <QOffscreenSurface>
 #include <QOpenGLContext>
 #include <QOpenGLFramebufferObject>
 #include <QOpenGLFunctions_3_3_Core>
@@ -30,17 +31,6 @@ const QVector4D kWireColor{0.16f, 0.14f, 0.13f, 1.0f};
 constexpr std::uint8_t kHandleTint[4] = {255, 72, 20, 230};   // orange-red
 constexpr std::uint8_t kAnchorTint[4] = {40, 110, 255, 210};  // blue
 
-// Compiles and links a program, or warns with the driver log and returns null.
-std::unique_ptr<QOpenGLShaderProgram> makeProgram(const char* vertexSource, const char* fragmentSource) {
-  auto program = std::make_unique<QOpenGLShaderProgram>();
-  if (!program->addShaderFromSourceCode(QOpenGLShader::Vertex, vertexSource) ||
-      !program->addShaderFromSourceCode(QOpenGLShader::Fragment, fragmentSource) || !program->link()) {
-    qWarning().noquote() << "MeshViewport: shader program failed:" << program->log();
-    return nullptr;
-  }
-  return program;
-}
-
 }  // namespace
 
 QSurfaceFormat MeshViewport::preferredSurfaceFormat() {
@@ -49,11 +39,50 @@ QSurfaceFormat MeshViewport::preferredSurfaceFormat() {
   format.setVersion(3, 3);
   format.setProfile(QSurfaceFormat::CoreProfile);
   format.setDepthBufferSize(24);
-  format.setSamples(4);
   return format;
 }
 
+QString MeshViewport::rendererName() {
+  QOpenGLContext context;
+  context.setFormat(QSurfaceFormat::defaultFormat());
+  if (!context.create()) {
+    return {};
+  }
+  QOffscreenSurface surface;
+  surface.setFormat(context.format());
+  surface.create();
+  if (!context.makeCurrent(&surface)) {
+    return {};
+  }
+  const auto* name = reinterpret_cast<const char*>(context.functions()->glGetString(GL_RENDERER));
+  QString result = name != nullptr ? QString::fromLatin1(name) : QString();
+  context.doneCurrent();
+  return result;
+}
+
+int MeshViewport::defaultSampleCount() {
+  static const int samples = [] {
+    bool ok = false;
+    const int fromEnvironment = qEnvironmentVariableIntValue("SHAPECAST_MSAA", &ok);
+    if (ok) {
+      return std::max(0, fromEnvironment);
+    }
+    const QString renderer = rendererName().toLower();
+    const bool software = renderer.contains(QLatin1String("llvmpipe")) ||
+                          renderer.contains(QLatin1String("softpipe")) || renderer.contains(QLatin1String("software"));
+    return software ? 0 : 4;
+  }();
+  return samples;
+}
+
+void MeshViewport::setSampleCount(int samples) {
+  QSurfaceFormat f = format();
+  f.setSamples(std::max(0, samples));
+  setFormat(f);
+}
+
 MeshViewport::MeshViewport(QWidget* parent) : QOpenGLWidget(parent) {
+  setSampleCount(defaultSampleCount());
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // the brush outline follows the cursor
   m_hintTimer.setSingleShot(true);
@@ -77,6 +106,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     return;
   }
   endGesture();
+  dropBasis();
   const Eigen::RowVector3d lo = V.colwise().minCoeff();
   const Eigen::RowVector3d hi = V.colwise().maxCoeff();
   m_origin = 0.5 * (lo + hi);
@@ -101,6 +131,8 @@ void MeshViewport::setPositions(const Eigen::MatrixXd& V) {
   if (V.rows() != m_vertexCount || V.cols() != 3 || m_vertexCount == 0) {
     return;
   }
+  m_showingCoefficients = false;
+  m_hostPositionsStale = false;
   m_positions.resize(static_cast<std::size_t>(3 * V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     for (Eigen::Index k = 0; k < 3; ++k) {
@@ -116,6 +148,8 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
   if (xyz.size() != 3 * n || n == 0) {
     return;
   }
+  m_showingCoefficients = false;
+  m_hostPositionsStale = false;
   const float origin[3] = {static_cast<float>(m_origin(0)), static_cast<float>(m_origin(1)),
                            static_cast<float>(m_origin(2))};
   m_positions.resize(3 * n);
@@ -129,6 +163,21 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
 void MeshViewport::positionsChanged() {
   m_normals.resize(m_positions.size());
   vertexNormals(m_positions, m_indices, m_normals);
+  updateBounds();
+  m_vertexDataDirty = true;
+  update();
+}
+
+// The camera's scene bounds from m_positions (exact), or on the GPU path from the rest bounds widened by
+// max_i ‖K_i‖·‖Z_c‖ ≥ |(K·Z)_ic| per coordinate (Cauchy–Schwarz), which needs no reconstruction.
+void MeshViewport::updateBounds() {
+  if (m_showingCoefficients && m_hostPositionsStale) {
+    const Eigen::Vector3f reach = m_basisMaxRowNorm * m_coefficients.colwise().norm().transpose();
+    const Eigen::Vector3f lo = m_restLo - reach;
+    const Eigen::Vector3f hi = m_restHi + reach;
+    m_camera.setSceneBounds(QVector3D(lo.x(), lo.y(), lo.z()), QVector3D(hi.x(), hi.y(), hi.z()));
+    return;
+  }
   QVector3D lo(std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max());
   QVector3D hi = -lo;
   for (std::size_t i = 0; i < m_positions.size(); i += 3) {
@@ -137,12 +186,11 @@ void MeshViewport::positionsChanged() {
     hi = QVector3D(std::max(hi.x(), p.x()), std::max(hi.y(), p.y()), std::max(hi.z(), p.z()));
   }
   m_camera.setSceneBounds(lo, hi);
-  m_vertexDataDirty = true;
-  update();
 }
 
 void MeshViewport::clearMesh() {
   endGesture();
+  dropBasis();
   m_positions.clear();
   m_normals.clear();
   m_indices.clear();
@@ -184,6 +232,7 @@ void MeshViewport::setWireframe(bool on) {
 }
 
 void MeshViewport::resetView() {
+  ensureHostPositions();
   std::vector<QVector3D> points(static_cast<std::size_t>(m_vertexCount));
   for (std::size_t i = 0; i < points.size(); ++i) {
     points[i] = QVector3D{m_positions[3 * i], m_positions[3 * i + 1], m_positions[3 * i + 2]};
@@ -198,6 +247,8 @@ void MeshViewport::cleanup() {
     return;
   }
   makeCurrent();
+  m_glReady = false;
+  destroyGpuObjects();
   m_pickFbo.reset();
   for (QOpenGLBuffer* buffer : {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer}) {
     buffer->destroy();
@@ -220,8 +271,8 @@ void MeshViewport::initializeGL() {
   initializeOpenGLFunctions();
   m_gl33 = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(context());
 
-  m_backgroundProgram = makeProgram(shaders::kBackgroundVertex, shaders::kBackgroundFragment);
-  m_meshProgram = makeProgram(shaders::kMeshVertex, shaders::kMeshFragment);
+  m_backgroundProgram = shaders::makeProgram(shaders::kBackgroundVertex, shaders::kBackgroundFragment);
+  m_meshProgram = shaders::makeProgram(shaders::kMeshVertex, shaders::kMeshFragment);
   m_backgroundVao.create();
   m_meshVao.create();
   if (!m_meshProgram) {
@@ -256,16 +307,23 @@ void MeshViewport::initializeGL() {
   m_indexBuffer.setUsagePattern(QOpenGLBuffer::StaticDraw);
   m_indexBuffer.bind();
   m_meshProgram->release();
+  vaoBinder.release();
+  createGpuObjects();
 
   // A new context has empty buffers: upload whatever the host side holds.
   m_vertexDataDirty = true;
   m_tintsDirty = true;
   m_indicesDirty = true;
+  m_glReady = true;
+  if (m_path == ReconstructionPath::Gpu && hasReconstructionBasis() && !gpuReconstructionAvailable()) {
+    setReconstructionPath(ReconstructionPath::Cpu);
+  }
 }
 
 void MeshViewport::resizeGL(int width, int height) { m_camera.setViewportSize(width, height); }
 
 void MeshViewport::paintGL() {
+  ++m_paintCount;
   // QPainter (the overlay) may leave state behind: reset what the passes below rely on.
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);
@@ -302,6 +360,17 @@ void MeshViewport::uploadIfDirty() {
     m_indexBuffer.allocate(m_indices.data(), static_cast<int>(m_indices.size() * sizeof(std::uint32_t)));
     m_indicesDirty = false;
   }
+  if (m_restDirty && m_restBuffer.isCreated()) {
+    upload(m_restBuffer, m_rest);
+    m_restDirty = false;
+  }
+  if (m_basisDirty && m_basisBuffer != 0) {
+    glBindBuffer(GL_TEXTURE_BUFFER, m_basisBuffer);
+    glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(m_basis.size() * sizeof(float)), m_basis.data(),
+                 GL_STATIC_DRAW);
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    m_basisDirty = false;
+  }
 }
 
 void MeshViewport::drawBackground() {
@@ -327,13 +396,19 @@ void MeshViewport::drawMesh(bool wireframe) {
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
   const QMatrix4x4 modelView = m_camera.view();
-  m_meshProgram->bind();
-  m_meshProgram->setUniformValue("uModelView", modelView);
-  m_meshProgram->setUniformValue("uNormalMatrix", modelView.normalMatrix());
-  m_meshProgram->setUniformValue("uProjection", m_camera.projection());
-  m_meshProgram->setUniformValue("uBaseColor", kMeshColor);
-  m_meshProgram->setUniformValue("uLineColor", QVector4D(0, 0, 0, 0));
-  QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
+  const bool gpu = gpuDrawing();
+  QOpenGLShaderProgram* program = gpu ? m_reconstructProgram.get() : m_meshProgram.get();
+  program->bind();
+  program->setUniformValue("uModelView", modelView);
+  program->setUniformValue("uProjection", m_camera.projection());
+  program->setUniformValue("uBaseColor", kMeshColor);
+  program->setUniformValue("uLineColor", QVector4D(0, 0, 0, 0));
+  if (gpu) {
+    setGpuUniforms();
+  } else {
+    program->setUniformValue("uNormalMatrix", modelView.normalMatrix());
+  }
+  QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : &m_meshVao);
   const auto count = static_cast<GLsizei>(m_indices.size());
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (wireframe) {
@@ -344,12 +419,15 @@ void MeshViewport::drawMesh(bool wireframe) {
   glDisable(GL_POLYGON_OFFSET_FILL);
   // === line pass: the same triangles as edges.
   if (wireframe) {
-    m_meshProgram->setUniformValue("uLineColor", kWireColor);
+    program->setUniformValue("uLineColor", kWireColor);
     m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
     m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   }
-  m_meshProgram->release();
+  if (gpu) {
+    glBindTexture(GL_TEXTURE_BUFFER, 0);
+  }
+  program->release();
 }
 
 // QPainter over the GL picture: the brush outline and the drag hint. Skipped (no QPainter) when neither shows.

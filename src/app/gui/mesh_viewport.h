@@ -6,6 +6,7 @@
 
 #include "app/gui/orbit_camera.h"
 #include "app/gui/vertex_picking.h"
+#include "spectral/resolution_level.h"
 
 #include <Eigen/Core>
 
@@ -40,6 +41,21 @@ enum class ViewportTool {
   Drag,         ///< left drag on the mesh moves the handle (Ctrl: rotates it); off the mesh it orbits.
 };
 
+/// Where X' = X̂' + K·Z is evaluated for setCoefficients(): on the CPU (spectral::reconstructInterleaved, then CPU
+/// vertex normals and a position/normal upload) or in the vertex shader (K in a GL_RGBA32F texture buffer, Z in a
+/// uniform array, rest positions as the vertex attribute; no per-vertex upload per frame). See MeshViewport.
+enum class ReconstructionPath { Cpu, Gpu };
+
+/// Median per-frame times of the two reconstruction paths (setCoefficients + repaint + glFinish), in ms; a path
+/// that cannot run here is +∞.
+struct ReconstructionTimings {
+  double cpuMs = 0.0;
+  double gpuMs = 0.0;
+  [[nodiscard]] ReconstructionPath faster() const {
+    return gpuMs < cpuMs ? ReconstructionPath::Gpu : ReconstructionPath::Cpu;
+  }
+};
+
 /// Renders a triangle mesh with area-weighted vertex normals, two-light Blinn–Phong shading over a vertical
 /// gradient background, framed on its vertices; optionally with its edges drawn over it (wireframe) and with the
 /// handle (orange-red) and anchor (blue) vertices tinted.
@@ -52,6 +68,18 @@ enum class ViewportTool {
 /// initializeGL() and released in cleanup(), which runs on QOpenGLContext::aboutToBeDestroyed and in the
 /// destructor. Setters only update host-side data, mark it dirty and call update(); paintGL() uploads lazily.
 ///
+/// Multisampling: the widget asks for defaultSampleCount() samples (4 on a real GPU, none on a software
+/// rasteriser such as Mesa llvmpipe, where 4× multisampling alone costs tens of ms per frame; the environment
+/// variable SHAPECAST_MSAA overrides it), or what setSampleCount() sets before the widget is first shown.
+///
+/// Deformation frames come either as positions (setPositions(), setPositionsInterleaved()) or, after
+/// setReconstructionBasis(), as coefficients Z (setCoefficients()), reconstructed on the path chosen by
+/// setReconstructionPath(). On the GPU path the shading uses face normals (screen-space derivatives of the
+/// reconstructed position in the fragment shader): exact for the drawn triangles, so no per-frame read-back or CPU
+/// work at all, at the price of a faceted look that smooth CPU vertex normals do not have (invisible at 100k
+/// vertices, visible on a coarse level). Host positions for picking and dragging are reconstructed on the CPU
+/// lazily, only when a gesture starts.
+///
 /// Signals carry std::vector / Eigen values and are meant for direct (same-thread) connections.
 class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   Q_OBJECT
@@ -61,9 +89,24 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   static constexpr double kDefaultBrushRadius = 30.0;  ///< pixels.
   static constexpr int kHintMilliseconds = 2000;       ///< how long a drag hint stays on screen.
 
-  /// The format this widget needs (OpenGL 3.3 core, 24-bit depth, 4× multisampling). Pass it to
-  /// QSurfaceFormat::setDefaultFormat() before constructing the QApplication.
+  /// Largest m the GPU reconstruction path handles (Z lives in a uniform array of 3·⌈m/4⌉ vec4).
+  static constexpr int kMaxGpuBasisSize = 256;
+
+  /// The format this widget needs (OpenGL 3.3 core, 24-bit depth; no multisampling: each MeshViewport asks for
+  /// its own samples, see defaultSampleCount()). Pass it to QSurfaceFormat::setDefaultFormat() before
+  /// constructing the QApplication.
   static QSurfaceFormat preferredSurfaceFormat();
+
+  /// Samples a new MeshViewport asks for: $SHAPECAST_MSAA when set (an integer ≥ 0), otherwise 0 when the
+  /// OpenGL renderer is a software rasteriser (GL_RENDERER names llvmpipe, softpipe or software) and 4 otherwise.
+  /// Probed once per process with an offscreen context (needs a QGuiApplication).
+  static int defaultSampleCount();
+  /// The GL_RENDERER string of a probe context created from the default format (empty when none can be made).
+  static QString rendererName();
+
+  /// Multisample count of this widget's framebuffer; takes effect only before the widget is first shown.
+  void setSampleCount(int samples);
+  [[nodiscard]] int sampleCount() const { return format().samples(); }
 
   explicit MeshViewport(QWidget* parent = nullptr);
   ~MeshViewport() override;
@@ -88,6 +131,44 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
 
   /// Removes the mesh (background only). Emits meshChanged().
   void clearMesh();
+
+  /// Sets the reduced basis of the current mesh for setCoefficients(): X' = rest + K·Z.
+  /// @param[in] K  #V by m basis (float32, row-major), e.g. spectral::ResolutionLevel::K; #V of the current mesh.
+  /// @param[in] rest  3·#V floats, the rest positions x y z per vertex, in the coordinates given to setMesh().
+  /// Copies both (K padded to a multiple of 4 columns); setMesh() and clearMesh() drop them. Does not change the
+  /// picture until setCoefficients(). Mismatched sizes are a programming error (asserted; ignored in release).
+  void setReconstructionBasis(const spectral::RowMatrixXf& K, std::span<const float> rest);
+  [[nodiscard]] bool hasReconstructionBasis() const { return m_basisColumns > 0; }
+
+  /// Shows the frame rest + K·Z on the current path (the per-frame call of a client).
+  /// @param[in] Z  m by 3 coefficients (m = K's columns). Needs setReconstructionBasis(); ignored otherwise.
+  /// CPU path: reconstructs, recomputes normals and bounds now (O(#V·m + #F)), uploads in paintGL(). GPU path:
+  /// O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex shader does the rest.
+  void setCoefficients(const Eigen::MatrixXf& Z);
+
+  /// Chooses where setCoefficients() frames are reconstructed (default Cpu). Gpu falls back to Cpu where the
+  /// context cannot do it (shader failed, m > kMaxGpuBasisSize, K larger than GL_MAX_TEXTURE_BUFFER_SIZE).
+  void setReconstructionPath(ReconstructionPath path);
+  [[nodiscard]] ReconstructionPath reconstructionPath() const { return m_path; }
+  /// Whether the GPU path can draw the current basis (false until the GL context exists).
+  [[nodiscard]] bool gpuReconstructionAvailable() const;
+
+  /// Times both paths on this widget (must be shown, with a basis): `frames` frames each of setCoefficients()
+  /// with a slightly varied Z, a synchronous repaint() and glFinish(); returns the medians and caches them.
+  /// Restores the path and Z (shown again if they were). An unavailable path is +∞. Cost: 2·frames repaints.
+  ReconstructionTimings measureReconstructionPaths(int frames = 10);
+  /// The faster path here: the cached measureReconstructionPaths() result, measured now (10 frames each) if
+  /// there is none since the last setReconstructionBasis(). Cpu when nothing can be measured.
+  ReconstructionPath fasterPath();
+  [[nodiscard]] const std::optional<ReconstructionTimings>& reconstructionTimings() const { return m_timings; }
+
+  /// Positions the GPU path computes for the current Z, read back through transform feedback (3·#V floats, in
+  /// the coordinates given to setMesh()); empty without a basis, coefficients, context or GPU path support.
+  /// For tests and diagnostics (synchronous).
+  [[nodiscard]] std::vector<float> gpuReconstructedPositions();
+  /// The positions the CPU uses for picking (3·#V floats, in the coordinates given to setMesh()); on the GPU
+  /// path they are reconstructed on the CPU first.
+  [[nodiscard]] std::vector<float> hostPositions();
 
   /// Sets the vertices shown as handle (orange-red) and anchors (blue). Indices outside [0, #V) are dropped;
   /// the rest are sorted and de-duplicated. A vertex in both sets shows as a handle. Emits nothing.
@@ -116,6 +197,9 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   [[nodiscard]] bool wireframe() const { return m_wireframe; }
 
   [[nodiscard]] int vertexCount() const { return m_vertexCount; }
+  /// How many times paintGL() has run (for timing harnesses: Qt 6 turns a repaint() less than one display frame
+  /// after the previous composition into an update(), so a synchronous frame needs ~17 ms since the last one).
+  [[nodiscard]] int paintCount() const { return m_paintCount; }
   [[nodiscard]] int triangleCount() const { return static_cast<int>(m_indices.size() / 3); }
   [[nodiscard]] const OrbitCamera& camera() const { return m_camera; }
 
@@ -160,6 +244,14 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
 
   // GL side (mesh_viewport.cpp).
   void positionsChanged();
+  void updateBounds();
+  void dropBasis();
+  void applyCoefficients();
+  void ensureHostPositions();
+  [[nodiscard]] bool gpuDrawing() const;
+  void createGpuObjects();
+  void destroyGpuObjects();
+  void setGpuUniforms();
   void rebuildTints();
   void uploadIfDirty();
   void drawBackground();
@@ -192,6 +284,21 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   std::vector<int> m_anchors;
   bool m_wireframe = false;
 
+  // Reconstruction (mesh_viewport_gpu.cpp). K is stored padded to 4·⌈m/4⌉ columns (zeros), Z likewise (rows).
+  spectral::RowMatrixXf m_basis;   // #V by 4G
+  std::vector<float> m_rest;       // 3·#V, relative to m_origin
+  Eigen::MatrixXf m_coefficients;  // 4G by 3
+  int m_basisColumns = 0;          // m (0: no basis)
+  float m_basisMaxRowNorm = 0.0f;  // max_i ‖K_i‖, bounds |K·Z| for the camera's near/far planes
+  Eigen::Vector3f m_restLo = Eigen::Vector3f::Zero();
+  Eigen::Vector3f m_restHi = Eigen::Vector3f::Zero();
+  ReconstructionPath m_path = ReconstructionPath::Cpu;
+  bool m_showingCoefficients = false;  // the picture is rest + K·Z (else m_positions as given)
+  bool m_hostPositionsStale = false;   // m_positions lags rest + K·Z (GPU path)
+  bool m_basisDirty = false;
+  bool m_restDirty = false;
+  std::optional<ReconstructionTimings> m_timings;
+
   // Interaction.
   ViewportTool m_tool = ViewportTool::Orbit;
   double m_brushRadius = kDefaultBrushRadius;
@@ -216,6 +323,16 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   QOpenGLBuffer m_normalBuffer{QOpenGLBuffer::VertexBuffer};
   QOpenGLBuffer m_tintBuffer{QOpenGLBuffer::VertexBuffer};
   QOpenGLBuffer m_indexBuffer{QOpenGLBuffer::IndexBuffer};
+  // GPU reconstruction: its own program and VAO (rest positions at location 0, tints at 2, the same indices).
+  std::unique_ptr<QOpenGLShaderProgram> m_reconstructProgram;
+  QOpenGLVertexArrayObject m_gpuVao;
+  QOpenGLBuffer m_restBuffer{QOpenGLBuffer::VertexBuffer};
+  unsigned m_basisBuffer = 0;   // GL_TEXTURE_BUFFER storage of K
+  unsigned m_basisTexture = 0;  // GL_RGBA32F view of it
+  unsigned m_feedbackBuffer = 0;
+  long long m_maxTextureBufferTexels = 0;
+  bool m_glReady = false;
+  int m_paintCount = 0;
 };
 
 }  // namespace sc::app

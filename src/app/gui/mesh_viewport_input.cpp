@@ -63,6 +63,7 @@ void MeshViewport::endGesture() {
 
 // === brush: project every vertex once per stroke (the camera does not move during it), then dab.
 void MeshViewport::beginStroke() {
+  ensureHostPositions();
   const DepthImage depth = renderDepth();
   const QSize framebuffer = (QSizeF(width(), height()) * devicePixelRatioF()).toSize();
   Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> P(m_positions.data(), m_vertexCount, 3);
@@ -87,6 +88,7 @@ void MeshViewport::paintDab(QPointF pos, bool erase) {
 
 // === drag: starts only on the mesh; returns false (the press orbits instead) when the press misses it.
 bool MeshViewport::beginDrag(QPointF pos) {
+  ensureHostPositions();
   const DepthImage depth = renderDepth();
   const double ratio = devicePixelRatioF();
   const int px = static_cast<int>(pos.x() * ratio);

@@ -279,6 +279,7 @@ bool SessionController::join(const JoinSettings& settings) {
   options.password = settings.password;
   options.level = settings.level;
   options.levelFraction = settings.levelFraction;
+  options.impairment = settings.impairment;
   m_joinFraction = settings.levelFraction;
   m_client = new session::SessionClient(options, this);
   m_meter = new session::DistortionMeter(*m_client, session::DistortionMeter::Mode::Live, m_client);
@@ -527,6 +528,10 @@ bool SessionController::sendConstraints() {
                                      std::vector<std::uint32_t>(anchors.begin(), anchors.end()));
   }
   m_constraintsSent = sent;
+  if (sent && m_host != nullptr) {
+    m_sentHandle = handle;
+    m_sentAnchors = anchors;
+  }
   if (sent) {  // a new constraint set starts from rest
     m_baseRotation = m_lastRotation = Eigen::Matrix3d::Identity();
     m_baseTranslation = m_lastTranslation = Eigen::Vector3d::Zero();
@@ -560,6 +565,27 @@ bool SessionController::dragTo(const Eigen::Vector3d& translation, const Eigen::
 }
 
 void SessionController::endDrag() { m_dragging = false; }
+
+std::optional<HostDeformation> SessionController::hostDeformation() const {
+  if (m_host == nullptr || !m_constraintsSent) return std::nullopt;
+  return HostDeformation{m_sentHandle, m_sentAnchors, m_lastTranslation, m_lastRotation};
+}
+
+bool SessionController::restoreHostDeformation(const HostDeformation& state) {
+  if (m_host == nullptr || m_dragging || !canDrag() || state.handle.empty()) return false;
+  spectral::ConstraintSet set;
+  set.handles.push_back({state.handle});
+  set.anchors = state.anchors;
+  if (!m_host->setConstraints(set)) return false;
+  const spectral::HandleTransform pose{state.translation, state.rotation};
+  if (!m_host->drag(std::span<const spectral::HandleTransform>(&pose, 1))) return false;
+  m_handle = m_sentHandle = state.handle;
+  m_anchors = m_sentAnchors = state.anchors;
+  m_constraintsSent = true;
+  m_baseRotation = m_lastRotation = pose.rotation;
+  m_baseTranslation = m_lastTranslation = pose.translation;
+  return true;
+}
 
 // ---------------------------------------------------------------------------------------------------- display
 
@@ -613,6 +639,39 @@ bool SessionController::setLevel(std::uint32_t target) {
   m_levelTarget = target;
   m_dragging = false;
   return true;
+}
+
+// ---------------------------------------------------------------------------------------------------- network
+
+bool SessionController::setNetworkConditions(double loss, double burstLength, int delayMs) {
+  if (m_client == nullptr) return false;
+  loss = std::isfinite(loss) ? std::clamp(loss, 0.0, 1.0) : 0.0;
+  burstLength = std::isfinite(burstLength) ? std::max(1.0, burstLength) : 1.0;
+  delayMs = std::max(0, delayMs);
+  std::optional<session::ImpairmentSettings> settings;
+  if (loss > 0.0 || delayMs > 0) {
+    settings.emplace();
+    settings->loss = loss;
+    settings->burst = burstLength > 1.0;
+    settings->burstLength = burstLength;
+    settings->delay = std::chrono::milliseconds(delayMs);
+    // A fresh seed per change, so that returning to a setting does not replay the same losses.
+    const std::optional<session::ImpairmentSettings>& previous = m_client->impairment();
+    settings->seed = previous ? previous->seed + 1 : 1;
+  }
+  m_client->setImpairment(settings);
+  emit networkConditionsChanged();
+  return true;
+}
+
+NetworkConditions SessionController::networkConditions() const {
+  NetworkConditions conditions;
+  if (m_client == nullptr || !m_client->impairment()) return conditions;
+  const session::ImpairmentSettings& s = *m_client->impairment();
+  conditions.loss = s.loss;
+  conditions.burstLength = s.burst ? s.burstLength : 1.0;
+  conditions.delayMs = static_cast<int>(s.delay.count());
+  return conditions;
 }
 
 // ---------------------------------------------------------------------------------------------------- peers

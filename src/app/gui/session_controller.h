@@ -21,6 +21,7 @@
 
 #include "session/control_messages.h"
 #include "session/lock_messages.h"
+#include "session/network_impairment.h"
 
 #include <Eigen/Core>
 #include <QObject>
@@ -70,6 +71,28 @@ struct JoinSettings {
   std::uint32_t level = 0;  ///< wanted display vertices; 0 = full resolution
   /// Overrides `level`: this fraction of the host's vertex count (e.g. 0.2 for "20 %"); ≥ 1 = full resolution.
   std::optional<double> levelFraction;
+  /// Emulated network conditions on receive from the start (see SessionController::setNetworkConditions).
+  std::optional<session::ImpairmentSettings> impairment;
+};
+
+/// Emulated network conditions of a client, as the Network conditions dock edits them.
+struct NetworkConditions {
+  double loss = 0.0;         ///< stationary loss probability, 0..1
+  double burstLength = 1.0;  ///< mean burst of consecutive losses in datagrams; 1 = independent (Bernoulli) loss
+  int delayMs = 0;           ///< fixed one-way delay added on receive
+};
+
+/// The deformer state the host's own user set: the constraint set (full-resolution vertex ids, which are the
+/// displayed ids on a host; anchors exclude the handle) and the handle's pose about its rest centroid. Solving
+/// it again reproduces the shape exactly in linear mode (the solve is a function of constraints and pose) and
+/// up to the rigid iterations' warm start in rigid mode. What undo/redo of a committed drag restores.
+struct HostDeformation {
+  std::vector<int> handle;
+  std::vector<int> anchors;
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+
+  friend bool operator==(const HostDeformation&, const HostDeformation&) = default;
 };
 
 /// One entry of the resolution selector.
@@ -153,6 +176,14 @@ class SessionController final : public QObject {
   /// Ends the drag (the shape stays where the last pose put it).
   void endDrag();
   [[nodiscard]] bool dragging() const { return m_dragging; }
+  /// Host only: the constraints this user last sent and the pose its drags left (nullopt on a client, or
+  /// before this user's constraints reached the deformer). Constraints or drags of clients are not included.
+  [[nodiscard]] std::optional<HostDeformation> hostDeformation() const;
+  /// Host only, as the lock holder and outside a drag: sets `state`'s constraints and solves its pose again, so
+  /// that everyone sees that shape (a new frame); handle() and anchors() become the state's and the next drag
+  /// starts from its pose. False (nothing changed) on a client, without the lock, during a drag, with an empty
+  /// handle or ids the deformer refuses.
+  bool restoreHostDeformation(const HostDeformation& state);
 
   // --- what to display
   /// The current level's rest mesh: #V' by 3 positions X̂' and #F' by 3 faces (empty before the first level).
@@ -179,6 +210,15 @@ class SessionController final : public QObject {
   /// until the new one is in, then meshChanged(). False on a host or when not live.
   bool setLevel(std::uint32_t target);
 
+  // --- emulated network conditions (client)
+  /// Client: simulates `loss` (0..1, clamped), mean burst `burstLength` (≥ 1; 1 = Bernoulli, more = Gilbert–
+  /// Elliott) and `delayMs` (≥ 0) on the datagrams this client receives, live (datagrams held back by the previous
+  /// setting are delivered at once: ClientDatagramChannel::setImpairment). loss 0 and delay 0 remove the
+  /// impairment. Emits networkConditionsChanged(). False (nothing changed) on a host or before join().
+  bool setNetworkConditions(double loss, double burstLength, int delayMs);
+  /// The client's current conditions (zeros: none); also on a host (always zeros).
+  [[nodiscard]] NetworkConditions networkConditions() const;
+
   // --- peers and statistics
   [[nodiscard]] session::PeerList peers() const;
   /// A peer's latest figures: on a host every client's StatsReport; on a client only its own (selfId()),
@@ -201,6 +241,8 @@ class SessionController final : public QObject {
   /// A readable error; state() is Failed (or, for a rejected level, stays Live).
   void failed(const QString& message);
   void hostingStarted(quint16 port);
+  /// setNetworkConditions() changed the client's emulated conditions.
+  void networkConditionsChanged();
   /// Long work: percent 0..100 and what is being done.
   void progress(int percent, const QString& what);
 
@@ -245,6 +287,8 @@ class SessionController final : public QObject {
   // shared
   std::vector<int> m_handle;
   std::vector<int> m_anchors;
+  std::vector<int> m_sentHandle;  ///< host: the full ids of the constraints last sent
+  std::vector<int> m_sentAnchors;
   bool m_constraintsSent = false;
   bool m_hadLock = false;
   bool m_dragging = false;

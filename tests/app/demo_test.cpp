@@ -1,0 +1,237 @@
+// First start, --demo and the Network conditions dock, with real loopback sockets in one process: the demo opens
+// three windows whose two clients reach Live and show the mesh (the low one at ≈5% behind 10% loss); the dock
+// changes a client's impairment live; the first start picks a mesh (a generated one when none is fetched), becomes
+// Live with a default handle, anchors, the lock and the Drag tool. With SHAPECAST_TEST_SCREENSHOTS=DIR the demo's
+// windows are saved to DIR (demo-host.png, demo-client-full.png, demo-client-low.png).
+
+#include "app/gui/demo.h"
+#include "app/gui/first_start.h"
+#include "app/gui/main_window.h"
+#include "app/gui/mesh_viewport.h"
+#include "app/gui/network_conditions_dock.h"
+#include "app/gui/session_controller.h"
+#include "app_test_support.h"
+#include "session/client_datagram_channel.h"
+#include "session/session_client.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QDir>
+#include <QDoubleSpinBox>
+#include <QFileInfo>
+#include <QImage>
+#include <QSpinBox>
+#include <QTemporaryDir>
+#include <QTest>
+
+namespace sc::app {
+namespace {
+
+using State = SessionController::State;
+constexpr int kLiveTimeoutMs = 30000;
+
+bool waitLive(MainWindow* window) {
+  return QTest::qWaitFor(
+             [window] {
+               const SessionController* s = window->session();
+               return s != nullptr && (s->state() == State::Live || s->state() == State::Failed);
+             },
+             kLiveTimeoutMs) &&
+         window->session()->state() == State::Live;
+}
+
+class DemoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
+    ASSERT_TRUE(m_dir.isValid());
+    const sc::testing::GeneratedMesh mesh = sc::testing::torus(40, 20);
+    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
+    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, mesh.V, mesh.F));
+    m_vertices = static_cast<int>(mesh.V.rows());
+  }
+
+  QTemporaryDir m_dir;
+  QString m_meshPath;
+  int m_vertices = 0;
+};
+
+TEST_F(DemoTest, ThreeWindowsBothClientsLive) {
+  DemoOptions options;
+  options.meshPath = m_meshPath;
+  options.m = 20;
+  options.useBasisCache = false;
+  options.errorDialogs = false;
+  Demo demo(options);
+  ASSERT_TRUE(demo.start());
+  ASSERT_EQ(demo.windows().size(), 3u);
+  for (MainWindow* window : demo.windows()) EXPECT_TRUE(window->isVisible());
+
+  ASSERT_TRUE(waitLive(demo.hostWindow())) << demo.hostWindow()->session()->errorText().toStdString();
+  SessionController* host = demo.hostWindow()->session();
+  EXPECT_EQ(host->role(), SessionController::Role::Host);
+  ASSERT_TRUE(waitLive(demo.fullClientWindow())) << demo.fullClientWindow()->session()->errorText().toStdString();
+  ASSERT_TRUE(waitLive(demo.lowClientWindow())) << demo.lowClientWindow()->session()->errorText().toStdString();
+
+  // The host is ready to drag: default handle and anchors, the lock, the Drag tool.
+  EXPECT_TRUE(QTest::qWaitFor([host] { return host->canDrag(); }, 5000));
+  EXPECT_FALSE(host->handle().empty());
+  EXPECT_FALSE(host->anchors().empty());
+  EXPECT_EQ(demo.hostWindow()->viewport()->tool(), ViewportTool::Drag);
+  EXPECT_FALSE(demo.hostWindow()->viewport()->handles().empty());
+
+  // Both clients show the mesh: full resolution, and a much smaller level behind 10% loss.
+  MeshViewport* fullView = demo.fullClientWindow()->viewport();
+  MeshViewport* lowView = demo.lowClientWindow()->viewport();
+  EXPECT_EQ(fullView->vertexCount(), m_vertices);
+  EXPECT_GT(lowView->vertexCount(), 0);
+  EXPECT_LT(lowView->vertexCount(), m_vertices / 4);
+  SessionController* low = demo.lowClientWindow()->session();
+  EXPECT_NEAR(low->networkConditions().loss, 0.10, 1e-12);
+  ASSERT_NE(low->sessionClient(), nullptr);
+  EXPECT_TRUE(QTest::qWaitFor([low] { return low->sessionClient()->channel().impairment() != nullptr; }, 5000));
+  EXPECT_FALSE(demo.fullClientWindow()->session()->sessionClient()->impairment().has_value());
+  // The low client's dock shows its 10% and is enabled; the host's is disabled.
+  EXPECT_NEAR(demo.lowClientWindow()->networkConditionsDock()->lossPercent(), 10.0, 1e-9);
+  EXPECT_TRUE(demo.lowClientWindow()
+                  ->networkConditionsDock()
+                  ->widget()
+                  ->findChild<QDoubleSpinBox*>(QStringLiteral("lossSpinBox"))
+                  ->isEnabled());
+  EXPECT_FALSE(demo.hostWindow()
+                   ->networkConditionsDock()
+                   ->widget()
+                   ->findChild<QDoubleSpinBox*>(QStringLiteral("lossSpinBox"))
+                   ->isEnabled());
+
+  // A drag on the host reaches both clients.
+  ASSERT_TRUE(host->beginDrag());
+  ASSERT_TRUE(host->dragTo(Eigen::Vector3d(0.0, 0.3, 0.0), Eigen::Matrix3d::Identity()));
+  host->endDrag();
+  SessionController* full = demo.fullClientWindow()->session();
+  EXPECT_TRUE(QTest::qWaitFor(
+      [full] {
+        const Eigen::MatrixXd Z = full->coefficients();
+        return Z.size() > 0 && Z.norm() > 1e-6;
+      },
+      5000));
+
+  const QString shots = qEnvironmentVariable("SHAPECAST_TEST_SCREENSHOTS");
+  if (!shots.isEmpty()) {
+    QTest::qWait(500);  // a few frames after the drag
+    ASSERT_TRUE(QDir().mkpath(shots));
+    const std::pair<MainWindow*, const char*> files[] = {{demo.hostWindow(), "demo-host.png"},
+                                                         {demo.fullClientWindow(), "demo-client-full.png"},
+                                                         {demo.lowClientWindow(), "demo-client-low.png"}};
+    for (const auto& [window, file] : files) {
+      const QImage image = window->grab().toImage();
+      EXPECT_FALSE(image.isNull());
+      EXPECT_TRUE(image.save(QDir(shots).filePath(QString::fromLatin1(file)), "PNG")) << file;
+    }
+  }
+}
+
+TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
+  MainWindow hostWindow;
+  hostWindow.setErrorDialogsEnabled(false);
+  HostSettings settings;
+  settings.meshPath = m_meshPath;
+  settings.port = 0;
+  settings.m = 20;
+  settings.useBasisCache = false;
+  hostWindow.hostSession(settings);
+  NetworkConditionsDock* hostDock = hostWindow.networkConditionsDock();
+  ASSERT_NE(hostDock, nullptr);
+  EXPECT_EQ(hostDock->objectName(), QStringLiteral("networkConditionsDock"));
+  ASSERT_TRUE(waitLive(&hostWindow)) << hostWindow.session()->errorText().toStdString();
+  EXPECT_FALSE(hostDock->widget()->findChild<QSpinBox*>(QStringLiteral("delaySpinBox"))->isEnabled());
+  EXPECT_TRUE(hostDock->isHidden());
+  // The View menu toggles the dock.
+  EXPECT_TRUE(hostWindow.findChildren<QAction*>().contains(hostDock->toggleViewAction()));
+
+  MainWindow clientWindow;
+  clientWindow.setErrorDialogsEnabled(false);
+  JoinSettings join;
+  join.port = hostWindow.session()->tcpPort();
+  join.name = QStringLiteral("bob");
+  clientWindow.joinSession(join);
+  ASSERT_TRUE(waitLive(&clientWindow)) << clientWindow.session()->errorText().toStdString();
+  NetworkConditionsDock* dock = clientWindow.networkConditionsDock();
+  auto* loss = dock->widget()->findChild<QDoubleSpinBox*>(QStringLiteral("lossSpinBox"));
+  auto* burst = dock->widget()->findChild<QDoubleSpinBox*>(QStringLiteral("burstSpinBox"));
+  auto* delay = dock->widget()->findChild<QSpinBox*>(QStringLiteral("delaySpinBox"));
+  ASSERT_TRUE(loss && burst && delay);
+  EXPECT_TRUE(loss->isEnabled());
+  session::ClientDatagramChannel& channel = clientWindow.session()->sessionClient()->channel();
+  EXPECT_EQ(channel.impairment(), nullptr);
+
+  loss->setValue(25.0);  // as the user typing it: applied at once
+  ASSERT_NE(channel.impairment(), nullptr);
+  EXPECT_NEAR(channel.impairment()->settings().loss, 0.25, 1e-12);
+  EXPECT_FALSE(channel.impairment()->settings().burst);
+  burst->setValue(4.0);
+  delay->setValue(40);
+  ASSERT_NE(channel.impairment(), nullptr);
+  EXPECT_TRUE(channel.impairment()->settings().burst);
+  EXPECT_DOUBLE_EQ(channel.impairment()->settings().burstLength, 4.0);
+  EXPECT_EQ(channel.impairment()->settings().delay.count(), 40);
+  const NetworkConditions conditions = clientWindow.session()->networkConditions();
+  EXPECT_NEAR(conditions.loss, 0.25, 1e-12);
+  EXPECT_EQ(conditions.delayMs, 40);
+
+  loss->setValue(0.0);
+  delay->setValue(0);
+  EXPECT_EQ(channel.impairment(), nullptr);
+  EXPECT_DOUBLE_EQ(burst->value(), 4.0);                                  // kept as the user left it
+  EXPECT_FALSE(hostWindow.session()->setNetworkConditions(0.1, 1.0, 0));  // a host has none
+}
+
+TEST_F(DemoTest, FirstStartPicksAMeshAndIsReadyToDrag) {
+  // No fetched mesh in an empty folder: a generated torus; a folder with meshes: the dragon first, else by name.
+  QTemporaryDir empty;
+  ASSERT_TRUE(empty.isValid());
+  EXPECT_TRUE(findDefaultMesh({empty.path()}).isEmpty());
+  QTemporaryDir meshes;
+  ASSERT_TRUE(QFile::copy(m_meshPath, meshes.filePath(QStringLiteral("b.off"))));
+  ASSERT_TRUE(QFile::copy(m_meshPath, meshes.filePath(QStringLiteral("a.off"))));
+  EXPECT_EQ(QFileInfo(findDefaultMesh({empty.path(), meshes.path()})).fileName(), QStringLiteral("a.off"));
+  ASSERT_TRUE(QFile::copy(m_meshPath, meshes.filePath(QString::fromLatin1(kDefaultMeshName))));
+  EXPECT_EQ(QFileInfo(findDefaultMesh({meshes.path()})).fileName(), QString::fromLatin1(kDefaultMeshName));
+
+  QString error;
+  const QString mesh = defaultMeshOrGenerated({empty.path()}, &error);
+  ASSERT_FALSE(mesh.isEmpty()) << error.toStdString();
+  EXPECT_TRUE(QFileInfo(mesh).isFile());
+
+  MainWindow window;
+  window.setErrorDialogsEnabled(false);
+  window.show();
+  HostSettings settings;
+  settings.meshPath = mesh;
+  settings.port = availablePort(0);
+  settings.m = 30;
+  settings.useBasisCache = false;
+  hostReadyToDrag(window, settings);
+  ASSERT_TRUE(waitLive(&window)) << window.session()->errorText().toStdString();
+  SessionController* session = window.session();
+  EXPECT_GT(window.viewport()->vertexCount(), 1000);  // the generated torus
+  EXPECT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
+  EXPECT_FALSE(session->handle().empty());
+  EXPECT_GT(session->anchors().size(), session->handle().size());
+  EXPECT_EQ(window.viewport()->tool(), ViewportTool::Drag);
+  auto* dragAction = window.findChild<QAction*>(QStringLiteral("actionToolDrag"));
+  ASSERT_NE(dragAction, nullptr);
+  EXPECT_TRUE(dragAction->isChecked());
+  // The handle is at the top (largest y).
+  const Eigen::MatrixXd& V = session->displayRestPositions();
+  EXPECT_GT(V(session->handle().front(), 1), 0.5 * V.col(1).maxCoeff());
+  // and the drag works at once
+  ASSERT_TRUE(session->beginDrag());
+  EXPECT_TRUE(session->dragTo(Eigen::Vector3d(0.0, 0.2, 0.0), Eigen::Matrix3d::Identity()));
+  session->endDrag();
+}
+
+}  // namespace
+}  // namespace sc::app

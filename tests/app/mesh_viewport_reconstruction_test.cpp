@@ -1,0 +1,231 @@
+// Tests for src/app/gui/mesh_viewport_gpu.cpp: the GPU reconstruction path X' = X̂' + K·Z agrees with the CPU
+// kernel, draws the same silhouette, keeps picking on the reconstructed shape, and its timing against the CPU
+// path (needs an X server with GL; skipped otherwise).
+
+#include "app/gui/mesh_viewport.h"
+
+#include "app_test_support.h"
+#include "model/mesh_loader.h"
+#include "spectral/reconstruction_kernel.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QColor>
+#include <QElapsedTimer>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions>
+#include <QTest>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <random>
+#include <variant>
+
+namespace {
+
+using sc::app::MeshViewport;
+using sc::app::ReconstructionPath;
+
+// A smooth-ish random basis: K_ik = scale·sin(k·x_i + phase_k) style values, deterministic.
+sc::spectral::RowMatrixXf syntheticBasis(const Eigen::MatrixXd& V, int m, float scale) {
+  sc::spectral::RowMatrixXf K(V.rows(), m);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> phase(0.0f, 6.28f);
+  for (int k = 0; k < m; ++k) {
+    const float p = phase(rng);
+    const auto axis = static_cast<Eigen::Index>(k % 3);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      K(i, k) = scale * std::sin(static_cast<float>(k + 1) * static_cast<float>(V(i, axis)) + p);
+    }
+  }
+  return K;
+}
+
+Eigen::MatrixXf randomCoefficients(int m, float scale, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-scale, scale);
+  Eigen::MatrixXf Z(m, 3);
+  for (Eigen::Index i = 0; i < Z.size(); ++i) {
+    Z.data()[i] = u(rng);
+  }
+  return Z;
+}
+
+double diagonalOf(const std::vector<float>& xyz) {
+  Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> P(
+      xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  return static_cast<double>((P.colwise().maxCoeff() - P.colwise().minCoeff()).norm());
+}
+
+double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    worst = std::max(worst, std::abs(static_cast<double>(a[i]) - static_cast<double>(b[i])));
+  }
+  return worst;
+}
+
+class MeshViewportReconstructionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) {
+      GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
+    }
+    m_sphere = sc::testing::icosphere(4, 2.0, Eigen::Vector3d(10, -5, 3));
+    m_rest = sc::spectral::interleavedPositions(m_sphere.V);
+    m_viewport.resize(320, 240);
+    m_viewport.setMesh(m_sphere.V, m_sphere.F);
+    m_viewport.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&m_viewport));
+    m_background = m_viewport.grabFramebuffer();
+  }
+
+  // The CPU kernel's positions for (K, Z).
+  std::vector<float> cpuPositions(const sc::spectral::RowMatrixXf& K, const Eigen::MatrixXf& Z) const {
+    std::vector<float> out(m_rest.size());
+    sc::spectral::reconstructInterleaved(K, m_rest, Z, out);
+    return out;
+  }
+
+  sc::testing::GeneratedMesh m_sphere;
+  std::vector<float> m_rest;
+  MeshViewport m_viewport;
+  QImage m_background;
+};
+
+TEST_F(MeshViewportReconstructionTest, GpuAgreesWithCpuWithin1e5OfTheDiagonal) {
+  ASSERT_TRUE(m_viewport.gpuReconstructionAvailable());
+  for (const int m : {100, 7, 1}) {  // 7 and 1: K padded to a multiple of 4 columns
+    const auto K = syntheticBasis(m_sphere.V, m, 0.05f);
+    const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 11U + static_cast<unsigned>(m));
+    m_viewport.setReconstructionBasis(K, m_rest);
+    m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
+    ASSERT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Gpu);
+    m_viewport.setCoefficients(Z);
+    const std::vector<float> expected = cpuPositions(K, Z);
+    const std::vector<float> gpu = m_viewport.gpuReconstructedPositions();
+    ASSERT_EQ(gpu.size(), expected.size()) << "m = " << m;
+    const double diagonal = diagonalOf(expected);
+    EXPECT_LE(maxDifference(gpu, expected), 1e-5 * diagonal) << "m = " << m;
+    EXPECT_GT(maxDifference(expected, m_rest), 1e-3 * diagonal) << "the frame really moves the mesh, m = " << m;
+    // The host copy used for picking agrees too (reconstructed lazily on the CPU).
+    EXPECT_LE(maxDifference(m_viewport.hostPositions(), expected), 1e-5 * diagonal) << "m = " << m;
+    // The CPU path of the viewport shows the same positions.
+    m_viewport.setReconstructionPath(ReconstructionPath::Cpu);
+    EXPECT_LE(maxDifference(m_viewport.hostPositions(), expected), 1e-5 * diagonal) << "m = " << m;
+  }
+}
+
+TEST_F(MeshViewportReconstructionTest, BothPathsDrawTheSameSilhouette) {
+  const int m = 40;
+  const auto K = syntheticBasis(m_sphere.V, m, 0.08f);
+  const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 3U);
+  m_viewport.setReconstructionBasis(K, m_rest);
+  m_viewport.setCoefficients(Z);
+  const QImage cpu = m_viewport.grabFramebuffer();
+  m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
+  ASSERT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Gpu);
+  const QImage gpu = m_viewport.grabFramebuffer();
+  ASSERT_EQ(cpu.size(), gpu.size());
+  int covered = 0;
+  int mismatched = 0;
+  for (int y = 0; y < cpu.height(); ++y) {
+    for (int x = 0; x < cpu.width(); ++x) {
+      const bool inCpu = cpu.pixel(x, y) != m_background.pixel(x, y);
+      const bool inGpu = gpu.pixel(x, y) != m_background.pixel(x, y);
+      covered += inCpu ? 1 : 0;
+      mismatched += inCpu != inGpu ? 1 : 0;
+    }
+  }
+  EXPECT_GT(covered, cpu.width() * cpu.height() / 20) << "the mesh is on screen";
+  EXPECT_LE(mismatched, covered / 100) << "the silhouettes agree (shading may differ: face vs vertex normals)";
+  // Lit, not black: the face normals give the same light level as the vertex normals, on average.
+  double cpuLight = 0.0;
+  double gpuLight = 0.0;
+  for (int y = 0; y < cpu.height(); ++y) {
+    for (int x = 0; x < cpu.width(); ++x) {
+      if (cpu.pixel(x, y) != m_background.pixel(x, y) && gpu.pixel(x, y) != m_background.pixel(x, y)) {
+        cpuLight += QColor(cpu.pixel(x, y)).lightness();
+        gpuLight += QColor(gpu.pixel(x, y)).lightness();
+      }
+    }
+  }
+  EXPECT_NEAR(gpuLight / cpuLight, 1.0, 0.05);
+}
+
+TEST_F(MeshViewportReconstructionTest, PositionsReplaceCoefficientsAndSetMeshDropsTheBasis) {
+  const int m = 12;
+  const auto K = syntheticBasis(m_sphere.V, m, 0.1f);
+  m_viewport.setReconstructionBasis(K, m_rest);
+  m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
+  m_viewport.setCoefficients(randomCoefficients(m, 1.0f, 5U));
+  m_viewport.setPositionsInterleaved(m_rest);
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "explicit positions win";
+  EXPECT_TRUE(m_viewport.hasReconstructionBasis());
+  m_viewport.setMesh(m_sphere.V, m_sphere.F);
+  EXPECT_FALSE(m_viewport.hasReconstructionBasis());
+  EXPECT_TRUE(m_viewport.gpuReconstructedPositions().empty());
+}
+
+TEST_F(MeshViewportReconstructionTest, TooLargeABasisFallsBackToTheCpu) {
+  const int m = MeshViewport::kMaxGpuBasisSize + 4;
+  const auto K = syntheticBasis(m_sphere.V, m, 0.01f);
+  m_viewport.setReconstructionBasis(K, m_rest);
+  m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
+  EXPECT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Cpu);
+  const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 9U);
+  m_viewport.setCoefficients(Z);
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), cpuPositions(K, Z)), 1e-6);
+}
+
+TEST_F(MeshViewportReconstructionTest, FasterPathIsMeasuredOnceAndCached) {
+  const int m = 20;
+  m_viewport.setReconstructionBasis(syntheticBasis(m_sphere.V, m, 0.05f), m_rest);
+  m_viewport.setCoefficients(randomCoefficients(m, 1.0f, 1U));
+  EXPECT_FALSE(m_viewport.reconstructionTimings().has_value());
+  const ReconstructionPath faster = m_viewport.fasterPath();
+  ASSERT_TRUE(m_viewport.reconstructionTimings().has_value());
+  const auto timings = *m_viewport.reconstructionTimings();
+  EXPECT_TRUE(std::isfinite(timings.cpuMs));
+  EXPECT_TRUE(std::isfinite(timings.gpuMs));
+  EXPECT_EQ(faster, timings.faster());
+  EXPECT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Cpu) << "measuring restores the path";
+}
+
+// Not a pass/fail bound: prints both paths' median frame time (setCoefficients + repaint + glFinish) at 960 × 720
+// for the 23k and 100k dragons with a synthetic m = 100 basis (the cost does not depend on K's values).
+TEST(MeshViewportTiming, ReconstructionPaths) {
+  if (!sc::testing::openGlAvailable()) {
+    GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
+  }
+  std::cout << "[ timing ] renderer " << MeshViewport::rendererName().toStdString() << ", samples "
+            << MeshViewport::defaultSampleCount() << "\n";
+  for (const char* name : {"dragon_vrip_res3.ply", "dragon_vrip_res2.ply"}) {
+    const std::filesystem::path path = std::filesystem::path(SHAPECAST_ASSETS_DIR) / name;
+    const auto loaded = sc::model::loadMesh(path);
+    if (!std::holds_alternative<sc::model::LoadedMesh>(loaded)) {
+      std::cout << "[ timing ] " << name << ": not available, skipped\n";
+      continue;
+    }
+    const auto& mesh = std::get<sc::model::LoadedMesh>(loaded);
+    MeshViewport viewport;
+    viewport.resize(960, 720);
+    viewport.setMesh(mesh.V, mesh.F);
+    viewport.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
+    const int m = 100;
+    const auto rest = sc::spectral::interleavedPositions(mesh.V);
+    viewport.setReconstructionBasis(syntheticBasis(mesh.V, m, 0.002f), rest);
+    viewport.setCoefficients(randomCoefficients(m, 1.0f, 2U));
+    const auto timings = viewport.measureReconstructionPaths(12);
+    std::cout << "[ timing ] " << name << " (" << mesh.V.rows() << " vertices, m = " << m
+              << ", 960x720): median frame CPU path " << timings.cpuMs << " ms, GPU path " << timings.gpuMs
+              << " ms -> faster: " << (timings.faster() == ReconstructionPath::Gpu ? "GPU" : "CPU") << "\n";
+    EXPECT_TRUE(std::isfinite(timings.cpuMs));
+  }
+}
+
+}  // namespace

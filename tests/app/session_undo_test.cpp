@@ -1,0 +1,290 @@
+// Issue 5 item 10 on a real loopback session inside one process (a hosting MainWindow and a joining MainWindow):
+// the host takes the lock, paints a handle and anchors with the Handle and Anchors tools and drags with the Drag
+// tool, all with simulated mouse strokes on its viewport; the client's displayed positions follow; Edit → Undo on
+// the host brings the client back to the previous shape and Redo forward again; File → Export writes the client's
+// displayed mesh, which model::loadMesh reads back with the client's vertex count; a screenshot is saved as PNG.
+
+#include "app/gui/drag_commands.h"
+#include "app/gui/main_window.h"
+#include "app/gui/mesh_viewport.h"
+#include "app/gui/session_controller.h"
+#include "app/gui/vertex_picking.h"
+#include "app_test_support.h"
+#include "model/mesh_loader.h"
+#include "session/session_host.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QApplication>
+#include <QFile>
+#include <QImage>
+#include <QMouseEvent>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QUndoStack>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <span>
+#include <variant>
+#include <vector>
+
+namespace sc::app {
+namespace {
+
+using State = SessionController::State;
+constexpr int kLiveTimeoutMs = 60000;
+
+float maxDifference(std::span<const float> a, std::span<const float> b) {
+  if (a.size() != b.size()) return std::numeric_limits<float>::infinity();
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
+
+std::vector<float> copy(std::span<const float> xyz) { return {xyz.begin(), xyz.end()}; }
+
+double pixelStdDev(const QImage& image) {
+  const QImage grey = image.convertToFormat(QImage::Format_Grayscale8);
+  double sum = 0.0, sumSq = 0.0;
+  const double count = double(grey.width()) * grey.height();
+  for (int y = 0; y < grey.height(); ++y) {
+    const uchar* row = grey.constScanLine(y);
+    for (int x = 0; x < grey.width(); ++x) {
+      sum += row[x];
+      sumSq += double(row[x]) * row[x];
+    }
+  }
+  const double mean = sum / count;
+  return std::sqrt(std::max(0.0, sumSq / count - mean * mean));
+}
+
+/// A left-button move with the button held (QTest::mouseMove carries no button state for widgets).
+void moveTo(QWidget* widget, QPoint pos) {
+  QMouseEvent event(QEvent::MouseMove, pos, widget->mapToGlobal(pos), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(widget, &event);
+}
+
+/// A left-button stroke from `from` to `to` in a few steps.
+void stroke(QWidget* widget, QPoint from, QPoint to) {
+  QTest::mousePress(widget, Qt::LeftButton, Qt::NoModifier, from);
+  constexpr int kSteps = 6;
+  for (int s = 1; s <= kSteps; ++s) {
+    moveTo(widget, from + (to - from) * s / kSteps);
+    QTest::qWait(5);
+  }
+  QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, to);
+}
+
+class SessionUndoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
+    ASSERT_TRUE(m_dir.isValid());
+    m_mesh = sc::testing::torus(48, 24);
+    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
+    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, m_mesh.V, m_mesh.F));
+  }
+
+  /// Screen position (widget pixels) of vertex `v` of interleaved `xyz` in `window`'s viewport (the viewport
+  /// stores positions relative to the rest mesh's bounding-box centre), and whether it is in front of the camera.
+  static QPoint screenOf(MainWindow& window, std::span<const float> xyz, const Eigen::RowVector3d& origin, int v) {
+    std::vector<float> one{static_cast<float>(xyz[3 * v] - origin.x()), static_cast<float>(xyz[3 * v + 1] - origin.y()),
+                           static_cast<float>(xyz[3 * v + 2] - origin.z())};
+    const MeshViewport* view = window.viewport();
+    const std::vector<ScreenPoint> p =
+        projectToScreen(one, view->camera().view(), view->camera().projection(), view->size(), nullptr, 0.0f);
+    return QPoint(static_cast<int>(p[0].x), static_cast<int>(p[0].y));
+  }
+
+  /// Among the vertices satisfying `pick`, the one nearest the host viewport's eye (visible for a convex-ish view).
+  int nearestToEye(MainWindow& window, const Eigen::RowVector3d& origin, auto pick) const {
+    const QVector3D eye = window.viewport()->camera().eye();
+    const Eigen::RowVector3d e(eye.x(), eye.y(), eye.z());
+    int best = -1;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < m_mesh.V.rows(); ++i) {
+      if (!pick(m_mesh.V.row(i))) continue;
+      const double d = (m_mesh.V.row(i) - origin - e).norm();
+      if (d < bestDistance) {
+        bestDistance = d;
+        best = static_cast<int>(i);
+      }
+    }
+    return best;
+  }
+
+  QTemporaryDir m_dir;
+  sc::testing::GeneratedMesh m_mesh;
+  QString m_meshPath;
+};
+
+TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
+  MainWindow hostWindow;
+  hostWindow.setErrorDialogsEnabled(false);
+  hostWindow.resize(900, 700);
+  hostWindow.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&hostWindow));
+  HostSettings settings;
+  settings.meshPath = m_meshPath;
+  settings.port = 0;
+  settings.m = 20;
+  settings.name = QStringLiteral("alice");
+  settings.useBasisCache = false;
+  hostWindow.hostSession(settings);
+  SessionController* hosting = hostWindow.session();
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->state() != State::Preparing; }, kLiveTimeoutMs));
+  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
+
+  MainWindow clientWindow;
+  clientWindow.setErrorDialogsEnabled(false);
+  clientWindow.resize(900, 700);
+  clientWindow.show();
+  JoinSettings join;
+  join.port = hosting->tcpPort();
+  join.name = QStringLiteral("bob");
+  clientWindow.joinSession(join);
+  SessionController* joined = clientWindow.session();
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->state() == State::Live; }, kLiveTimeoutMs))
+      << joined->errorText().toStdString();
+  const std::vector<float> rest = copy(joined->positions());
+  ASSERT_EQ(rest.size(), static_cast<std::size_t>(3 * m_mesh.V.rows()));
+
+  // Undo/redo live in the Edit menu and are off until there is something to undo.
+  DragHistory* history = hostWindow.dragHistory();
+  ASSERT_NE(history, nullptr);
+  auto* undoAction = hostWindow.findChild<QAction*>(QStringLiteral("actionUndo"));
+  auto* redoAction = hostWindow.findChild<QAction*>(QStringLiteral("actionRedo"));
+  ASSERT_NE(undoAction, nullptr);
+  ASSERT_NE(redoAction, nullptr);
+  EXPECT_EQ(undoAction->shortcut(), QKeySequence(QKeySequence::Undo));
+  EXPECT_FALSE(undoAction->isEnabled());
+
+  // The host takes the lock through the toolbar action.
+  hostWindow.findChild<QAction*>(QStringLiteral("actionLock"))->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->canDrag(); }, 5000));
+
+  // Handle: a brush stroke on the outer rim at +x; anchors: a wide brush stroke on the −x side.
+  MeshViewport* view = hostWindow.viewport();
+  const Eigen::RowVector3d origin = 0.5 * (m_mesh.V.colwise().minCoeff() + m_mesh.V.colwise().maxCoeff());
+  const int handleVertex = nearestToEye(hostWindow, origin, [](const auto& p) { return p(0) > 1.2; });
+  const int anchorVertex = nearestToEye(hostWindow, origin, [](const auto& p) { return p(0) < -1.0; });
+  ASSERT_GE(handleVertex, 0);
+  ASSERT_GE(anchorVertex, 0);
+  // Press a few pixels inside the vertex (towards the view's centre), safely on the surface.
+  const auto inwards = [view](QPoint p) {
+    const QPointF towards = QPointF(view->rect().center() - p);
+    const double length = std::max(1.0, std::hypot(towards.x(), towards.y()));
+    return p + (towards * (6.0 / length)).toPoint();
+  };
+  const QPoint handleAt = inwards(screenOf(hostWindow, rest, origin, handleVertex));
+  const QPoint anchorAt = screenOf(hostWindow, rest, origin, anchorVertex);
+  ASSERT_TRUE(view->rect().contains(handleAt)) << handleAt.x() << "," << handleAt.y();
+  ASSERT_TRUE(view->rect().contains(anchorAt)) << anchorAt.x() << "," << anchorAt.y();
+
+  hostWindow.findChild<QAction*>(QStringLiteral("actionToolHandle"))->trigger();
+  ASSERT_EQ(view->tool(), ViewportTool::HandleBrush);
+  view->setBrushRadius(15.0);
+  stroke(view, handleAt, handleAt + QPoint(0, 4));
+  ASSERT_FALSE(hosting->handle().empty());
+  hostWindow.findChild<QAction*>(QStringLiteral("actionToolAnchors"))->trigger();
+  view->setBrushRadius(40.0);
+  stroke(view, anchorAt - QPoint(0, 20), anchorAt + QPoint(0, 20));
+  ASSERT_FALSE(hosting->anchors().empty());
+  EXPECT_GE(hosting->sessionHost()->counters().constraintsAccepted, 2u);
+  ASSERT_TRUE(hosting->hostDeformation().has_value());
+
+  // The first mouse drag with the Drag tool: the client's displayed positions change and follow the host's.
+  hostWindow.findChild<QAction*>(QStringLiteral("actionToolDrag"))->trigger();
+  ASSERT_EQ(view->tool(), ViewportTool::Drag);
+  ASSERT_TRUE(view->dragAllowed());
+  stroke(view, handleAt, handleAt + QPoint(-50, -40));
+  EXPECT_FALSE(hosting->dragging());
+  EXPECT_EQ(history->stack()->count(), 1);
+  EXPECT_GT(hosting->sessionHost()->counters().dragsAccepted, 0u);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.05f; }, 10000))
+      << maxDifference(joined->positions(), rest) << " host " << maxDifference(hosting->positions(), rest) << " handle "
+      << hosting->handle().size() << " anchors " << hosting->anchors().size() << " at " << handleAt.x() << ","
+      << handleAt.y() << " in " << view->width() << "x" << view->height();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
+  const std::vector<float> afterFirst = copy(joined->positions());
+  EXPECT_EQ(history->stack()->count(), 1);
+  EXPECT_TRUE(undoAction->isEnabled());
+  EXPECT_FALSE(redoAction->isEnabled());
+
+  // A second drag from where the handle is now.
+  const QPoint movedHandle = inwards(screenOf(hostWindow, hosting->positions(), origin, handleVertex));
+  ASSERT_TRUE(view->rect().contains(movedHandle))
+      << movedHandle.x() << "," << movedHandle.y() << " in " << view->width() << "x" << view->height() << " from "
+      << handleAt.x() << "," << handleAt.y();
+  stroke(view, movedHandle, movedHandle + QPoint(-40, -30));
+  ASSERT_EQ(history->stack()->count(), 2);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) > 0.05f; }, 10000));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
+  const std::vector<float> afterSecond = copy(joined->positions());
+
+  // Undo (the Edit action) brings everyone back to the previous shape, twice to the rest shape; redo forward.
+  undoAction->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) < 1e-3f; }, 10000))
+      << maxDifference(joined->positions(), afterFirst);
+  EXPECT_TRUE(redoAction->isEnabled());
+  ASSERT_TRUE(history->undo());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) < 1e-3f; }, 10000))
+      << maxDifference(joined->positions(), rest);
+  EXPECT_FALSE(undoAction->isEnabled());
+  redoAction->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) < 1e-3f; }, 10000));
+  ASSERT_TRUE(history->redo());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterSecond) < 1e-3f; }, 10000));
+  // The handle and anchors shown are the restored state's.
+  EXPECT_EQ(view->handles(), hosting->handle());
+
+  // A drag after an undo starts from the restored pose and drops the redo branch.
+  ASSERT_TRUE(history->undo());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(hosting->positions(), afterFirst) < 1e-3f; }, 10000));
+  const QPoint again = inwards(screenOf(hostWindow, hosting->positions(), origin, handleVertex));
+  stroke(view, again, again + QPoint(0, 40));
+  EXPECT_EQ(history->stack()->count(), 2);
+  EXPECT_FALSE(history->canRedo());
+
+  // Only the lock holder on the host may undo; a client has nothing to undo.
+  EXPECT_FALSE(clientWindow.dragHistory()->canUndo());
+  hostWindow.findChild<QAction*>(QStringLiteral("actionLock"))->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return !hosting->canDrag(); }, 5000));
+  EXPECT_FALSE(undoAction->isEnabled());
+  EXPECT_FALSE(history->undo());
+
+  // Export: the client's displayed mesh (its resolution, current shape) as OBJ and PLY, read back by loadMesh.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
+  for (const char* name : {"client.obj", "client.ply"}) {
+    const QString path = m_dir.filePath(QString::fromLatin1(name));
+    QString error;
+    ASSERT_TRUE(clientWindow.exportDeformedMesh(path, &error)) << error.toStdString();
+    const model::MeshLoadResult loaded = model::loadMesh(std::filesystem::path(QFile::encodeName(path).toStdString()));
+    ASSERT_TRUE(std::holds_alternative<model::LoadedMesh>(loaded)) << std::get<model::MeshError>(loaded).message;
+    const auto& mesh = std::get<model::LoadedMesh>(loaded);
+    EXPECT_EQ(mesh.V.rows(), clientWindow.viewport()->vertexCount()) << name;
+    EXPECT_EQ(mesh.F.rows(), joined->displayFaces().rows()) << name;
+    const std::span<const float> shown = joined->positions();
+    double worst = 0.0;
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(mesh.V(i, c) - shown[3 * i + c]));
+    EXPECT_LT(worst, 1e-5) << name << ": the deformed positions, not the rest shape";
+  }
+  QString error;
+  EXPECT_FALSE(clientWindow.exportDeformedMesh(m_dir.filePath(QStringLiteral("client.stl")), &error));
+  EXPECT_FALSE(error.isEmpty());
+
+  // Screenshot: a PNG of the viewport that is not blank.
+  const QString shot = m_dir.filePath(QStringLiteral("client.png"));
+  ASSERT_TRUE(clientWindow.saveScreenshot(shot, &error)) << error.toStdString();
+  const QImage image(shot);
+  ASSERT_FALSE(image.isNull());
+  EXPECT_GT(pixelStdDev(image), 5.0);
+}
+
+}  // namespace
+}  // namespace sc::app
