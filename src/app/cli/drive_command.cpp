@@ -5,40 +5,11 @@
 #include "session/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
-#include <QElapsedTimer>
 #include <QJsonObject>
 #include <QTextStream>
 #include <QTimer>
 
-#include <cmath>
-
 namespace sc::app {
-namespace {
-
-std::vector<std::uint32_t> toIds(const std::vector<int>& vertices) { return {vertices.begin(), vertices.end()}; }
-
-/// Plays every frame of the script at its frame rate (each frame at its scheduled time; a late timer does not
-/// shift the rest). Returns the number of drags the client accepted to send.
-int play(session::SessionClient& client, const DragScript& script, std::size_t groups, double diagonal) {
-  const std::vector<double> times = frameTimes(script);
-  QElapsedTimer clock;
-  clock.start();
-  int sent = 0;
-  for (double t : times) {
-    const double due = (t - times.front()) * 1000.0;
-    waitUntil([&] { return clock.nsecsElapsed() / 1e6 >= due || !client.lock()->canDrag(); },
-              std::chrono::milliseconds(static_cast<int>(std::ceil(due - clock.elapsed())) + 50));
-    if (!client.lock()->canDrag()) break;
-    const spectral::HandleTransform pose = transformAt(poseAt(script, t), diagonal);
-    std::vector<session::HandleTransform> handles;
-    for (std::size_t g = 0; g < groups; ++g) handles.push_back(session::toWire(static_cast<std::uint16_t>(g), pose));
-    if (client.sendDrag(std::move(handles))) ++sent;
-  }
-  return sent;
-}
-
-}  // namespace
-
 int runDriveCommand(const QStringList& arguments) {
   SubcommandParser command(QStringLiteral("drive"),
                            QStringLiteral("Take the edit lock of a session and play a drag script."),
@@ -94,14 +65,14 @@ int runDriveCommand(const QStringList& arguments) {
     command.error(QStringLiteral("did not get the lock: %1").arg(client.errorText()));
     return kExitNetwork;
   }
-  std::vector<std::vector<std::uint32_t>> groups;
-  for (const spectral::HandleGroup& group : constraints.handles) groups.push_back(toIds(group.vertices));
-  client.sendConstraints(groups, toIds(constraints.anchors));
+  WireConstraints wire = wireConstraints(constraints);
+  const std::size_t groups = wire.groups.size();
+  client.sendConstraints(std::move(wire.groups), std::move(wire.anchors));
   out << QStringLiteral("lock held (epoch %1): playing %2 frames\n")
              .arg(client.lock()->heldEpoch())
              .arg(frameTimes(script).size());
   out.flush();
-  const int sent = play(client, script, groups.size(), spectral::boundingBoxDiagonal(rest));
+  const int sent = playDragScript(client, script, groups, spectral::boundingBoxDiagonal(rest));
   const bool complete = sent == static_cast<int>(frameTimes(script).size());
   client.releaseLock();
   waitUntil([] { return false; }, std::chrono::milliseconds(100));  // let the release go out

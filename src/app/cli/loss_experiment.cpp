@@ -8,7 +8,6 @@
 #include "session/session_host.h"
 #include "spectral/hausdorff.h"
 
-#include <QElapsedTimer>
 #include <QThread>
 
 #include <algorithm>
@@ -91,23 +90,6 @@ std::vector<std::vector<double>> measure(const std::vector<const spectral::Resol
   return out;
 }
 
-/// Sends the drag's frames at their scheduled times (a late timer does not shift the rest).
-int playDrag(SessionClient& driver, const DragScript& script, std::size_t groups, double diagonal) {
-  const std::vector<double> times = frameTimes(script);
-  QElapsedTimer clock;
-  clock.start();
-  int sent = 0;
-  for (double t : times) {
-    const double due = (t - times.front()) * 1000.0;
-    waitUntil([&] { return clock.nsecsElapsed() / 1e6 >= due; }, std::chrono::milliseconds(10000));
-    const spectral::HandleTransform pose = transformAt(poseAt(script, t), diagonal);
-    std::vector<session::HandleTransform> handles;
-    for (std::size_t g = 0; g < groups; ++g) handles.push_back(session::toWire(static_cast<std::uint16_t>(g), pose));
-    if (driver.sendDrag(std::move(handles))) ++sent;
-  }
-  return sent;
-}
-
 }  // namespace
 
 DragScript defaultLossDrag(const Eigen::MatrixXd& rest) {
@@ -160,16 +142,15 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
   // The driver holds the lock for the whole experiment (its LockClient renews the lease).
   SessionClient driver(clientOptions(QStringLiteral("driver"), lowWanted));
   if (!joined(driver)) return QStringLiteral("the driver could not join: %1").arg(driver.errorText());
-  std::vector<std::vector<std::uint32_t>> groups;
-  for (const spectral::HandleGroup& g : constraints.handles) groups.emplace_back(g.vertices.begin(), g.vertices.end());
+  const WireConstraints wire = wireConstraints(constraints);
 
-  const auto holdLock = [&driver, &groups, &constraints] {
-    // The lease may have run out while the main thread measured; take the lock (again) and set the constraints.
+  const auto holdLock = [&driver, &wire] {
+    // Before each drag: hold the lock (taken again should the lease have been lost) and set the constraints.
     if (!driver.lock()->canDrag()) {
       driver.requestLock();
       if (!waitUntil([&driver] { return driver.lock()->canDrag(); }, std::chrono::seconds(10))) return false;
     }
-    driver.sendConstraints(groups, {constraints.anchors.begin(), constraints.anchors.end()});
+    driver.sendConstraints(wire.groups, wire.anchors);
     return true;
   };
 
@@ -226,7 +207,7 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
       m.bytesBefore = host.channel().traffic(m.identity.peer).bytesSent;
     }
     say(QStringLiteral("loss %1: dragging").arg(loss));
-    playDrag(driver, script, groups.size(), diagonal);
+    playDragScript(driver, script, wire.groups.size(), diagonal);
     waitUntil([] { return false; }, std::chrono::milliseconds(300));  // the last datagrams and keyframes
     const std::uint32_t lastFrame = host.currentFrame();
     const double frames = static_cast<double>(host.counters().framesSent - framesBefore);

@@ -1,9 +1,14 @@
 #include "app/cli/session_setup.h"
 
+#include "session/handle_transforms.h"
+
 #include <QCoreApplication>
 #include <QDeadlineTimer>
+#include <QElapsedTimer>
 #include <QEventLoop>
 #include <QTimer>
+
+#include <cmath>
 
 namespace sc::app {
 
@@ -52,6 +57,33 @@ bool joinAndWait(const SubcommandParser& command, session::SessionClient& client
     command.error(QStringLiteral("session failed: %1").arg(client.errorText()));
   }
   return false;
+}
+
+WireConstraints wireConstraints(const spectral::ConstraintSet& constraints) {
+  WireConstraints wire;
+  for (const spectral::HandleGroup& group : constraints.handles)
+    wire.groups.emplace_back(group.vertices.begin(), group.vertices.end());
+  wire.anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
+  return wire;
+}
+
+int playDragScript(session::SessionClient& client, const DragScript& script, std::size_t groups, double diagonal) {
+  const std::vector<double> times = frameTimes(script);
+  QElapsedTimer clock;
+  clock.start();
+  int sent = 0;
+  const auto lockHeld = [&client] { return client.lock() != nullptr && client.lock()->canDrag(); };
+  for (double t : times) {
+    const double due = (t - times.front()) * 1000.0;
+    waitUntil([&] { return static_cast<double>(clock.nsecsElapsed()) / 1e6 >= due || !lockHeld(); },
+              std::chrono::milliseconds(static_cast<int>(std::ceil(due - static_cast<double>(clock.elapsed()))) + 50));
+    if (!lockHeld()) break;
+    const spectral::HandleTransform pose = transformAt(poseAt(script, t), diagonal);
+    std::vector<session::HandleTransform> handles;
+    for (std::size_t g = 0; g < groups; ++g) handles.push_back(session::toWire(static_cast<std::uint16_t>(g), pose));
+    if (client.sendDrag(std::move(handles))) ++sent;
+  }
+  return sent;
 }
 
 }  // namespace sc::app

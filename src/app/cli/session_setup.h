@@ -3,6 +3,7 @@
 // the client options common to join and drive, and waiting on a client from a command's event loop.
 
 #include "app/cli/cli_common.h"
+#include "app/cli/drag_script.h"
 #include "session/host_model.h"
 #include "session/session_client.h"
 
@@ -28,5 +29,17 @@ bool waitUntil(const std::function<bool()>& done, std::chrono::milliseconds time
 /// Starts `client` and waits until it is Ready (a level is displayed) or failed/left/timed out; on failure prints
 /// the client's reason through `command.error()`. Returns true when Ready.
 bool joinAndWait(const SubcommandParser& command, session::SessionClient& client, std::chrono::milliseconds timeout);
+
+/// A constraint set as the Constraints message carries it: full-resolution vertex ids per handle group, anchors.
+struct WireConstraints {
+  std::vector<std::vector<std::uint32_t>> groups;
+  std::vector<std::uint32_t> anchors;
+};
+WireConstraints wireConstraints(const spectral::ConstraintSet& constraints);
+
+/// Sends the script's frames as drags at its frame rate, each at its scheduled time (a late timer does not shift
+/// the rest), one pose for all `groups` handle groups; stops early if the client loses the lock. The event loop
+/// runs meanwhile. Returns the number of drags the client accepted to send. Cost: the script's duration.
+int playDragScript(session::SessionClient& client, const DragScript& script, std::size_t groups, double diagonal);
 
 }  // namespace sc::app
