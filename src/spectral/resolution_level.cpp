@@ -3,6 +3,7 @@
 #include "spectral/basis_cache.h"
 #include "spectral/closest_point.h"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cassert>
@@ -224,6 +225,26 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
   level.P.setIdentity();
   level.K = H.cast<float>();
   return level;
+}
+
+std::vector<int> dominantFullVertices(const BarycentricMap& P, std::span<const int> lowVertices) {
+  std::vector<int> ids;
+  ids.reserve(lowVertices.size());
+  for (const int low : lowVertices) {
+    if (low < 0 || low >= P.rows()) continue;
+    int best = -1;
+    double bestWeight = -1.0;
+    for (BarycentricMap::InnerIterator it(P, low); it; ++it) {
+      if (it.value() > bestWeight) {
+        bestWeight = it.value();
+        best = static_cast<int>(it.col());
+      }
+    }
+    if (best >= 0) ids.push_back(best);
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
 }
 
 std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level) {

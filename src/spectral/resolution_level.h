@@ -74,6 +74,14 @@ ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 /// Cost: O(n·m).
 ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H);
 
+/// The full-resolution vertex each low-res vertex stands for: for lowVertices[k], the column with the largest
+/// weight in its row of P (the first such column on ties).
+/// @param[in] P  n' by n barycentric map of a level.
+/// @param[in] lowVertices  low-res vertex ids; ids outside [0, n') and rows without non-zeros are skipped.
+/// @return full-resolution ids in [0, n), sorted ascending, without duplicates.
+/// Cost: O(k log k) for k = lowVertices.size() (P has ≤ 3 non-zeros per row).
+std::vector<int> dominantFullVertices(const BarycentricMap& P, std::span<const int> lowVertices);
+
 /// Serialises a level in the layout above. Requires every count < 2³² (asserted).
 /// Cost: O(24n' + 12f' + 12z + 4n'm) bytes written and checksummed.
 std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level);

@@ -21,6 +21,10 @@ bool validConstraints(const ConstraintSet& constraints, Eigen::Index vertexCount
 
 }  // namespace
 
+HandleTransform composeHandleTransforms(const HandleTransform& base, const HandleTransform& delta) {
+  return {base.translation + delta.translation, delta.rotation * base.rotation};
+}
+
 SpectralDeformer::SpectralDeformer(const HarmonicBasis& basis, const LaplaceOperators& operators,
                                    const Eigen::MatrixXd& rest, const DeformerOptions& options)
     : m_basis(basis),

@@ -1,5 +1,5 @@
 #pragma once
-// Helpers shared by the app tests: GL availability, OFF writing and image comparison.
+// Helpers shared by the app tests: GL availability, OFF writing, image comparison and position comparison.
 
 #include <Eigen/Core>
 
@@ -10,6 +10,12 @@
 #include <QString>
 #include <QSurfaceFormat>
 #include <QTextStream>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <span>
 
 namespace sc::testing {
 
@@ -65,6 +71,30 @@ inline QRect differingBounds(const QImage& a, const QImage& b) {
     }
   }
   return bounds;
+}
+
+/// Standard deviation of the grey level over the image: 0 for a blank (uniform) image.
+inline double pixelStdDev(const QImage& image) {
+  const QImage grey = image.convertToFormat(QImage::Format_Grayscale8);
+  double sum = 0.0, sumSq = 0.0;
+  const double count = double(grey.width()) * grey.height();
+  for (int y = 0; y < grey.height(); ++y) {
+    const uchar* row = grey.constScanLine(y);
+    for (int x = 0; x < grey.width(); ++x) {
+      sum += row[x];
+      sumSq += double(row[x]) * row[x];
+    }
+  }
+  const double mean = sum / count;
+  return std::sqrt(std::max(0.0, sumSq / count - mean * mean));
+}
+
+/// Largest absolute difference of two float buffers (e.g. interleaved positions); infinity when the sizes differ.
+inline float maxDifference(std::span<const float> a, std::span<const float> b) {
+  if (a.size() != b.size()) return std::numeric_limits<float>::infinity();
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
 }
 
 }  // namespace sc::testing

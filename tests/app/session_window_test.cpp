@@ -37,30 +37,11 @@
 namespace sc::app {
 namespace {
 
+using sc::testing::maxDifference;
+using sc::testing::pixelStdDev;
+
 using State = SessionController::State;
 constexpr int kLiveTimeoutMs = 60000;
-
-/// Standard deviation of the grey level over the image: 0 for a blank (uniform) image.
-double pixelStdDev(const QImage& image) {
-  const QImage grey = image.convertToFormat(QImage::Format_Grayscale8);
-  double sum = 0.0, sumSq = 0.0;
-  const double count = double(grey.width()) * grey.height();
-  for (int y = 0; y < grey.height(); ++y) {
-    const uchar* row = grey.constScanLine(y);
-    for (int x = 0; x < grey.width(); ++x) {
-      sum += row[x];
-      sumSq += double(row[x]) * row[x];
-    }
-  }
-  const double mean = sum / count;
-  return std::sqrt(std::max(0.0, sumSq / count - mean * mean));
-}
-
-float maxDifference(std::span<const float> a, std::span<const float> b) {
-  float worst = 0.0f;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
-  return worst;
-}
 
 std::vector<float> interleaved(const Eigen::MatrixXd& V) {
   std::vector<float> out;

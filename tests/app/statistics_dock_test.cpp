@@ -3,6 +3,8 @@
 #include "app/gui/statistics_dock.h"
 #include "model/statistics_model.h"
 
+#include "app_test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <QChartView>
@@ -35,22 +37,6 @@ StatsSample sampleAt(double t) {
 QString labelText(const StatisticsDock& dock, const char* name) {
   const auto* label = dock.findChild<QLabel*>(QString::fromLatin1(name));
   return label != nullptr ? label->text() : QStringLiteral("<missing>");
-}
-
-/// Variance of the grey level over an image (0 for a blank one).
-double greyVariance(const QImage& image) {
-  double sum = 0.0;
-  double sumSq = 0.0;
-  const double n = static_cast<double>(image.width()) * image.height();
-  for (int y = 0; y < image.height(); ++y) {
-    for (int x = 0; x < image.width(); ++x) {
-      const double g = qGray(image.pixel(x, y));
-      sum += g;
-      sumSq += g * g;
-    }
-  }
-  const double mean = sum / n;
-  return sumSq / n - mean * mean;
 }
 
 }  // namespace
@@ -158,7 +144,7 @@ TEST(StatisticsDock, RendersChartsNotBlank) {
   dock.resize(420, 900);
   const QImage image = dock.grab().toImage();
   ASSERT_FALSE(image.isNull());
-  EXPECT_GT(greyVariance(image), 50.0);
+  EXPECT_GT(sc::testing::pixelStdDev(image), std::sqrt(50.0));  // grey-level variance above 50
   // The lines drew something: the image differs from the empty dock's in many pixels.
   ASSERT_EQ(image.size(), blankish.size());
   int different = 0;

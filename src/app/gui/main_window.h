@@ -97,6 +97,10 @@ class MainWindow : public QMainWindow {
  private:
   SessionController* newSession();
   void setUpEditAndExport();
+  void setUpSessionControls();
+  void setUpSessionStatusBar();
+  void connectViewportToSession();
+  void setUpSessionDocks();
   void onSessionMesh();
   /// Shows the controller's positions in the viewport (the per-frame path) and starts the redraw timing.
   void showSessionPositions();

@@ -1,20 +1,16 @@
-// MeshViewport, the data and GL side: host buffers, upload, the shaded/wireframe/overlay passes and the depth
-// read-back used for picking. The mouse side is in mesh_viewport_input.cpp.
+// MeshViewport, the data side: host buffers (positions, normals, indices), scene bounds, the selection with its
+// vertex tints and the QPainter overlay (brush outline, drag hint). The GL side (context resources, upload, the
+// shaded/wireframe passes, depth read-back for picking) is in mesh_viewport_render.cpp, the GPU reconstruction in
+// mesh_viewport_gpu.cpp, the mouse side in mesh_viewport_input.cpp.
 
 #include "app/gui/mesh_viewport.h"
 
 #include "app/gui/drag_gesture.h"
-#include "app/gui/mesh_shaders.h"
 #include "app/gui/vertex_normals.h"
 
-#include <QOffscreenSurface>
-#include <QOpenGLContext>
-#include <QOpenGLFramebufferObject>
-#include <QOpenGLFunctions_3_3_Core>
+#include <QOpenGLFramebufferObject>  // complete types for the unique_ptr members (constructor, destructor)
 #include <QOpenGLShaderProgram>
-#include <QOpenGLVersionFunctionsFactory>
 #include <QPainter>
-#include <QtDebug>
 
 #include <algorithm>
 #include <cassert>
@@ -24,62 +20,10 @@ namespace sc::app {
 
 namespace {
 
-const QVector3D kBackgroundTop{0.40f, 0.44f, 0.51f};
-const QVector3D kBackgroundBottom{0.11f, 0.12f, 0.15f};
-const QVector3D kMeshColor{0.76f, 0.70f, 0.62f};  // warm clay
-const QVector4D kWireColor{0.16f, 0.14f, 0.13f, 1.0f};
 constexpr std::uint8_t kHandleTint[4] = {255, 72, 20, 230};   // orange-red
 constexpr std::uint8_t kAnchorTint[4] = {40, 110, 255, 210};  // blue
 
 }  // namespace
-
-QSurfaceFormat MeshViewport::preferredSurfaceFormat() {
-  QSurfaceFormat format;
-  format.setRenderableType(QSurfaceFormat::OpenGL);
-  format.setVersion(3, 3);
-  format.setProfile(QSurfaceFormat::CoreProfile);
-  format.setDepthBufferSize(24);
-  return format;
-}
-
-QString MeshViewport::rendererName() {
-  QOpenGLContext context;
-  context.setFormat(QSurfaceFormat::defaultFormat());
-  if (!context.create()) {
-    return {};
-  }
-  QOffscreenSurface surface;
-  surface.setFormat(context.format());
-  surface.create();
-  if (!context.makeCurrent(&surface)) {
-    return {};
-  }
-  const auto* name = reinterpret_cast<const char*>(context.functions()->glGetString(GL_RENDERER));
-  QString result = name != nullptr ? QString::fromLatin1(name) : QString();
-  context.doneCurrent();
-  return result;
-}
-
-int MeshViewport::defaultSampleCount() {
-  static const int samples = [] {
-    bool ok = false;
-    const int fromEnvironment = qEnvironmentVariableIntValue("SHAPECAST_MSAA", &ok);
-    if (ok) {
-      return std::max(0, fromEnvironment);
-    }
-    const QString renderer = rendererName().toLower();
-    const bool software = renderer.contains(QLatin1String("llvmpipe")) ||
-                          renderer.contains(QLatin1String("softpipe")) || renderer.contains(QLatin1String("software"));
-    return software ? 0 : 4;
-  }();
-  return samples;
-}
-
-void MeshViewport::setSampleCount(int samples) {
-  QSurfaceFormat f = format();
-  f.setSamples(std::max(0, samples));
-  setFormat(f);
-}
 
 MeshViewport::MeshViewport(QWidget* parent) : QOpenGLWidget(parent) {
   setSampleCount(defaultSampleCount());
@@ -242,194 +186,6 @@ void MeshViewport::resetView() {
   update();
 }
 
-void MeshViewport::cleanup() {
-  if (!m_meshProgram && !m_backgroundProgram && !m_meshVao.isCreated()) {
-    return;
-  }
-  makeCurrent();
-  m_glReady = false;
-  destroyGpuObjects();
-  m_pickFbo.reset();
-  for (QOpenGLBuffer* buffer : {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer}) {
-    buffer->destroy();
-  }
-  m_meshVao.destroy();
-  m_backgroundVao.destroy();
-  m_meshProgram.reset();
-  m_backgroundProgram.reset();
-  m_gl33 = nullptr;
-  doneCurrent();
-  if (context() != nullptr) {
-    QObject::disconnect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &MeshViewport::cleanup);
-  }
-}
-
-void MeshViewport::initializeGL() {
-  // The context is destroyed whenever the widget moves to another top-level window; release our objects then,
-  // and re-create them here when initializeGL() follows (hellogl2).
-  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &MeshViewport::cleanup);
-  initializeOpenGLFunctions();
-  m_gl33 = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(context());
-
-  m_backgroundProgram = shaders::makeProgram(shaders::kBackgroundVertex, shaders::kBackgroundFragment);
-  m_meshProgram = shaders::makeProgram(shaders::kMeshVertex, shaders::kMeshFragment);
-  m_backgroundVao.create();
-  m_meshVao.create();
-  if (!m_meshProgram) {
-    return;
-  }
-
-  // === the mesh VAO records one buffer per attribute (positions change per frame, tints per selection) and
-  // the index buffer binding.
-  QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
-  m_meshProgram->bind();
-  struct Attribute {
-    QOpenGLBuffer* buffer;
-    GLenum type;
-    int size;
-  };
-  const Attribute attributes[] = {
-      {&m_positionBuffer, GL_FLOAT, 3}, {&m_normalBuffer, GL_FLOAT, 3}, {&m_tintBuffer, GL_UNSIGNED_BYTE, 4}};
-  for (int location = 0; location < 3; ++location) {
-    const Attribute& a = attributes[location];
-    a.buffer->create();
-    a.buffer->setUsagePattern(location == 2 ? QOpenGLBuffer::StaticDraw : QOpenGLBuffer::DynamicDraw);
-    a.buffer->bind();
-    m_meshProgram->enableAttributeArray(location);
-    if (a.type == GL_UNSIGNED_BYTE) {
-      glVertexAttribPointer(static_cast<GLuint>(location), a.size, a.type, GL_TRUE, 0, nullptr);
-    } else {
-      m_meshProgram->setAttributeBuffer(location, a.type, 0, a.size, 0);
-    }
-    a.buffer->release();
-  }
-  m_indexBuffer.create();
-  m_indexBuffer.setUsagePattern(QOpenGLBuffer::StaticDraw);
-  m_indexBuffer.bind();
-  m_meshProgram->release();
-  vaoBinder.release();
-  createGpuObjects();
-
-  // A new context has empty buffers: upload whatever the host side holds.
-  m_vertexDataDirty = true;
-  m_tintsDirty = true;
-  m_indicesDirty = true;
-  m_glReady = true;
-  if (m_path == ReconstructionPath::Gpu && hasReconstructionBasis() && !gpuReconstructionAvailable()) {
-    setReconstructionPath(ReconstructionPath::Cpu);
-  }
-}
-
-void MeshViewport::resizeGL(int width, int height) { m_camera.setViewportSize(width, height); }
-
-void MeshViewport::paintGL() {
-  ++m_paintCount;
-  // QPainter (the overlay) may leave state behind: reset what the passes below rely on.
-  glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_CULL_FACE);
-  glClearColor(kBackgroundBottom.x(), kBackgroundBottom.y(), kBackgroundBottom.z(), 1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  drawBackground();
-  if (m_meshProgram) {
-    uploadIfDirty();
-    drawMesh(m_wireframe);
-  }
-  drawOverlay();
-}
-
-void MeshViewport::uploadIfDirty() {
-  const auto upload = [](QOpenGLBuffer& buffer, const auto& values) {
-    buffer.bind();
-    buffer.allocate(values.data(), static_cast<int>(values.size() * sizeof(values[0])));
-    buffer.release();
-  };
-  if (m_vertexDataDirty) {
-    upload(m_positionBuffer, m_positions);
-    upload(m_normalBuffer, m_normals);
-    m_vertexDataDirty = false;
-  }
-  if (m_tintsDirty) {
-    upload(m_tintBuffer, m_tints);
-    m_tintsDirty = false;
-  }
-  if (m_indicesDirty) {
-    QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
-    m_indexBuffer.bind();  // stays bound: the element array binding is VAO state
-    m_indexBuffer.allocate(m_indices.data(), static_cast<int>(m_indices.size() * sizeof(std::uint32_t)));
-    m_indicesDirty = false;
-  }
-  if (m_restDirty && m_restBuffer.isCreated()) {
-    upload(m_restBuffer, m_rest);
-    m_restDirty = false;
-  }
-  if (m_basisDirty && m_basisBuffer != 0) {
-    glBindBuffer(GL_TEXTURE_BUFFER, m_basisBuffer);
-    glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(m_basis.size() * sizeof(float)), m_basis.data(),
-                 GL_STATIC_DRAW);
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
-    m_basisDirty = false;
-  }
-}
-
-void MeshViewport::drawBackground() {
-  if (!m_backgroundProgram) {
-    return;
-  }
-  glDisable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
-  m_backgroundProgram->bind();
-  m_backgroundProgram->setUniformValue("uTopColor", kBackgroundTop);
-  m_backgroundProgram->setUniformValue("uBottomColor", kBackgroundBottom);
-  QOpenGLVertexArrayObject::Binder vaoBinder(&m_backgroundVao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  m_backgroundProgram->release();
-  glDepthMask(GL_TRUE);
-}
-
-void MeshViewport::drawMesh(bool wireframe) {
-  if (m_indices.empty()) {
-    return;
-  }
-  wireframe = wireframe && m_gl33 != nullptr;
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LEQUAL);
-  const QMatrix4x4 modelView = m_camera.view();
-  const bool gpu = gpuDrawing();
-  QOpenGLShaderProgram* program = gpu ? m_reconstructProgram.get() : m_meshProgram.get();
-  program->bind();
-  program->setUniformValue("uModelView", modelView);
-  program->setUniformValue("uProjection", m_camera.projection());
-  program->setUniformValue("uBaseColor", kMeshColor);
-  program->setUniformValue("uLineColor", QVector4D(0, 0, 0, 0));
-  if (gpu) {
-    setGpuUniforms();
-  } else {
-    program->setUniformValue("uNormalMatrix", modelView.normalMatrix());
-  }
-  QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : &m_meshVao);
-  const auto count = static_cast<GLsizei>(m_indices.size());
-  // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
-  if (wireframe) {
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1.0f, 1.0f);
-  }
-  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
-  glDisable(GL_POLYGON_OFFSET_FILL);
-  // === line pass: the same triangles as edges.
-  if (wireframe) {
-    program->setUniformValue("uLineColor", kWireColor);
-    m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
-    m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  }
-  if (gpu) {
-    glBindTexture(GL_TEXTURE_BUFFER, 0);
-  }
-  program->release();
-}
-
 // QPainter over the GL picture: the brush outline and the drag hint. Skipped (no QPainter) when neither shows.
 void MeshViewport::drawOverlay() {
   const bool brush =
@@ -457,36 +213,6 @@ void MeshViewport::drawOverlay() {
     painter.setPen(QColor(245, 245, 245));
     painter.drawText(box, Qt::AlignCenter, m_visibleHint);
   }
-}
-
-// Renders the mesh's depth into an offscreen, single-sampled framebuffer of the widget's device-pixel size and
-// reads it back (the widget's own framebuffer is multisampled and cannot be read as depth).
-DepthImage MeshViewport::renderDepth() {
-  DepthImage image;
-  if (!m_meshProgram || m_indices.empty() || context() == nullptr) {
-    return image;
-  }
-  makeCurrent();
-  const QSize size = (QSizeF(width(), height()) * devicePixelRatioF()).toSize();
-  if (!m_pickFbo || m_pickFbo->size() != size) {
-    m_pickFbo = std::make_unique<QOpenGLFramebufferObject>(size, QOpenGLFramebufferObject::Depth);
-  }
-  m_pickFbo->bind();
-  glViewport(0, 0, size.width(), size.height());
-  glClearDepthf(1.0f);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  uploadIfDirty();
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  drawMesh(false);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  image.width = size.width();
-  image.height = size.height();
-  image.depth.resize(static_cast<std::size_t>(size.width()) * static_cast<std::size_t>(size.height()));
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, size.width(), size.height(), GL_DEPTH_COMPONENT, GL_FLOAT, image.depth.data());
-  m_pickFbo->release();
-  doneCurrent();
-  return image;
 }
 
 }  // namespace sc::app

@@ -249,6 +249,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void applyCoefficients();
   void ensureHostPositions();
   [[nodiscard]] bool gpuDrawing() const;
+  void createMeshVao();
   void createGpuObjects();
   void destroyGpuObjects();
   void setGpuUniforms();

@@ -11,10 +11,10 @@
 //   Live --leave()--> Left;  any --error--> Failed (failed(text) emitted once, with readable text).
 //   A controller is used for one session: after Left or Failed, make a new one to host or join again.
 //
-// Threading: lives on the GUI thread. The only worker is the host's preparation thread (loadMesh, basisForMesh,
-// the full-resolution level); it reports back through queued calls and is cancelled and joined by cancel(), by
-// leave() and by the destructor (which therefore waits for a running mesh load; the eigensolve stops at its next
-// progress callback). Nothing blocks the GUI thread for longer than one reconstruction of the displayed level.
+// Threading: lives on the GUI thread. The only worker is the host's preparation thread (HostPreparation: loadMesh,
+// basisForMesh, the full-resolution level); it reports back through queued calls and is cancelled and joined by
+// cancel(), by leave() and by the destructor (which therefore waits for a running mesh load; the eigensolve stops at
+// its next progress callback). Nothing blocks the GUI thread for longer than one reconstruction of the displayed level.
 //
 // Errors never throw: every failure (unreadable mesh, basis failure, port in use, unreachable host, wrong password,
 // version mismatch (the host's Refused text), host gone or silent) becomes failed(QString).
@@ -27,13 +27,10 @@
 #include <QObject>
 #include <QString>
 
-#include <atomic>
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
-#include <thread>
 #include <vector>
 
 class QTimer;
@@ -50,6 +47,9 @@ struct ResolutionLevel;
 }
 
 namespace sc::app {
+
+class HostPreparation;
+struct PreparedHost;
 
 /// What host() needs. Validation of user input happens in the dialog; host() fails with failed() on what only
 /// the attempt can reveal (unreadable mesh, port in use).
@@ -247,11 +247,9 @@ class SessionController final : public QObject {
   void progress(int percent, const QString& what);
 
  private:
-  struct Prepared;
   void changeState(State next);
   void fail(const QString& message);
-  void finishPreparation(const std::shared_ptr<Prepared>& prepared);
-  void joinWorker();
+  void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);
   void onHostFrame();
   void onClientState();
   void onClientLevel();
@@ -260,6 +258,9 @@ class SessionController final : public QObject {
   void everySecond();
   [[nodiscard]] std::vector<int> toFullIds(const std::vector<int>& displayed) const;
   [[nodiscard]] const spectral::ResolutionLevel* clientLevel() const;
+  /// out = X̂' + K·Z of `level` from the interleaved `rest`; returns the time taken in milliseconds.
+  static double timedReconstruction(const spectral::ResolutionLevel& level, std::span<const float> rest,
+                                    const Eigen::MatrixXd& Z, std::vector<float>& out);
 
   Role m_role = Role::None;
   State m_state = State::Idle;
@@ -275,8 +276,7 @@ class SessionController final : public QObject {
   Eigen::MatrixXd m_lastZ;
   HostSettings m_hostSettings;
   std::optional<double> m_joinFraction;
-  std::thread m_worker;
-  std::shared_ptr<std::atomic<bool>> m_cancel;
+  std::unique_ptr<HostPreparation> m_preparation;
 
   // client
   session::SessionClient* m_client = nullptr;

@@ -1,0 +1,71 @@
+#pragma once
+// HostPreparation: the host's long start-up work on a worker thread, for SessionController::host(): load the
+// mesh, compute (or read from the cache) its harmonic basis, and build the full-resolution display level. It
+// reports progress and its result back to a context object's thread through queued calls, so the GUI thread
+// never waits for it; cancel() stops it at the next check (after the mesh load, or at the eigensolve's next
+// progress callback), join() and the destructor wait for the thread.
+
+#include <QCoreApplication>
+#include <QString>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <thread>
+
+class QObject;
+
+namespace sc::session {
+struct HostModel;
+}
+
+namespace sc::spectral {
+struct ResolutionLevel;
+}
+
+namespace sc::app {
+
+struct HostSettings;
+
+/// What a preparation hands back: the model and its full level, or an error text, or a cancellation.
+struct PreparedHost {
+  PreparedHost();
+  ~PreparedHost();
+  PreparedHost(const PreparedHost&) = delete;
+  PreparedHost& operator=(const PreparedHost&) = delete;
+
+  std::shared_ptr<session::HostModel> model;        ///< null unless it succeeded
+  std::unique_ptr<spectral::ResolutionLevel> full;  ///< fullResolutionLevel() of the model: K = float(H)
+  QString error;                                    ///< readable reason when it failed
+  bool cancelled = false;
+};
+
+class HostPreparation final {
+  Q_DECLARE_TR_FUNCTIONS(HostPreparation)
+
+ public:
+  /// Progress: percent 0..100 and what is being done.
+  using ProgressFn = std::function<void(int percent, const QString& what)>;
+  using DoneFn = std::function<void(const std::shared_ptr<PreparedHost>& prepared)>;
+
+  HostPreparation() = default;
+  /// cancel() and join().
+  ~HostPreparation();
+  HostPreparation(const HostPreparation&) = delete;
+  HostPreparation& operator=(const HostPreparation&) = delete;
+
+  /// Starts the worker (once). `progress` (10, then 10..95 during the eigensolve, then 95) and finally `done`
+  /// (exactly once) run on `context`'s thread as queued calls, which Qt drops if `context` is destroyed first.
+  /// settings: meshPath, m (clamped to 1 ≤ m < #V and the wire's row limit) and useBasisCache are used.
+  void start(const HostSettings& settings, QObject* context, ProgressFn progress, DoneFn done);
+  /// Asks the worker to stop; `done` then reports cancelled (unless it had already finished).
+  void cancel() { m_cancelled.store(true); }
+  /// Waits for the worker thread (no-op when none is running or it was joined).
+  void join();
+
+ private:
+  std::thread m_worker;
+  std::atomic<bool> m_cancelled{false};
+};
+
+}  // namespace sc::app

@@ -1,0 +1,287 @@
+// MainWindow: the session wiring. Session menu, tool actions, lock toolbar and resolution selector, status bar
+// fields, viewport intents to the SessionController, the docks; and the controller's signals back to the window.
+
+#include "app/gui/main_window.h"
+
+#include "ui_main_window.h"
+
+#include "app/gui/drag_commands.h"
+#include "app/gui/host_dialog.h"
+#include "app/gui/join_dialog.h"
+#include "app/gui/mesh_summary.h"
+#include "app/gui/mesh_viewport.h"
+#include "app/gui/network_conditions_dock.h"
+#include "app/gui/session_docks.h"
+
+#include <QActionGroup>
+#include <QComboBox>
+#include <QFileInfo>
+#include <QLabel>
+#include <QMessageBox>
+#include <QProgressBar>
+#include <QStatusBar>
+#include <QToolBar>
+#include <QToolButton>
+
+namespace sc::app {
+
+namespace {
+constexpr int kCleaningMessageMs = 10000;  ///< status bar messages (the same in main_window.cpp)
+}  // namespace
+
+// Session menu, tools, lock toolbar, resolution selector.
+void MainWindow::setUpSessionControls() {
+  connect(ui->actionHostSession, &QAction::triggered, this, &MainWindow::showHostDialog);
+  connect(ui->actionJoinSession, &QAction::triggered, this, &MainWindow::showJoinDialog);
+  connect(ui->actionLeaveSession, &QAction::triggered, this, &MainWindow::leaveSession);
+  auto* tools = new QActionGroup(this);
+  const std::pair<QAction*, ViewportTool> toolActions[] = {{ui->actionToolOrbit, ViewportTool::Orbit},
+                                                           {ui->actionToolHandle, ViewportTool::HandleBrush},
+                                                           {ui->actionToolAnchors, ViewportTool::AnchorBrush},
+                                                           {ui->actionToolDrag, ViewportTool::Drag}};
+  for (const auto& [action, tool] : toolActions) {
+    tools->addAction(action);
+    connect(action, &QAction::triggered, ui->viewport, [this, tool] { ui->viewport->setTool(tool); });
+  }
+  m_lockLabel = new QLabel(this);
+  m_lockLabel->setObjectName(QStringLiteral("lockLabel"));
+  m_lockLabel->setContentsMargins(6, 0, 6, 0);
+  ui->sessionToolBar->addWidget(m_lockLabel);
+  ui->sessionToolBar->addSeparator();
+  m_levelCombo = new QComboBox(this);
+  m_levelCombo->setObjectName(QStringLiteral("levelCombo"));
+  m_levelCombo->setToolTip(tr("Display resolution: switching keeps the current deformation"));
+  m_levelCombo->setEnabled(false);
+  m_levelCombo->setSizeAdjustPolicy(QComboBox::AdjustToContents);
+  ui->sessionToolBar->addWidget(m_levelCombo);
+  connect(ui->actionLock, &QAction::triggered, this, [this] {
+    if (m_session == nullptr) return;
+    if (m_session->lockWanted()) {
+      m_session->releaseLock();
+    } else {
+      m_session->requestLock();
+    }
+    updateLockControls();
+  });
+  connect(m_levelCombo, &QComboBox::activated, this, [this](int index) {
+    if (m_session != nullptr) m_session->setLevel(m_levelCombo->itemData(index).toUInt());
+  });
+}
+
+// Status bar fields of a session: frame timing, progress of a preparation or connection, its Cancel button.
+void MainWindow::setUpSessionStatusBar() {
+  m_timingLabel = new QLabel(this);
+  m_timingLabel->setObjectName(QStringLiteral("frameTimeLabel"));
+  statusBar()->addPermanentWidget(m_timingLabel);
+  m_progressBar = new QProgressBar(this);
+  m_progressBar->setObjectName(QStringLiteral("sessionProgress"));
+  m_progressBar->setRange(0, 100);
+  m_progressBar->setMaximumWidth(180);
+  m_progressBar->hide();
+  statusBar()->addPermanentWidget(m_progressBar);
+  m_cancelButton = new QToolButton(this);
+  m_cancelButton->setText(tr("Cancel"));
+  m_cancelButton->hide();
+  statusBar()->addPermanentWidget(m_cancelButton);
+  connect(m_cancelButton, &QToolButton::clicked, this, [this] {
+    if (m_session != nullptr) m_session->cancel();
+  });
+}
+
+void MainWindow::connectViewportToSession() {
+  // Viewport intents → session. Handle/anchor strokes send constraints, drags send poses (the controller checks
+  // the lock; the viewport blocks drags itself through setDragAllowed()).
+  connect(ui->viewport, &MeshViewport::handlePainted, this, [this](std::vector<int> handles) {
+    if (m_session != nullptr) m_session->setHandle(std::move(handles));
+  });
+  connect(ui->viewport, &MeshViewport::anchorsPainted, this, [this](std::vector<int> anchors) {
+    if (m_session != nullptr) m_session->setAnchors(std::move(anchors));
+  });
+  // Committed drags of the host's own user go to the undo history (Edit menu).
+  m_dragHistory = new DragHistory(this);
+  connect(ui->viewport, &MeshViewport::dragStarted, this, [this] {
+    if (m_session != nullptr && m_session->beginDrag()) m_dragHistory->dragStarted();
+  });
+  connect(ui->viewport, &MeshViewport::dragMoved, this,
+          [this](const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation) {
+            if (m_session != nullptr) m_session->dragTo(translation, rotation);
+          });
+  connect(ui->viewport, &MeshViewport::dragFinished, this, [this] {
+    if (m_session == nullptr) return;
+    m_session->endDrag();
+    m_dragHistory->dragFinished();
+  });
+  connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
+    if (!m_redrawPending) return;
+    m_redrawPending = false;
+    m_redrawMs = static_cast<double>(m_redrawClock.nsecsElapsed()) / 1e6;
+    updateTimingLabel();
+  });
+}
+
+void MainWindow::setUpSessionDocks() {
+  // Peers and statistics docks follow whichever session is current.
+  m_docks = new SessionDocks(this);
+  connect(this, &MainWindow::sessionStarted, m_docks, &SessionDocks::bind);
+  // Network conditions (emulated loss, burst, delay) of a client, under the other docks; View menu toggles it.
+  m_networkDock = new NetworkConditionsDock(this);
+  addDockWidget(Qt::RightDockWidgetArea, m_networkDock);
+  ui->menuView->addAction(m_networkDock->toggleViewAction());
+  connect(this, &MainWindow::sessionStarted, m_networkDock, &NetworkConditionsDock::bind);
+  connect(this, &MainWindow::sessionStarted, m_dragHistory, &DragHistory::bind);
+  connect(m_dragHistory, &DragHistory::restored, this, [this] {
+    if (m_session != nullptr) ui->viewport->setSelection(m_session->handle(), m_session->anchors());
+  });
+}
+
+// ---------------------------------------------------------------------------------------------------- sessions
+
+void MainWindow::showHostDialog() {
+  HostDialog dialog(this);
+  if (dialog.exec() == QDialog::Accepted) hostSession(dialog.settings());
+}
+
+void MainWindow::showJoinDialog() {
+  JoinDialog dialog(this);
+  if (dialog.exec() == QDialog::Accepted) joinSession(dialog.settings());
+}
+
+SessionController* MainWindow::newSession() {
+  if (m_session != nullptr) {
+    m_session->disconnect(this);
+    m_session->leave();
+    m_session->deleteLater();
+  }
+  m_session = new SessionController(this);
+  connect(m_session, &SessionController::meshChanged, this, &MainWindow::onSessionMesh);
+  connect(m_session, &SessionController::positionsChanged, this, &MainWindow::showSessionPositions);
+  connect(m_session, &SessionController::lockChanged, this, &MainWindow::updateLockControls);
+  connect(m_session, &SessionController::peersChanged, this, &MainWindow::updateLockControls);
+  connect(m_session, &SessionController::statsChanged, this, &MainWindow::updateTimingLabel);
+  connect(m_session, &SessionController::stateChanged, this, [this] {
+    updateSessionActions();
+    updateLockControls();
+  });
+  connect(m_session, &SessionController::failed, this, &MainWindow::onSessionFailed);
+  connect(m_session, &SessionController::progress, this, &MainWindow::onProgress);
+  connect(m_session, &SessionController::hostingStarted, this, [this](quint16 port) {
+    statusBar()->showMessage(
+        tr("Hosting on TCP port %1: others join with this computer's address and that port.").arg(port),
+        kCleaningMessageMs);
+  });
+  emit sessionStarted(m_session);
+  return m_session;
+}
+
+void MainWindow::hostSession(const HostSettings& settings) {
+  SessionController* session = newSession();
+  setWindowTitle(QFileInfo(settings.meshPath).fileName() + tr(" (hosting) — ShapeCast"));
+  session->host(settings);
+  updateSessionActions();
+}
+
+void MainWindow::joinSession(const JoinSettings& settings) {
+  SessionController* session = newSession();
+  setWindowTitle(tr("%1:%2 — ShapeCast").arg(settings.host).arg(settings.port));
+  session->join(settings);
+  updateSessionActions();
+}
+
+void MainWindow::leaveSession() {
+  if (m_session == nullptr) return;
+  m_session->leave();
+  statusBar()->showMessage(tr("Left the session."), kCleaningMessageMs);
+  updateSessionActions();
+  updateLockControls();
+}
+
+double MainWindow::reconstructionMs() const { return m_session != nullptr ? m_session->reconstructionMs() : 0.0; }
+
+void MainWindow::onSessionMesh() {
+  const Eigen::MatrixXd& V = m_session->displayRestPositions();
+  const Eigen::MatrixXi& F = m_session->displayFaces();
+  ui->viewport->setMesh(V, F);
+  showSessionPositions();
+  m_meshSizeLabel->setText(meshSizeText(static_cast<int>(V.rows()), static_cast<int>(F.rows())));
+  statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kCleaningMessageMs);
+  updateLevelCombo();
+  updateLockControls();
+}
+
+void MainWindow::showSessionPositions() {
+  const std::span<const float> positions = m_session != nullptr ? m_session->positions() : std::span<const float>();
+  if (positions.empty() || positions.size() != static_cast<std::size_t>(ui->viewport->vertexCount()) * 3) return;
+  if (!m_redrawPending) {
+    m_redrawPending = true;
+    m_redrawClock.start();
+  }
+  ui->viewport->setPositionsInterleaved(positions);
+}
+
+void MainWindow::updateLockControls() {
+  const bool live = m_session != nullptr && m_session->state() == SessionController::State::Live;
+  ui->actionLock->setEnabled(live);
+  const bool wanted = live && m_session->lockWanted();
+  ui->actionLock->setText(wanted ? tr("Release lock") : tr("Request lock"));
+  m_lockLabel->setText(live ? m_session->lockText() : tr("Not in a session"));
+  const bool canDrag = live && m_session->canDrag();
+  QString hint;
+  if (!live) {
+    hint = tr("Host or join a session (Session menu) to deform the mesh");
+  } else if (!canDrag) {
+    hint = tr("Request the lock to drag (%1)").arg(m_session->lockText());
+  }
+  ui->viewport->setDragAllowed(canDrag, hint);
+}
+
+void MainWindow::updateLevelCombo() {
+  m_levelCombo->clear();
+  if (m_session == nullptr) {
+    m_levelCombo->setEnabled(false);
+    return;
+  }
+  const std::vector<LevelChoice> levels = m_session->levels();
+  for (const LevelChoice& level : levels) {
+    m_levelCombo->addItem(level.label, QVariant::fromValue<uint>(level.target));
+    if (level.target == m_session->levelTarget()) m_levelCombo->setCurrentIndex(m_levelCombo->count() - 1);
+  }
+  m_levelCombo->setEnabled(m_session->role() == SessionController::Role::Client && levels.size() > 1);
+}
+
+void MainWindow::updateSessionActions() {
+  const SessionController::State state = m_session != nullptr ? m_session->state() : SessionController::State::Idle;
+  const bool active = state == SessionController::State::Preparing || state == SessionController::State::Connecting ||
+                      state == SessionController::State::Live;
+  ui->actionLeaveSession->setEnabled(active);
+  const bool busy = state == SessionController::State::Preparing || state == SessionController::State::Connecting;
+  m_progressBar->setVisible(busy);
+  m_cancelButton->setVisible(busy);
+  if (!active) m_levelCombo->setEnabled(false);
+}
+
+void MainWindow::updateTimingLabel() {
+  if (m_session == nullptr || m_session->state() != SessionController::State::Live) {
+    m_timingLabel->clear();
+    return;
+  }
+  m_timingLabel->setText(tr("reconstruction %1 ms + redraw %2 ms")
+                             .arg(m_session->reconstructionMs(), 0, 'f', 2)
+                             .arg(m_redrawMs, 0, 'f', 1));
+}
+
+void MainWindow::onSessionFailed(const QString& message) {
+  updateSessionActions();
+  updateLockControls();
+  statusBar()->showMessage(message, kCleaningMessageMs);
+  emit sessionFailed(message);
+  if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Session"), message);
+}
+
+void MainWindow::onProgress(int percent, const QString& what) {
+  m_progressBar->setValue(percent);
+  m_progressBar->setFormat(what + QStringLiteral(" %p%"));
+  statusBar()->showMessage(what);
+  updateSessionActions();
+}
+
+}  // namespace sc::app

@@ -1,0 +1,78 @@
+// SessionController, host side: preparation (HostPreparation on a worker thread), starting the SessionHost, and
+// the host's own display (X̂ + H·Z of the full level on every new frame).
+#include "app/gui/session_controller.h"
+
+#include "app/gui/host_preparation.h"
+#include "session/host_model.h"
+#include "session/session_host.h"
+#include "spectral/reconstruction_kernel.h"
+#include "spectral/resolution_level.h"
+
+#include <utility>
+
+namespace sc::app {
+
+bool SessionController::host(const HostSettings& settings) {
+  if (m_state != State::Idle) return false;
+  m_role = Role::Host;
+  m_hostSettings = settings;
+  changeState(State::Preparing);
+  emit progress(0, tr("Loading %1").arg(settings.meshPath));
+  m_preparation = std::make_unique<HostPreparation>();
+  m_preparation->start(
+      settings, this, [this](int percent, const QString& what) { emit progress(percent, what); },
+      [this](const std::shared_ptr<PreparedHost>& prepared) { finishPreparation(prepared); });
+  return true;
+}
+
+void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& prepared) {
+  m_preparation->join();
+  if (m_state != State::Preparing) return;  // cancelled or left meanwhile
+  if (prepared->cancelled) {
+    fail(tr("Cancelled."));
+    return;
+  }
+  if (!prepared->error.isEmpty() || !prepared->model) {
+    fail(tr("Could not host %1: %2").arg(m_hostSettings.meshPath, prepared->error));
+    return;
+  }
+  m_model = prepared->model;
+  m_fullLevel = std::move(prepared->full);
+  m_rest = spectral::interleavedPositions(m_model->V);
+  m_hostPositions = m_rest;
+
+  session::SessionHostOptions options;
+  options.tcpPort = m_hostSettings.port;
+  options.password = m_hostSettings.password;
+  options.hostName = m_hostSettings.name.isEmpty() ? QStringLiteral("host") : m_hostSettings.name;
+  m_host = new session::SessionHost(m_model, options, this);
+  QString error;
+  if (!m_host->start(&error)) {
+    fail(tr("Could not host on TCP port %1: %2").arg(m_hostSettings.port).arg(error));
+    return;
+  }
+  connect(m_host, &session::SessionHost::frameSent, this, &SessionController::onHostFrame);
+  connect(m_host, &session::SessionHost::lockChanged, this, &SessionController::onLockChanged);
+  connect(m_host, &session::SessionHost::peersChanged, this, &SessionController::peersChanged);
+  connect(m_host, &session::SessionHost::statsReported, this, &SessionController::statsChanged);
+  m_lastZ = m_host->coefficients();
+  emit progress(100, tr("Hosting"));
+  changeState(State::Live);
+  emit meshChanged();
+  emit positionsChanged();
+  emit peersChanged();
+  emit lockChanged();
+  emit hostingStarted(m_host->tcpPort());
+}
+
+void SessionController::onHostFrame() {
+  if (m_host == nullptr || !m_fullLevel) return;
+  const Eigen::MatrixXd& Z = m_host->coefficients();
+  if (Z.rows() != m_fullLevel->K.cols() || Z.cols() != 3) return;
+  if (m_lastZ.rows() == Z.rows() && m_lastZ.cols() == Z.cols() && m_lastZ == Z) return;  // idle refresh
+  m_lastZ = Z;
+  m_reconstructionMs = timedReconstruction(*m_fullLevel, m_rest, Z, m_hostPositions);
+  emit positionsChanged();
+}
+
+}  // namespace sc::app

@@ -1,0 +1,47 @@
+// SessionHost: frame production (solve the pending pose, send the coefficient frame) and Keyframes.
+
+#include "session/session_host.h"
+
+#include "session/host_datagram_channel.h"
+#include "session/host_peer_connection.h"
+#include "session/session_clock.h"
+#include "session/session_host_peer.h"
+
+namespace sc::session {
+
+// --- frames
+
+void SessionHost::produceFrame() {
+  if (m_shutDown) return;
+  const Micros t = sessionNow();
+  Micros stamp = t;
+  if (m_pendingArrival) {
+    m_Z = m_deformer->solve(m_pendingPoses);
+    stamp = *m_pendingArrival;
+    m_pendingArrival.reset();
+  }
+  ++m_frame;
+  m_channel->sendFrame(m_frame, m_Z, stamp);
+  m_lastFrameAt = t;
+  ++m_counters.framesSent;
+  if (m_options.referenceEvery > 0 && ++m_framesSinceKeyframe >= m_options.referenceEvery) {
+    m_framesSinceKeyframe = 0;
+    for (const auto& [id, peer] : m_peers) {
+      if (peer->loadedVertexCount > 0 && !peer->connection->isClosing()) sendKeyframe(*peer->connection);
+    }
+  }
+  emit frameSent(m_frame);
+}
+
+void SessionHost::sendKeyframe(HostPeerConnection& connection) {
+  Keyframe keyframe;
+  keyframe.frame = m_frame;
+  keyframe.z.resize(static_cast<std::size_t>(m_Z.rows()) * 3);
+  for (Eigen::Index r = 0; r < m_Z.rows(); ++r) {
+    for (Eigen::Index c = 0; c < 3; ++c) keyframe.z[static_cast<std::size_t>(3 * r + c)] = m_Z(r, c);
+  }
+  connection.send(keyframe);
+  ++m_counters.keyframesSent;
+}
+
+}  // namespace sc::session
