@@ -27,12 +27,16 @@ ClientDatagramChannel::ClientDatagramChannel(ClientDatagramOptions options, QObj
       m_socket(new QUdpSocket(this)),
       m_pathTimer(new QTimer(this)),
       m_releaseTimer(new QTimer(this)),
+      m_predictTimer(new QTimer(this)),
       m_empty(0, 3) {
   connect(m_socket, &QUdpSocket::readyRead, this, &ClientDatagramChannel::readPending);
   connect(m_pathTimer, &QTimer::timeout, this, &ClientDatagramChannel::sendPathOpen);
   m_releaseTimer->setSingleShot(true);
   m_releaseTimer->setTimerType(Qt::PreciseTimer);
   connect(m_releaseTimer, &QTimer::timeout, this, &ClientDatagramChannel::releaseDue);
+  m_predictTimer->setSingleShot(true);
+  m_predictTimer->setTimerType(Qt::PreciseTimer);
+  connect(m_predictTimer, &QTimer::timeout, this, &ClientDatagramChannel::predictDue);
 }
 
 ClientDatagramChannel::~ClientDatagramChannel() = default;
@@ -60,6 +64,10 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
   m_token = std::move(token);
   m_pathSequence = 0;
   m_assembler = std::make_unique<FrameAssembler>(std::move(key), peer, m, m_options.concealment);
+  m_predictor = m_options.concealment == Concealment::Extrapolate
+                    ? std::make_unique<FramePredictor>(m, m_options.predictor)
+                    : nullptr;
+  m_predictTimer->stop();
   m_impairment = m_options.impairment ? std::make_unique<NetworkImpairment>(*m_options.impairment) : nullptr;
   m_statistics = std::make_unique<ReceiverStatistics>();
   m_releaseTimer->stop();
@@ -99,6 +107,7 @@ void ClientDatagramChannel::close() {
   m_open = false;
   m_pathTimer->stop();
   m_releaseTimer->stop();
+  m_predictTimer->stop();
 }
 
 void ClientDatagramChannel::seed(std::uint32_t frame, const Eigen::MatrixXd& Z) {
@@ -106,12 +115,25 @@ void ClientDatagramChannel::seed(std::uint32_t frame, const Eigen::MatrixXd& Z) 
     m_pendingSeed.emplace(frame, Z);
     return;
   }
-  if (m_assembler->seed(frame, Z)) emit frameUpdated(frame);
+  if (!m_assembler->seed(frame, Z)) return;
+  if (m_predictor) {
+    m_predictor->observe(*m_assembler, sessionNow());
+    armPredictTimer();
+  }
+  emit frameUpdated(frame);
 }
 
-const Eigen::MatrixXd& ClientDatagramChannel::coefficients() const { return m_assembler ? m_assembler->z() : m_empty; }
+const Eigen::MatrixXd& ClientDatagramChannel::coefficients() const {
+  if (m_predictor) return m_predictor->display();
+  return m_assembler ? m_assembler->z() : m_empty;
+}
 
-std::uint32_t ClientDatagramChannel::currentFrame() const { return m_assembler ? m_assembler->frame() : 0; }
+std::uint32_t ClientDatagramChannel::currentFrame() const {
+  if (m_predictor) return m_predictor->displayedFrame();
+  return receivedFrame();
+}
+
+std::uint32_t ClientDatagramChannel::receivedFrame() const { return m_assembler ? m_assembler->frame() : 0; }
 
 bool ClientDatagramChannel::hasFrame() const { return m_assembler && m_assembler->hasFrame(); }
 
@@ -200,7 +222,38 @@ void ClientDatagramChannel::process(const QByteArray& bytes, Micros now) {
     m_statistics->recordFrame(now);
   }
   if (m_pathTimer->interval() != kPathRefreshMs) m_pathTimer->start(kPathRefreshMs);  // frames flow: refresh only
-  emit frameUpdated(assembler.frame());
+  if (m_predictor) {
+    m_predictor->observe(assembler, now);
+    armPredictTimer();
+  }
+  emit frameUpdated(currentFrame());
+}
+
+void ClientDatagramChannel::armPredictTimer() {
+  const std::optional<Micros> due = m_predictor ? m_predictor->nextDue() : std::nullopt;
+  if (!due || !m_open) {
+    m_predictTimer->stop();
+    return;
+  }
+  // Rounded up to whole milliseconds (QTimer's unit): never early, at most 1 ms late.
+  const Micros wait = std::max(Micros{0}, *due - sessionNow());
+  m_predictTimer->start(static_cast<int>(std::min<Micros::rep>((wait.count() + 999) / 1000, 1'000'000)));
+}
+
+void ClientDatagramChannel::predictDue() {
+  if (!m_predictor || !m_open) return;
+  switch (m_predictor->advance(sessionNow())) {
+    case FramePredictor::Step::None:
+      break;
+    case FramePredictor::Step::Predicted:
+      emit frameUpdated(currentFrame());
+      break;
+    case FramePredictor::Step::Withdrawn:
+      emit predictionWithdrawn(m_predictor->receivedFrame());
+      emit frameUpdated(currentFrame());
+      break;
+  }
+  if (m_predictor && m_open) armPredictTimer();  // a slot may have closed or re-opened the channel
 }
 
 }  // namespace sc::session

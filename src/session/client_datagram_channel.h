@@ -7,11 +7,15 @@
 // Receive path: readyRead → every pending datagram → [NetworkImpairment::push(bytes, now); a precise single-shot
 // timer at nextDue() releases them] → FrameAssembler::receive. Every datagram that passes authentication (also
 // one then dropped as Late) is recorded in the statistics (sequence, unwrapped header timestamp, arrival, payload
-// and payload + 28 bytes); one that changed Z emits frameUpdated(). Datagrams are not filtered by source address:
+// and payload + 28 bytes); one that changed Z emits frameUpdated(). With Concealment::Extrapolate a FramePredictor
+// (frame_predictor.h) turns the assembler's Z into the displayed Z, and a precise single-shot timer at its
+// nextDue() shows predicted frames while the next frame is overdue (frameUpdated(k + j)) and takes them back
+// (predictionWithdrawn(k), then frameUpdated(k)). Datagrams are not filtered by source address:
 // the per-client HMAC tag is the check. Drops are counted by reason in assembler(); nothing is asserted on input.
 // Not thread-safe: use from the thread that owns it.
 
 #include "session/frame_assembler.h"
+#include "session/frame_predictor.h"
 #include "session/lock_messages.h"
 #include "session/network_impairment.h"
 #include "session/receiver_statistics.h"
@@ -34,6 +38,7 @@ namespace sc::session {
 struct ClientDatagramOptions {
   Concealment concealment = Concealment::HoldLast;
   std::optional<ImpairmentSettings> impairment;  ///< set: simulate loss/delay/reorder/duplication on receive
+  PredictorSettings predictor;                   ///< used with Concealment::Extrapolate only
 };
 
 class ClientDatagramChannel : public QObject {
@@ -69,9 +74,14 @@ class ClientDatagramChannel : public QObject {
   /// by open() when m matches. Emits frameUpdated(frame) when applied.
   void seed(std::uint32_t frame, const Eigen::MatrixXd& Z);
 
-  /// The concealed current Z, m by 3 (zeros before any frame: the rest shape); 0 by 3 before open().
+  /// The displayed Z, m by 3 (zeros before any frame: the rest shape); 0 by 3 before open(). The assembler's
+  /// concealed Z, or with Concealment::Extrapolate the predictor's display.
   const Eigen::MatrixXd& coefficients() const;
+  /// Frame number coefficients() stands for: the assembler's current frame, or with Extrapolate a predicted one
+  /// (receivedFrame() + predicted frames).
   std::uint32_t currentFrame() const;
+  /// The newest frame number received (the assembler's current frame).
+  std::uint32_t receivedFrame() const;
   /// True after a seed or an applied datagram.
   bool hasFrame() const;
 
@@ -96,6 +106,8 @@ class ClientDatagramChannel : public QObject {
 
   /// Per-reason drop counters (nullptr before open()).
   const FrameAssembler* assembler() const { return m_assembler.get(); }
+  /// The dead reckoning in use (nullptr unless Concealment::Extrapolate, or before open()).
+  const FramePredictor* predictor() const { return m_predictor.get(); }
   /// The impairment in use (nullptr without one configured, or before open()).
   const NetworkImpairment* impairment() const { return m_impairment.get(); }
 
@@ -111,13 +123,19 @@ class ClientDatagramChannel : public QObject {
   const std::optional<ImpairmentSettings>& impairmentSettings() const { return m_options.impairment; }
 
  signals:
-  /// After each accepted datagram (or applied seed) changed Z; `frame` is the current frame number.
+  /// After each change of the displayed Z: an accepted datagram or applied seed, and with Extrapolate a predicted
+  /// frame or a withdrawal; `frame` is currentFrame() (a predicted frame number included).
   void frameUpdated(std::uint32_t frame);
+  /// Extrapolate only: the predicted frames after `frame` were taken back (no datagram came; the stream has most
+  /// likely stopped); frameUpdated(frame) follows with the received frame's Z on display again.
+  void predictionWithdrawn(std::uint32_t frame);
 
  private:
   void readPending();
   void releaseDue();
   void armReleaseTimer();
+  void armPredictTimer();
+  void predictDue();
   void process(const QByteArray& bytes, Micros now);
   void sendPathOpen();
 
@@ -125,6 +143,7 @@ class ClientDatagramChannel : public QObject {
   QUdpSocket* m_socket = nullptr;    ///< child of this
   QTimer* m_pathTimer = nullptr;     ///< PathOpen resend
   QTimer* m_releaseTimer = nullptr;  ///< impairment delivery (precise, single-shot)
+  QTimer* m_predictTimer = nullptr;  ///< FramePredictor::nextDue() (precise, single-shot)
   bool m_open = false;
   QHostAddress m_host;
   quint16 m_hostPort = 0;
@@ -133,6 +152,7 @@ class ClientDatagramChannel : public QObject {
   QByteArray m_token;                ///< path token
   std::uint32_t m_pathSequence = 0;  ///< of the last PathOpen sent; 0 after open()
   std::unique_ptr<FrameAssembler> m_assembler;
+  std::unique_ptr<FramePredictor> m_predictor;
   std::unique_ptr<NetworkImpairment> m_impairment;
   std::unique_ptr<ReceiverStatistics> m_statistics;
   std::optional<std::pair<std::uint32_t, Eigen::MatrixXd>> m_pendingSeed;

@@ -290,9 +290,39 @@ bool read(ByteReader& r, StatsReport& m) {
   m.vertexCount = r.u32();
   m.framesApplied = r.u32();
   for (std::uint64_t* v : {&m.received, &m.lost, &m.late, &m.dropped}) *v = r.u64();
-  for (double* v : {&m.lossFraction, &m.jitterMs, &m.payloadKbpsIn, &m.wireKbpsIn, &m.framesPerSecond,
-                    &m.latencyP50Ms, &m.latencyP99Ms, &m.hdMaxPct, &m.hdMeanPct, &m.hdLastPct}) {
+  for (double* v : {&m.lossFraction, &m.jitterMs, &m.payloadKbpsIn, &m.wireKbpsIn, &m.framesPerSecond, &m.latencyP50Ms,
+                    &m.latencyP99Ms, &m.hdMaxPct, &m.hdMeanPct, &m.hdLastPct}) {
     if (!readFinite(r, *v) || *v < 0.0) return false;
+  }
+  return true;
+}
+
+void write(ByteWriter& w, const LevelList& m) {
+  w.u8(m.total);
+  w.u8(static_cast<std::uint8_t>(m.levels.size()));
+  for (const LevelInfo& level : m.levels) {
+    w.u8(level.levelId);
+    w.u32(level.vertexCount);
+    w.u32(level.faceCount);
+    w.u32(level.payloadBytes);
+  }
+}
+bool read(ByteReader& r, LevelList& m) {
+  m.total = r.u8();
+  const int count = r.u8();
+  if (!inRange<int>(m.total, 1, kMaxLevels) || count > m.total) return false;
+  m.levels.resize(static_cast<std::size_t>(count));
+  int previousId = -1;
+  for (LevelInfo& level : m.levels) {
+    level.levelId = r.u8();
+    level.vertexCount = r.u32();
+    level.faceCount = r.u32();
+    level.payloadBytes = r.u32();
+    if (level.levelId >= m.total || level.levelId <= previousId || level.vertexCount == 0 || level.faceCount == 0 ||
+        !inRange<std::uint32_t>(level.payloadBytes, 1, kMaxTransferSize)) {
+      return false;
+    }
+    previousId = level.levelId;
   }
   return true;
 }
@@ -304,6 +334,7 @@ static_assert(kFirstControlType + kControlTypeCount == static_cast<std::size_t>(
 static_assert(std::is_same_v<std::variant_alternative_t<0, ControlMessage>, Hello>);
 static_assert(std::is_same_v<std::variant_alternative_t<14, ControlMessage>, Heartbeat>);
 static_assert(std::is_same_v<std::variant_alternative_t<16, ControlMessage>, StatsReport>);
+static_assert(std::is_same_v<std::variant_alternative_t<17, ControlMessage>, LevelList>);
 
 template <typename T>
 ControlDecodeResult decodeAs(QByteArrayView body) {
@@ -321,6 +352,22 @@ constexpr auto makeDecoders(std::index_sequence<I...>) {
 constexpr auto kDecoders = makeDecoders(std::make_index_sequence<kControlTypeCount>{});
 
 }  // namespace
+
+const LevelInfo* closestLevel(const LevelList& list, std::uint32_t wanted) {
+  const LevelInfo* best = nullptr;
+  const auto distance = [wanted](std::uint32_t v) { return v > wanted ? v - wanted : wanted - v; };
+  for (const LevelInfo& level : list.levels) {
+    if (best == nullptr) {
+      best = &level;
+    } else if (wanted == 0) {
+      if (level.vertexCount > best->vertexCount) best = &level;
+    } else if (distance(level.vertexCount) < distance(best->vertexCount) ||
+               (distance(level.vertexCount) == distance(best->vertexCount) && level.vertexCount > best->vertexCount)) {
+      best = &level;
+    }
+  }
+  return best;
+}
 
 MessageType messageType(const ControlMessage& message) {
   return static_cast<MessageType>(kFirstControlType + message.index());

@@ -137,7 +137,7 @@ struct Heartbeat {
 
 /// The lock holder's handle groups and anchors (vertex ids of the full-resolution mesh). Drags index the groups.
 struct Constraints {
-  LockEpoch epoch = kNoEpoch;                     ///< ≥ 1: the epoch of the lock the sender holds
+  LockEpoch epoch = kNoEpoch;                      ///< ≥ 1: the epoch of the lock the sender holds
   std::vector<std::vector<std::uint32_t>> groups;  ///< ≤ kMaxHandles groups, each non-empty
   std::vector<std::uint32_t> anchors;
   friend bool operator==(const Constraints&, const Constraints&) = default;
@@ -164,10 +164,32 @@ struct StatsReport {
   friend bool operator==(const StatsReport&, const StatsReport&) = default;
 };
 
+/// One level of the host's resolution ladder, with exact figures (wire_format.h, LevelList).
+struct LevelInfo {
+  std::uint8_t levelId = 0;        ///< 0 = full model, i = i-th ladder level; < LevelList::total
+  std::uint32_t vertexCount = 0;   ///< ≥ 1
+  std::uint32_t faceCount = 0;     ///< ≥ 1
+  std::uint32_t payloadBytes = 0;  ///< 1..kMaxTransferSize
+  friend bool operator==(const LevelInfo&, const LevelInfo&) = default;
+};
+
+/// The levels the host has built so far, level ids strictly ascending (so the full model first when built).
+struct LevelList {
+  std::uint8_t total = 0;         ///< levels in the host's ladder (built or not), 1..kMaxLevels; 0 only unset
+  std::vector<LevelInfo> levels;  ///< ≤ total, ids < total
+  /// Every level of the ladder is listed (exact figures for all).
+  [[nodiscard]] bool complete() const { return total > 0 && levels.size() == total; }
+  friend bool operator==(const LevelList&, const LevelList&) = default;
+};
+
+/// The listed level whose vertex count is closest to `wanted` (ties: the larger); 0 = the largest (full). nullptr
+/// when the list is empty. Cost: O(levels).
+const LevelInfo* closestLevel(const LevelList& list, std::uint32_t wanted);
+
 /// Any control message. LockMessage ↔ MessageType::LockRequest, LockNotice ↔ MessageType::LockNotice.
-using ControlMessage =
-    std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk, ResolutionRequest,
-                 PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave, Heartbeat, Constraints, StatsReport>;
+using ControlMessage = std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk,
+                                    ResolutionRequest, PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave,
+                                    Heartbeat, Constraints, StatsReport, LevelList>;
 
 /// The wire type of a message value.
 MessageType messageType(const ControlMessage& message);

@@ -16,6 +16,8 @@ DistortionMeter::DistortionMeter(SessionClient& client, Mode mode, QObject* pare
   ClientDatagramChannel& channel = client.channel();
   connect(&channel, &ClientDatagramChannel::frameUpdated, this,
           [this, &channel](std::uint32_t frame) { m_probe.displayed(frame, channel.coefficients()); });
+  connect(&channel, &ClientDatagramChannel::predictionWithdrawn, this,
+          [this](std::uint32_t frame) { m_probe.withdraw(frame); });
   connect(&client, &SessionClient::keyframeReceived, this,
           [this](std::uint32_t frame, const Eigen::MatrixXd& Z) { m_probe.reference(frame, Z); });
   connect(&client, &SessionClient::levelReady, this, [this, &channel] {

@@ -1,8 +1,9 @@
 #pragma once
 // Live Hausdorff distortion of one SessionClient (issue 4 item 6): feeds a DistortionProbe from the client's
-// signals (every applied datagram frame, every exact Keyframe), and either measures the ready pairs about once a
-// second (Live: the figures go into the client's StatsReports) or keeps every pair for a later, offline
-// measurement (Record: the loss experiment, so that kd-tree work never delays datagram processing).
+// signals (every displayed frame, predicted ones included, and withdrawn predictions; every exact Keyframe), and either
+// measures the ready pairs about once a second (Live: the figures go into the client's StatsReports) or keeps every
+// pair for a later, offline measurement (Record: the loss experiment, so that kd-tree work never delays datagram
+// processing).
 //
 // Live mode measures at most `maxPerTick` pairs per tick (the newest; older ones are skipped and counted) so a
 // full-resolution client at a high reference rate stays cheap: ≈ 10–20 ms per pair at 23k vertices.

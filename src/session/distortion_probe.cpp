@@ -47,6 +47,10 @@ void DistortionProbe::displayed(std::uint32_t frame, const Eigen::MatrixXd& Z) {
   }
 }
 
+void DistortionProbe::withdraw(std::uint32_t frame) {
+  while (!m_history.empty() && newerFrame(m_history.back().frame, frame)) m_history.pop_back();
+}
+
 void DistortionProbe::reference(std::uint32_t frame, const Eigen::MatrixXd& Zexact) {
   m_references.push_back(Entry{frame, Zexact});
   while (m_references.size() > m_capacity) {  // nobody takes them: keep memory bounded

@@ -47,6 +47,10 @@ class DistortionProbe {
 
   /// @param[in] Z  m by 3, the coefficients now displayed for `frame`.
   void displayed(std::uint32_t frame, const Eigen::MatrixXd& Z);
+  /// The display went back to `frame` (a predicted frame was taken back, ClientDatagramChannel::
+  /// predictionWithdrawn): the entries of frames newer than `frame` are forgotten, so that a later reference of
+  /// such a frame is paired with what is displayed from now on, not with the withdrawn prediction. Cost: O(removed).
+  void withdraw(std::uint32_t frame);
   /// @param[in] Zexact  m by 3, the exact coefficients of `frame` (a Keyframe).
   void reference(std::uint32_t frame, const Eigen::MatrixXd& Zexact);
 

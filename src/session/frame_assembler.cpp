@@ -13,6 +13,25 @@ bool newerFrame(std::uint32_t a, std::uint32_t b) { return static_cast<std::int3
 
 }  // namespace
 
+const char* toString(Concealment concealment) {
+  switch (concealment) {
+    case Concealment::HoldLast:
+      return "hold-last";
+    case Concealment::ZeroFill:
+      return "zero-fill";
+    case Concealment::Extrapolate:
+      return "extrapolate";
+  }
+  return "?";
+}
+
+std::optional<Concealment> concealmentFromString(std::string_view name) {
+  for (const Concealment c : {Concealment::HoldLast, Concealment::ZeroFill, Concealment::Extrapolate}) {
+    if (name == toString(c)) return c;
+  }
+  return std::nullopt;
+}
+
 FrameAssembler::FrameAssembler(QByteArray key, std::uint16_t peerId, int m, Concealment concealment)
     : m_decoder(std::move(key), peerId),
       m_concealment(concealment),

@@ -10,6 +10,8 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace sc::session {
@@ -18,7 +20,15 @@ namespace sc::session {
 enum class Concealment {
   HoldLast,  ///< the last received value (default; shared/design/spectral.md §6 recommends it).
   ZeroFill,  ///< 0, i.e. that band falls back to the rest shape (the paper's way, kept for comparison).
+  /// "hold-last + extrapolation": the assembler holds as HoldLast; the client displays FramePredictor's dead
+  /// reckoning of missing rows and of overdue whole frames (frame_predictor.h).
+  Extrapolate,
 };
+
+/// "hold-last", "zero-fill" or "extrapolate" (the command line's and the loss experiment's names).
+const char* toString(Concealment concealment);
+/// The concealment named `name` (as toString() writes it); nullopt for any other text. Cost: O(1).
+std::optional<Concealment> concealmentFromString(std::string_view name);
 
 /// Why the assembler dropped a datagram beyond the decoder's own reasons.
 enum class AssemblyDrop {
@@ -62,6 +72,10 @@ class FrameAssembler {
   /// The current frame number (meaningful when hasFrame()).
   std::uint32_t frame() const { return m_frame; }
   int rows() const { return static_cast<int>(m_z.rows()); }
+  /// Frame in which row `k` (0..rows()−1) was last written (by a datagram or a seed); meaningful when rowValid(k).
+  std::uint32_t rowFrame(int k) const { return m_rowFrame[static_cast<std::size_t>(k)]; }
+  /// Row `k` was written at least once.
+  bool rowValid(int k) const { return m_rowValid[static_cast<std::size_t>(k)]; }
 
   /// Header of the last datagram that passed the decoder (authenticated, fresh sequence number), whether it was
   /// then applied or dropped as Late / WrongLength; for receive statistics (sequence, timestamp). Default header

@@ -88,7 +88,7 @@ void ClientHandshake::changeState(State next, HandshakeOutput& out) {
     case State::AwaitWelcome: {
       assert(m_challenge && m_config.password && "entered only on a Challenge with a password");
       const QByteArray key = derivePasswordKey(*m_config.password, m_challenge->salt, m_challenge->iterations);
-      out.send.emplace_back(answerChallenge(key, *m_challenge));
+      out.send.emplace_back(answerChallenge(key, *m_challenge, m_config.channelBinding));
       break;
     }
     case State::Refused:

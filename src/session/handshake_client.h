@@ -30,6 +30,7 @@ namespace sc::session {
 struct ClientHandshakeConfig {
   QString displayName;              ///< ≤ kMaxNameBytes in UTF-8
   std::optional<QString> password;  ///< none: the user gave no password
+  QByteArray channelBinding;        ///< SHA-256 of the certificate the host showed in the TLS handshake
 };
 
 /// Why the client ended in Refused.

@@ -94,7 +94,7 @@ HandshakeOutput HostHandshake::handleHello(const Hello& hello) {
 
 HandshakeOutput HostHandshake::handleChallengeResponse(const ChallengeResponse& response) {
   assert(m_config.secret && m_challenge && "AwaitResponse is entered only in password sessions");
-  if (!verifyChallengeResponse(m_config.secret->key, *m_challenge, response)) {
+  if (!verifyChallengeResponse(m_config.secret->key, *m_challenge, m_config.channelBinding, response)) {
     return refuse(RefuseReason::WrongPassword, QStringLiteral("wrong password"));
   }
   HandshakeOutput out;
@@ -121,9 +121,8 @@ void HostHandshake::changeState(State next, HandshakeOutput& out) {
     case State::Welcomed: {
       m_peer =
           NegotiatedPeer{m_config.peerId, m_name, m_config.random(kDatagramKeySize), m_config.random(kPathTokenSize)};
-      out.send.emplace_back(
-          Welcome{m_peer->peerId, m_peer->datagramKey, m_peer->pathToken, m_config.rowCount, m_config.vertexCount,
-                  m_config.udpPort});
+      out.send.emplace_back(Welcome{m_peer->peerId, m_peer->datagramKey, m_peer->pathToken, m_config.rowCount,
+                                    m_config.vertexCount, m_config.udpPort});
       break;
     }
     case State::Refused:

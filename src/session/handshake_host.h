@@ -71,6 +71,7 @@ struct HostHandshakeConfig {
   PeerId peerId = kNoPeer;        ///< id to assign, 1..65535
   RandomBytes random;             ///< required
   Millis timeout = kHandshakeTimeout;
+  QByteArray channelBinding;  ///< SHA-256 of the host's TLS certificate, mixed into the password proof
 };
 
 /// The joined peer, available once Welcomed.

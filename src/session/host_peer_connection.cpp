@@ -3,7 +3,7 @@
 #include "session/session_clock.h"
 
 #include <QtCore/QTimer>
-#include <QtNetwork/QTcpSocket>
+#include <QtNetwork/QSslSocket>
 
 namespace sc::session {
 namespace {
@@ -11,6 +11,11 @@ namespace {
 constexpr int kCloseGraceMs = 2000;  ///< a closing socket whose peer does not read is aborted after this
 
 Millis nowMillis() { return std::chrono::duration_cast<Millis>(sessionNow()); }
+
+bool isTlsError(QAbstractSocket::SocketError error) {
+  return error == QAbstractSocket::SslHandshakeFailedError || error == QAbstractSocket::SslInternalError ||
+         error == QAbstractSocket::SslInvalidUserDataError;
+}
 
 }  // namespace
 
@@ -24,8 +29,17 @@ HostPeerConnection::HostPeerConnection(QTcpSocket* socket, HostHandshakeConfig c
   socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
   connect(socket, &QTcpSocket::readyRead, this, &HostPeerConnection::readAvailable);
   connect(socket, &QTcpSocket::bytesWritten, this, &HostPeerConnection::pumpTransfer);
+  if (auto* tls = qobject_cast<QSslSocket*>(socket)) {
+    // TLS moves written bytes to the encrypted buffer at once: pump again as the kernel takes those.
+    connect(tls, &QSslSocket::encryptedBytesWritten, this, &HostPeerConnection::pumpTransfer);
+  }
   connect(socket, &QTcpSocket::disconnected, this, &HostPeerConnection::onDisconnected);
-  connect(socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError) {
+  connect(socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
+    if (m_socket && isTlsError(error)) {
+      emit tlsFailed(m_socket->errorString());
+      abort();
+      return;
+    }
     if (m_socket && m_socket->state() == QAbstractSocket::UnconnectedState) onDisconnected();
   });
 }
@@ -79,6 +93,7 @@ void HostPeerConnection::readAvailable() {
   while (!m_closing) {
     std::optional<ControlDecodeResult> result = m_reader.next();
     if (!result) break;
+    if (result->error == ControlError::Oversize) emit oversizeMessage();
     if (!isWelcomed()) {
       handleHandshakeResult(result->error == ControlError::None ? m_handshake.handleMessage(result->message)
                                                                 : m_handshake.handleDecodeError(result->error));
@@ -106,7 +121,9 @@ void HostPeerConnection::handleHandshakeResult(const HandshakeOutput& out) {
 }
 
 void HostPeerConnection::pumpTransfer() {
-  while (m_transfer && !m_closing && m_socket && m_socket->bytesToWrite() < kTransferHighWater) {
+  // A socket no longer connected writes nothing (nothing stays queued): without the state check a dead peer's
+  // whole transfer would be "sent" into the void at once and counted as finished.
+  while (m_transfer && !m_closing && m_socket && queuedBytes() < kTransferHighWater) {
     std::optional<ModelChunk> chunk = m_transfer->nextChunk();
     if (chunk) send(*chunk);
     if (m_transfer->finished()) {
@@ -116,6 +133,12 @@ void HostPeerConnection::pumpTransfer() {
       return;
     }
   }
+}
+
+qint64 HostPeerConnection::queuedBytes() const {
+  if (!m_socket) return 0;
+  const auto* tls = qobject_cast<const QSslSocket*>(m_socket.data());
+  return m_socket->bytesToWrite() + (tls ? tls->encryptedBytesToWrite() : 0);
 }
 
 void HostPeerConnection::onDisconnected() {

@@ -9,10 +9,16 @@
 //     each decoded message is emitted as messageReceived(); a decode error is emitted as protocolError() and the
 //     connection stops reading (the host's rule is to close it). Network input never asserts.
 //   - Model transfers: startTransfer() sends the ModelBegin, then chunks only while fewer than kTransferHighWater
-//     bytes are queued in the socket, continuing on bytesWritten, so other messages are never stuck behind a whole
+//     bytes are queued in the socket (TLS: plaintext plus encrypted bytes), continuing on bytesWritten (TLS: also
+//     encryptedBytesWritten), so other messages are never stuck behind a whole
 //     model. A new transfer replaces an unfinished one (the receiver abandons it on the new ModelBegin).
 //   - closed() is emitted exactly once, when the socket is gone (closed by either side or aborted).
 //   - Every socket gets TCP_NODELAY (QAbstractSocket::LowDelayOption).
+//   - The socket is a QSslSocket in server mode (TlsServer): only decrypted bytes reach the frame reader. A failed
+//     TLS handshake (a client that does not speak TLS 1.3, a bad record) emits tlsFailed(reason) and aborts the
+//     connection; nothing of the ShapeCast protocol was read or sent on it.
+//   - A control frame longer than kMaxControlMessageSize emits oversizeMessage() (then the usual refusal or
+//     protocolError(), and the connection is closed): the reader never buffers more than one maximum frame.
 
 #include "session/control_frame.h"
 #include "session/handshake_host.h"
@@ -70,6 +76,8 @@ class HostPeerConnection final : public QObject {
   void refused(sc::session::RefuseReason reason);
   void messageReceived(const sc::session::ControlMessage& message);
   void protocolError(sc::session::ControlError error);
+  void tlsFailed(const QString& reason);
+  void oversizeMessage();
   void transferFinished(std::uint32_t transferId);
   void closed();
 
@@ -77,6 +85,8 @@ class HostPeerConnection final : public QObject {
   void readAvailable();
   void handleHandshakeResult(const HandshakeOutput& out);
   void pumpTransfer();
+  /// Bytes written but not yet taken by the kernel: plaintext not yet encrypted plus TLS records queued.
+  [[nodiscard]] qint64 queuedBytes() const;
   void onDisconnected();
 
   QPointer<QTcpSocket> m_socket;

@@ -28,10 +28,15 @@ LevelLibrary::~LevelLibrary() {
 
 std::uint32_t LevelLibrary::pick(std::uint32_t wanted) const {
   if (wanted == 0 || wanted >= m_full || m_ladder.empty()) return m_full;
+  const auto count = [this](std::uint32_t target) {
+    const Level* level = find(target);
+    return level ? level->vertexCount : target;
+  };
+  const auto distance = [wanted](std::uint32_t v) { return v > wanted ? v - wanted : wanted - v; };
   std::uint32_t best = m_ladder.front();
-  for (const std::uint32_t t : m_ladder) {  // largest first: a tie keeps the larger
-    const auto distance = [wanted](std::uint32_t v) { return v > wanted ? v - wanted : wanted - v; };
-    if (distance(t) < distance(best)) best = t;
+  for (const std::uint32_t t : m_ladder) {
+    const std::uint32_t d = distance(count(t)), bestD = distance(count(best));
+    if (d < bestD || (d == bestD && count(t) > count(best))) best = t;
   }
   return best;
 }
@@ -46,15 +51,43 @@ void LevelLibrary::request(std::uint32_t target) {
       std::find(m_queue.begin(), m_queue.end(), target) != m_queue.end()) {
     return;
   }
+  std::erase(m_prefetch, target);  // explicitly wanted now: ahead of the prefetch
   m_queue.push_back(target);
   startNext();
 }
 
+void LevelLibrary::prefetchAll() {
+  std::vector<std::uint32_t> rungs{m_full};
+  rungs.insert(rungs.end(), m_ladder.begin(), m_ladder.end());
+  for (const std::uint32_t target : rungs) {
+    if (m_levels.contains(target) || m_failed.contains(target) || m_building == target ||
+        std::find(m_queue.begin(), m_queue.end(), target) != m_queue.end() ||
+        std::find(m_prefetch.begin(), m_prefetch.end(), target) != m_prefetch.end()) {
+      continue;
+    }
+    m_prefetch.push_back(target);
+  }
+  startNext();
+}
+
+LevelList LevelLibrary::levelList() const {
+  LevelList list;
+  list.total = static_cast<std::uint8_t>(std::min<std::size_t>(m_ladder.size() + 1, kMaxLevels));
+  for (std::size_t i = 0; i < list.total; ++i) {
+    const Level* level = find(i == 0 ? m_full : m_ladder[i - 1]);
+    if (level == nullptr) continue;
+    list.levels.push_back(LevelInfo{static_cast<std::uint8_t>(i), level->vertexCount, level->faceCount,
+                                    static_cast<std::uint32_t>(level->payload.size())});
+  }
+  return list;
+}
+
 void LevelLibrary::startNext() {
-  if (m_building || m_queue.empty()) return;
+  if (m_building || (m_queue.empty() && m_prefetch.empty())) return;
   if (m_worker.joinable()) m_worker.join();  // the previous build already handed its result back
-  m_building = m_queue.front();
-  m_queue.pop_front();
+  std::deque<std::uint32_t>& from = m_queue.empty() ? m_prefetch : m_queue;
+  m_building = from.front();
+  from.pop_front();
   m_worker = std::thread([this, model = m_model, target = *m_building, full = m_full] {
     auto result = std::make_shared<BuildResult>(build(*model, target, full));
     QMetaObject::invokeMethod(
@@ -93,6 +126,7 @@ LevelLibrary::BuildResult LevelLibrary::build(const HostModel& model, std::uint3
       out.kind = TransferKind::Level;
     }
     out.vertexCount = static_cast<std::uint32_t>(level.restV.rows());
+    out.faceCount = static_cast<std::uint32_t>(level.F.rows());
     const std::vector<std::byte> bytes = spectral::encodeResolutionLevel(level);
     if (bytes.empty() || bytes.size() > kMaxTransferSize) {
       result.error = QStringLiteral("level of %1 vertices encodes to %2 bytes (limit %3)")

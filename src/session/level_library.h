@@ -10,6 +10,8 @@
 // precomputed-digest constructor), so no transfer encodes or hashes on the network thread. The result is handed
 // back through a queued call, so levelReady()/levelFailed() are emitted on the owner's thread. The destructor
 // joins a running build (it waits for it to finish). Each target is built at most once; a failure is cached too.
+// Explicit request()s are built first (in order); prefetchAll() queues the rest of the ladder behind them, so
+// that levelList() soon holds every level's exact figures (the LevelList message).
 
 #include "session/control_messages.h"
 #include "session/host_model.h"
@@ -37,6 +39,7 @@ class LevelLibrary final : public QObject {
   struct Level {
     std::uint32_t target = 0;       ///< the ladder target (n for the full model)
     std::uint32_t vertexCount = 0;  ///< the level's actual vertex count n' (decimation may miss the target)
+    std::uint32_t faceCount = 0;    ///< the level's face count
     TransferKind kind = TransferKind::FullModel;
     QByteArray payload;  ///< encodeResolutionLevel() bytes, 1..kMaxTransferSize
     QByteArray sha256;   ///< sha256(payload), computed once on the worker (ModelBegin::sha256 of every transfer)
@@ -47,7 +50,9 @@ class LevelLibrary final : public QObject {
   ~LevelLibrary() override;
 
   /// The target serving a request for `wanted` vertices: n (the full model) for 0 or wanted ≥ n, otherwise the
-  /// ladder target closest to `wanted` (ties: the larger). Cost: O(ladder).
+  /// rung closest to `wanted` (ties: the larger), a rung counting as its built level's exact vertex count once
+  /// built and as its target before; so a request for a vertex count from levelList() gets exactly that level.
+  /// Cost: O(ladder · log ladder).
   [[nodiscard]] std::uint32_t pick(std::uint32_t wanted) const;
 
   /// The built level for `target`, or nullptr while it is not built (or failed).
@@ -57,6 +62,14 @@ class LevelLibrary final : public QObject {
   /// levelReady(target) or levelFailed(target, reason) is emitted (later, never from inside this call).
   /// `target` must come from pick().
   void request(std::uint32_t target);
+
+  /// Queues every rung not built, building, queued or failed (the full model first, then largest first) behind
+  /// the explicit requests; levelReady() follows for each as above. Cost: O(ladder).
+  void prefetchAll();
+
+  /// The built levels as a LevelList (level id 0 = full, i = ladder()[i − 1], total = ladder size + 1), ids
+  /// ascending; a failed level stays unlisted (so such a list never becomes complete()). Cost: O(ladder).
+  [[nodiscard]] LevelList levelList() const;
 
   /// The ladder targets (excluding the full model), largest first.
   [[nodiscard]] const std::vector<std::uint32_t>& ladder() const { return m_ladder; }
@@ -81,7 +94,8 @@ class LevelLibrary final : public QObject {
   std::vector<std::uint32_t> m_ladder;
   std::map<std::uint32_t, Level> m_levels;
   std::map<std::uint32_t, QString> m_failed;
-  std::deque<std::uint32_t> m_queue;
+  std::deque<std::uint32_t> m_queue;     ///< explicit requests, built first
+  std::deque<std::uint32_t> m_prefetch;  ///< prefetchAll(), built when m_queue is empty
   std::optional<std::uint32_t> m_building;
   std::thread m_worker;
 };

@@ -24,15 +24,17 @@ Challenge makeChallenge(QByteArrayView salt, std::uint32_t iterations) {
   return Challenge{secureRandomBytes(kNonceSize), salt.toByteArray(), iterations};
 }
 
-ChallengeResponse answerChallenge(QByteArrayView key, const Challenge& challenge) {
+ChallengeResponse answerChallenge(QByteArrayView key, const Challenge& challenge, QByteArrayView channelBinding) {
   QMessageAuthenticationCode mac(QCryptographicHash::Sha256, key.toByteArray());
-  mac.addData(QByteArray("SC-auth1"));
+  mac.addData(QByteArray("SC-auth2"));
   mac.addData(challenge.nonce);
+  mac.addData(channelBinding.data(), channelBinding.size());
   return ChallengeResponse{mac.result()};
 }
 
-bool verifyChallengeResponse(QByteArrayView key, const Challenge& challenge, const ChallengeResponse& response) {
-  return constantTimeEquals(answerChallenge(key, challenge).mac, response.mac);
+bool verifyChallengeResponse(QByteArrayView key, const Challenge& challenge, QByteArrayView channelBinding,
+                             const ChallengeResponse& response) {
+  return constantTimeEquals(answerChallenge(key, challenge, channelBinding).mac, response.mac);
 }
 
 bool constantTimeEquals(QByteArrayView a, QByteArrayView b) {

@@ -4,9 +4,12 @@
 #include "session/session_client.h"
 
 #include "session/session_clock.h"
+#include "session/tls_identity.h"
+#include "session/tls_known_hosts.h"
+#include "session/tls_server.h"
 
 #include <QtCore/QTimer>
-#include <QtNetwork/QTcpSocket>
+#include <QtNetwork/QSslSocket>
 
 #include <algorithm>
 #include <cmath>
@@ -31,31 +34,31 @@ QString describe(MessageType type) {
 SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
     : QObject(parent),
       m_options(std::move(options)),
-      m_handshake(ClientHandshakeConfig{m_options.name, m_options.password}) {
-  m_socket = new QTcpSocket(this);
-  m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment}, this);
+      m_handshake(ClientHandshakeConfig{m_options.name, m_options.password, {}}) {
+  m_socket = new QSslSocket(this);
+  m_socket->setSslConfiguration(clientTlsConfiguration());
+  m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}}, this);
   m_secondTimer = new QTimer(this);
   m_renewTimer = new QTimer(this);
   m_recomputeTimer = new QTimer(this);
   m_recomputeTimer->setSingleShot(true);
   m_recomputeTimer->setInterval(0);
-  connect(m_socket, &QTcpSocket::connected, this, [this] {
-    m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
-    m_lastHeard = sessionNow();
-    changeState(State::Handshaking);
-    send(m_handshake.start());
-  });
+  connect(m_socket, &QTcpSocket::connected, this,
+          [this] { m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1); });
+  connect(m_socket, &QSslSocket::encrypted, this, &SessionClient::onEncrypted);
   connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
   connect(m_socket, &QTcpSocket::disconnected, this, [this] {
     if (m_handshake.state() == ClientHandshake::State::Refused) {
       fail(m_handshake.errorText());
+    } else if (live()) {
+      fail(QStringLiteral("host lost: the connection closed without a Leave"));
     } else {
       fail(QStringLiteral("the host closed the connection"));
     }
   });
   connect(m_socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
     if (error == QAbstractSocket::RemoteHostClosedError) return;  // disconnected() reports it
-    fail(m_socket->errorString());
+    fail(live() ? QStringLiteral("host lost: %1").arg(m_socket->errorString()) : m_socket->errorString());
   });
   connect(m_channel, &ClientDatagramChannel::frameUpdated, this, &SessionClient::onFrameUpdated);
   connect(m_recomputeTimer, &QTimer::timeout, this, [this] {
@@ -75,7 +78,28 @@ SessionClient::~SessionClient() {
 void SessionClient::start() {
   if (m_state != State::Idle) return;
   changeState(State::Connecting);
-  m_socket->connectToHost(m_options.host, m_options.port);
+  m_socket->connectToHostEncrypted(m_options.host, m_options.port);
+}
+
+void SessionClient::onEncrypted() {
+  const QByteArray presented = certificateFingerprint(m_socket->peerCertificate());
+  m_hostFingerprint = presented;  // also when refused below: the UI shows what was seen
+  KnownHosts known(m_options.knownHostsFile);
+  const bool tofu = m_options.trustOnFirstUse;
+  const FingerprintCheck check = checkFingerprint(
+      presented, m_options.fingerprint, tofu ? known.lookup(m_options.host, m_options.port) : std::nullopt, tofu);
+  if (!check.accepted()) {
+    fail(check.reason);
+    return;
+  }
+  using V = FingerprintCheck::Verdict;
+  if (tofu && (check.verdict == V::FirstUse || check.verdict == V::Pinned)) {
+    known.remember(m_options.host, m_options.port, presented);
+  }
+  m_handshake = ClientHandshake(ClientHandshakeConfig{m_options.name, m_options.password, presented});
+  m_lastHeard = sessionNow();
+  changeState(State::Handshaking);
+  send(m_handshake.start());
 }
 
 void SessionClient::leave() {
@@ -189,6 +213,10 @@ void SessionClient::onMessage(const ControlMessage& message) {
       m_peers = std::get<PeerList>(message);
       emit peersChanged();
       return;
+    case MessageType::LevelList:
+      m_levels = std::get<LevelList>(message);
+      emit levelsChanged();
+      return;
     case MessageType::LockNotice:
       sendLock(m_lock->apply(std::get<LockNotice>(message), nowMillis()));
       emit lockChanged();
@@ -272,7 +300,7 @@ void SessionClient::everySecond() {
   if (!live()) return;
   const Micros now = sessionNow();
   if (now - m_lastHeard > std::chrono::duration_cast<Micros>(m_options.hostTimeout)) {
-    fail(QStringLiteral("host not responding"));
+    fail(QStringLiteral("host lost: not responding for %1 s").arg(m_options.hostTimeout.count() / 1000.0));
     return;
   }
   send(Heartbeat{m_heartbeatSequence++});

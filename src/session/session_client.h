@@ -5,8 +5,12 @@
 // adapter: protocol decisions are the pure state machines'; this class wires them to sockets and timers.
 //
 // States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level decoded--> Ready
+//          (Connecting covers the TCP connect and the TLS 1.3 handshake; the Hello is sent once the host's
+//          certificate passed checkFingerprint(), tls_known_hosts.h)
 //          any --Leave from the host / leave()--> Left;  any --refusal, error, silence--> Failed (reason in
-//          errorText(): the host's Refused text, "host not responding", the socket's error, …).
+//          errorText(): the host's Refused text, the socket's error, …; once joined, a host that vanished without
+//          a Leave (killed, crashed, unplugged, silent for hostTimeout) reads "host lost: <why>"). A failed or left
+//          client keeps its last level, Z and positions(); joining again takes a new SessionClient.
 // Contracts
 //   - After the Welcome: the datagram channel is bound and opened toward the host's address and udpPort, and a
 //     ResolutionRequest{options.level} is sent. A new level replaces the displayed one only once it is complete and
@@ -52,7 +56,7 @@
 #include <utility>
 #include <vector>
 
-class QTcpSocket;
+class QSslSocket;
 class QTimer;
 
 namespace sc::session {
@@ -66,9 +70,14 @@ struct SessionClientOptions {
   /// When set (in (0, 1)), overrides `level` with round(fraction · n) once the Welcome tells n, so that a client
   /// can ask for "20 %" without knowing the mesh; 1 or more means full resolution.
   std::optional<double> levelFraction;
-  Concealment concealment = Concealment::HoldLast;
+  /// What lost datagrams show (frame_predictor.h): Extrapolate by default (safe at pauses: the host's still frame,
+  /// still_frame_schedule.h); HoldLast and ZeroFill stay selectable.
+  Concealment concealment = Concealment::Extrapolate;
   std::optional<ImpairmentSettings> impairment;  ///< simulated network conditions on receive
   std::chrono::milliseconds hostTimeout{10000};  ///< a host silent this long fails the session
+  QByteArray fingerprint;        ///< pinned SHA-256 of the host's certificate; empty: see trustOnFirstUse
+  bool trustOnFirstUse = false;  ///< remember the first fingerprint per host:port (KnownHosts), refuse a change
+  QString knownHostsFile;        ///< KnownHosts store; empty: the application's QSettings
 };
 
 class SessionClient final : public QObject {
@@ -105,12 +114,18 @@ class SessionClient final : public QObject {
 
   [[nodiscard]] State state() const { return m_state; }
   [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  /// SHA-256 of the certificate the host showed (empty before the TLS handshake ends; set also when the
+  /// fingerprint check refused it, so that the UI can show both).
+  [[nodiscard]] const QByteArray& hostFingerprint() const { return m_hostFingerprint; }
   /// The handshake (its refusal() holds the host's reason when it refused us).
   [[nodiscard]] const ClientHandshake& handshake() const { return m_handshake; }
   /// The Welcome (peer id, m, n, udpPort); nullopt before it.
   [[nodiscard]] const std::optional<Welcome>& session() const { return m_session; }
   [[nodiscard]] PeerId peerId() const { return m_session ? m_session->peerId : kNoPeer; }
   [[nodiscard]] const PeerList& peers() const { return m_peers; }
+  /// The host's built levels with exact vertex/face counts (LevelList; empty until the first one arrives).
+  /// requestResolution(closestLevel(levels(), n)->vertexCount) gets exactly that level.
+  [[nodiscard]] const LevelList& levels() const { return m_levels; }
   /// The lock state machine (nullptr before the Welcome).
   [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
   /// The displayed level (nullptr before the first is complete), its payload bytes as received, its vertex count.
@@ -139,6 +154,8 @@ class SessionClient final : public QObject {
   void modelProgress(quint64 received, quint64 total);
   void lockChanged();
   void peersChanged();
+  /// A LevelList arrived (levels() changed).
+  void levelsChanged();
   void keyframeReceived(std::uint32_t frame, const Eigen::MatrixXd& Z);
   void positionsUpdated(std::uint32_t frame);
 
@@ -148,6 +165,7 @@ class SessionClient final : public QObject {
   void send(const ControlMessage& message);
   void sendLock(const std::optional<LockMessage>& message);
   void readAvailable();
+  void onEncrypted();
   void handleHandshake(const HandshakeOutput& out);
   void onJoined();
   void onMessage(const ControlMessage& message);
@@ -168,7 +186,8 @@ class SessionClient final : public QObject {
   [[nodiscard]] bool live() const { return m_state == State::Loading || m_state == State::Ready; }
 
   SessionClientOptions m_options;
-  QTcpSocket* m_socket = nullptr;
+  QSslSocket* m_socket = nullptr;
+  QByteArray m_hostFingerprint;
   ClientDatagramChannel* m_channel = nullptr;
   QTimer* m_secondTimer = nullptr;
   QTimer* m_renewTimer = nullptr;
@@ -180,6 +199,7 @@ class SessionClient final : public QObject {
   QString m_errorText;
   std::optional<Welcome> m_session;
   PeerList m_peers;
+  LevelList m_levels;
   std::unique_ptr<LockClient> m_lock;
   std::optional<spectral::ResolutionLevel> m_level;
   QByteArray m_levelPayload;

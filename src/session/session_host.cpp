@@ -9,10 +9,10 @@
 #include "session/level_library.h"
 #include "session/session_clock.h"
 #include "session/session_host_peer.h"
+#include "session/tls_server.h"
 
 #include <QtCore/QPointer>
 #include <QtCore/QTimer>
-#include <QtNetwork/QTcpServer>
 
 #include <algorithm>
 
@@ -26,7 +26,7 @@ constexpr int kHeartbeatMs = 1000;
 
 SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOptions options, QObject* parent)
     : QObject(parent), m_model(std::move(model)), m_options(std::move(options)) {
-  m_server = new QTcpServer(this);
+  m_server = new TlsServer(this);
   m_channel = new HostDatagramChannel(m_options.codec, this);
   m_levels = new LevelLibrary(m_model, this);
   m_housekeeping = new QTimer(this);
@@ -34,6 +34,9 @@ SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOpti
   m_coalesce = new QTimer(this);
   m_coalesce->setSingleShot(true);
   m_coalesce->setTimerType(Qt::PreciseTimer);
+  m_still = new QTimer(this);
+  m_still->setSingleShot(true);
+  m_still->setTimerType(Qt::PreciseTimer);
   m_deformer =
       std::make_unique<spectral::SpectralDeformer>(m_model->basis, m_model->operators, m_model->V, m_options.deformer);
   m_Z = Eigen::MatrixXd::Zero(m_model->rowCount(), 3);
@@ -44,6 +47,7 @@ SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOpti
   connect(m_housekeeping, &QTimer::timeout, this, &SessionHost::housekeeping);
   connect(m_heartbeat, &QTimer::timeout, this, &SessionHost::heartbeat);
   connect(m_coalesce, &QTimer::timeout, this, &SessionHost::produceFrame);
+  connect(m_still, &QTimer::timeout, this, &SessionHost::produceStillFrame);
 }
 
 SessionHost::~SessionHost() {
@@ -65,6 +69,10 @@ bool SessionHost::start(QString* error) {
     return fail(QStringLiteral("the model needs 1..%1 basis functions and at least 3 vertices").arg(kMaxRows));
   }
   m_options.maxPeers = std::clamp(m_options.maxPeers, 1, kMaxPeers - 1);
+  m_options.maxPendingHandshakes = std::max(m_options.maxPendingHandshakes, 1);
+  m_options.maxPendingPerAddress = std::max(m_options.maxPendingPerAddress, 1);
+  if (!resolveIdentity(error)) return false;
+  m_server->setSslConfiguration(hostTlsConfiguration(m_identity->certificate, m_identity->privateKey));
   if (m_options.password) {
     const std::uint32_t iterations = std::clamp<std::uint32_t>(m_options.pbkdf2Iterations, 1, kMaxPbkdf2Iterations);
     m_secret = makeSessionSecret(*m_options.password, iterations, secureRandomBytes);
@@ -81,6 +89,30 @@ bool SessionHost::start(QString* error) {
   m_housekeeping->start(kHousekeepingMs);
   m_heartbeat->start(kHeartbeatMs);
   emit logMessage(QStringLiteral("hosting on TCP %1, UDP %2").arg(tcpPort()).arg(udpPort()));
+  emit logMessage(QStringLiteral("certificate fingerprint (SHA-256): %1").arg(formatFingerprint(fingerprint())));
+  return true;
+}
+
+bool SessionHost::resolveIdentity(QString* error) {
+  m_identity = m_options.identity;
+  if (m_identity) {
+    if (!m_identity->certificate.isNull() && !m_identity->privateKey.isNull()) return true;
+    if (error) *error = QStringLiteral("the TLS identity has no certificate or no key");
+    return false;
+  }
+  QString why;
+  const QString directory = defaultTlsIdentityDirectory();
+  if (std::optional<TlsIdentity> stored = loadOrCreateTlsIdentity(directory, &why)) {
+    m_identity = std::make_shared<const TlsIdentity>(std::move(*stored));
+    return true;
+  }
+  emit logMessage(QStringLiteral("cannot use the stored TLS identity (%1): using a new one for this run").arg(why));
+  std::optional<TlsIdentity> fresh = generateTlsIdentity(QStringLiteral("ShapeCast host"), &why);
+  if (!fresh) {
+    if (error) *error = QStringLiteral("no TLS identity: %1").arg(why);
+    return false;
+  }
+  m_identity = std::make_shared<const TlsIdentity>(std::move(*fresh));
   return true;
 }
 
@@ -90,6 +122,7 @@ void SessionHost::shutdown() {
   m_housekeeping->stop();
   m_heartbeat->stop();
   m_coalesce->stop();
+  m_still->stop();
   m_server->close();
   std::vector<QPointer<HostPeerConnection>> connections;
   for (auto& [id, peer] : m_peers) connections.emplace_back(peer->connection);

@@ -1,6 +1,7 @@
 #pragma once
-// The host of a session over real sockets (docs/protocol.md, "Sequence" and "Rules"): a QTcpServer for the control
-// connections (one HostPeerConnection each: handshake, then session messages), a HostDatagramChannel for the
+// The host of a session over real sockets (docs/protocol.md, "Sequence" and "Rules"): a TlsServer for the control
+// connections (TLS 1.3 with the host's certificate, docs/security.md; one HostPeerConnection each: handshake, then
+// session messages), a HostDatagramChannel for the
 // coefficient frames, the LockArbiter, the SpectralDeformer and the LevelLibrary. A thin adapter: the protocol
 // decisions are the pure state machines'; this class wires them to sockets, timers and the deformer.
 //
@@ -14,11 +15,19 @@
 //   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); a rejected one is counted (NotHolder / StaleEpoch /
 //     bad vertex ids). An accepted drag solves at once and sends a frame (timestamp = the drag's arrival), unless
 //     the previous frame went out less than `coalesce` ago: then one single-shot timer sends the latest pose.
-//     Without drags the current Z is repeated every `idleRefresh`. Every `referenceEvery` frames each peer that
-//     has a model gets a Keyframe (exact reference for its Hausdorff measurement).
+//     When no frame follows a moving frame within about one frame interval (StillFrameSchedule: 1.25 × the
+//     measured interval, clamped to 20–100 ms), one "still" frame repeats Z under a new frame number, so that
+//     extrapolating clients see zero velocity (still_frame_schedule.h; off with `stillFrame` = false).
+//     Without drags the current Z is repeated every `idleRefresh` after the last frame (the still frame
+//     included). Every `referenceEvery` frames (still and refresh frames count) each peer that has a model gets
+//     a Keyframe (exact reference for its Hausdorff measurement).
 //   - Heartbeat to every peer each second; a peer silent (no byte) for `peerTimeout` is dropped. Leave or a closed
 //     socket: the arbiter frees or dequeues the peer, the datagram channel forgets it, PeerList to everybody.
 //   - A decode error or an unexpected message after the Welcome is counted and the connection closed.
+//   - Limits on unauthenticated connections (not yet welcomed, TLS handshake included): at most
+//     maxPendingHandshakes in all and maxPendingPerAddress from one address; a connection over a limit is aborted
+//     at accept, before any byte is read or sent (counted in connectionsOverLimit). Each must be welcomed within
+//     handshakeTimeout (10 s) of its accept, TLS handshake included, or it is closed.
 //   - shutdown() sends Leave to every peer and stops listening.
 // Network input never asserts (style.md item 6); every rejection is counted in counters().
 
@@ -29,6 +38,8 @@
 #include "session/lock_arbiter.h"
 #include "session/lock_client.h"
 #include "session/receiver_statistics.h"
+#include "session/still_frame_schedule.h"
+#include "session/tls_identity.h"
 #include "spectral/spectral_deformer.h"
 
 #include <Eigen/Core>
@@ -46,7 +57,6 @@
 #include <span>
 #include <vector>
 
-class QTcpServer;
 class QTimer;
 
 namespace sc::session {
@@ -54,6 +64,7 @@ namespace sc::session {
 class HostDatagramChannel;
 class HostPeerConnection;
 class LevelLibrary;
+class TlsServer;
 
 inline constexpr PeerId kHostPeer = 1;  ///< the host's own user
 
@@ -71,6 +82,15 @@ struct SessionHostOptions {
   std::chrono::milliseconds idleRefresh{1000};   ///< repeat the current Z when nothing moved for this long
   std::chrono::milliseconds coalesce{8};         ///< minimum spacing of drag frames
   std::chrono::milliseconds peerTimeout{10000};  ///< a peer silent this long is dropped
+  /// One still frame after the last moving frame (still_frame_schedule.h); false: none (e.g. a test emulating the
+  /// loss of the still frame).
+  bool stillFrame = true;
+  /// The TLS certificate and key. None: loadOrCreateTlsIdentity(defaultTlsIdentityDirectory()) at start() (the
+  /// same fingerprint every run), or a fresh in-memory one when that folder cannot be used (logged).
+  std::shared_ptr<const TlsIdentity> identity;
+  int maxPendingHandshakes = 16;  ///< unauthenticated connections at once, ≥ 1
+  int maxPendingPerAddress = 8;   ///< unauthenticated connections at once from one IP address, ≥ 1
+  std::chrono::milliseconds handshakeTimeout = kHandshakeTimeout;  ///< TLS + Hello + password proof, from accept
 };
 
 /// What the host rejected or dropped, for tests and the UI.
@@ -85,7 +105,11 @@ struct SessionHostCounters {
   std::uint64_t silentPeersDropped = 0;
   std::uint64_t framesSent = 0;
   std::uint64_t keyframesSent = 0;
+  std::uint64_t stillFramesSent = 0;  ///< still frames (included in framesSent), see StillFrameSchedule
   std::uint64_t transfersCompleted = 0;
+  std::uint64_t tlsFailures = 0;           ///< TLS handshakes that failed (e.g. a client not speaking TLS)
+  std::uint64_t connectionsOverLimit = 0;  ///< aborted at accept: too many unauthenticated connections
+  std::uint64_t oversizeMessages = 0;      ///< control frames longer than kMaxControlMessageSize (closed)
 
   [[nodiscard]] std::uint64_t refusalsFor(RefuseReason reason) const {
     return refusals[static_cast<std::size_t>(reason)];
@@ -101,7 +125,8 @@ class SessionHost final : public QObject {
   SessionHost(std::shared_ptr<const HostModel> model, SessionHostOptions options, QObject* parent = nullptr);
   ~SessionHost() override;
 
-  /// Derives the password secret (PBKDF2, once), binds UDP, then listens on TCP. False with `error` set on failure.
+  /// Loads or creates the TLS identity (options.identity), derives the password secret (PBKDF2, once), binds UDP,
+  /// then listens on TCP. False with `error` set on failure.
   bool start(QString* error = nullptr);
   /// Sends Leave to every peer, closes every connection and stops listening. Idempotent. The Leaves are written
   /// by the event loop: keep the host alive (and the loop running) briefly after shutdown(); destroying a host
@@ -110,6 +135,9 @@ class SessionHost final : public QObject {
 
   [[nodiscard]] quint16 tcpPort() const;
   [[nodiscard]] quint16 udpPort() const;
+  /// SHA-256 of the host's TLS certificate (kFingerprintSize bytes; empty before start()): what users compare
+  /// (formatFingerprint()) and clients pin.
+  [[nodiscard]] QByteArray fingerprint() const { return m_identity ? m_identity->fingerprint() : QByteArray(); }
   [[nodiscard]] const SessionHostOptions& options() const { return m_options; }
 
   /// The current PeerList (the host first).
@@ -148,6 +176,9 @@ class SessionHost final : public QObject {
   struct Peer;
 
   void acceptConnections();
+  bool resolveIdentity(QString* error);
+  /// True when one more unauthenticated connection from `address` stays within the limits.
+  [[nodiscard]] bool admits(const QHostAddress& address) const;
   void onWelcomed(HostPeerConnection* connection);
   void onMessage(HostPeerConnection* connection, const ControlMessage& message);
   void onClosed(HostPeerConnection* connection);
@@ -168,20 +199,23 @@ class SessionHost final : public QObject {
   void broadcastPeerList();
   void sendKeyframe(HostPeerConnection& connection);
   void produceFrame();
-  void housekeeping();  ///< every 100 ms: handshake timeouts, lock lease, own renew, idle refresh
-  void heartbeat();     ///< every second: Heartbeat to each peer, silent peers dropped
+  void produceStillFrame();  ///< the still frame timer: a frame with the same Z unless a frame is pending
+  void housekeeping();       ///< every 100 ms: handshake timeouts, lock lease, own renew, idle refresh
+  void heartbeat();          ///< every second: Heartbeat to each peer, silent peers dropped
   PeerId allocatePeerId();
   [[nodiscard]] Millis now() const;
 
   std::shared_ptr<const HostModel> m_model;
   SessionHostOptions m_options;
   std::optional<SessionSecret> m_secret;
-  QTcpServer* m_server = nullptr;
+  std::shared_ptr<const TlsIdentity> m_identity;
+  TlsServer* m_server = nullptr;
   HostDatagramChannel* m_channel = nullptr;
   LevelLibrary* m_levels = nullptr;
   QTimer* m_housekeeping = nullptr;
   QTimer* m_heartbeat = nullptr;
   QTimer* m_coalesce = nullptr;
+  QTimer* m_still = nullptr;                        ///< single-shot: the still frame after the last moving frame
   std::map<PeerId, std::unique_ptr<Peer>> m_peers;  ///< every open connection, welcomed or not
   LockArbiter m_arbiter;
   LockClient m_localLock{kHostPeer};
@@ -196,8 +230,11 @@ class SessionHost final : public QObject {
   std::uint32_t m_frame = 0;
   int m_framesSinceKeyframe = 0;
   Micros m_lastFrameAt{0};
+  Micros m_lastDragFrameAt{0};  ///< last frame made from a drag: the coalescing spacing counts from it only, so a
+                                ///< still or idle frame never delays the next drag's frame
   std::vector<spectral::HandleTransform> m_pendingPoses;
   std::optional<Micros> m_pendingArrival;  ///< set while an accepted drag waits for its frame
+  StillFrameSchedule m_stillSchedule;
   bool m_started = false;
   bool m_shutDown = false;
 };

@@ -1,4 +1,5 @@
-// SessionHost: frame production (solve the pending pose, send the coefficient frame) and Keyframes.
+// SessionHost: frame production (solve the pending pose, send the coefficient frame), the still frame after the
+// last moving frame (still_frame_schedule.h) and Keyframes.
 
 #include "session/session_host.h"
 
@@ -6,6 +7,10 @@
 #include "session/host_peer_connection.h"
 #include "session/session_clock.h"
 #include "session/session_host_peer.h"
+
+#include <QtCore/QTimer>
+
+#include <algorithm>
 
 namespace sc::session {
 
@@ -15,15 +20,24 @@ void SessionHost::produceFrame() {
   if (m_shutDown) return;
   const Micros t = sessionNow();
   Micros stamp = t;
+  bool moved = false;
   if (m_pendingArrival) {
-    m_Z = m_deformer->solve(m_pendingPoses);
+    Eigen::MatrixXd Z = m_deformer->solve(m_pendingPoses);
+    moved = Z != m_Z;
+    m_Z = std::move(Z);
     stamp = *m_pendingArrival;
     m_pendingArrival.reset();
+    m_lastDragFrameAt = t;
   }
   ++m_frame;
   m_channel->sendFrame(m_frame, m_Z, stamp);
   m_lastFrameAt = t;
   ++m_counters.framesSent;
+  m_still->stop();
+  if (const std::optional<Micros> due = m_stillSchedule.onFrame(t, moved); due && m_options.stillFrame) {
+    const auto wait = std::chrono::ceil<Millis>(*due - sessionNow());
+    m_still->start(std::max<int>(1, static_cast<int>(wait.count())));
+  }
   if (m_options.referenceEvery > 0 && ++m_framesSinceKeyframe >= m_options.referenceEvery) {
     m_framesSinceKeyframe = 0;
     for (const auto& [id, peer] : m_peers) {
@@ -31,6 +45,13 @@ void SessionHost::produceFrame() {
     }
   }
   emit frameSent(m_frame);
+}
+
+void SessionHost::produceStillFrame() {
+  // A drag that came in meanwhile sends its own (moving) frame: no still frame then.
+  if (m_shutDown || m_coalesce->isActive() || m_pendingArrival) return;
+  ++m_counters.stillFramesSent;
+  produceFrame();
 }
 
 void SessionHost::sendKeyframe(HostPeerConnection& connection) {

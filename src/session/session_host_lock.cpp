@@ -101,7 +101,7 @@ bool SessionHost::acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral:
   m_pendingPoses = std::move(poses);
   m_pendingArrival = arrivedAt;
   if (m_coalesce->isActive()) return true;  // the pending timer sends the latest pose
-  const Micros since = sessionNow() - m_lastFrameAt;
+  const Micros since = sessionNow() - m_lastDragFrameAt;
   const Micros spacing = std::chrono::duration_cast<Micros>(m_options.coalesce);
   if (since >= spacing) {
     produceFrame();

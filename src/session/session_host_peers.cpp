@@ -10,7 +10,8 @@
 #include "session/session_clock.h"
 #include "session/session_host_peer.h"
 
-#include <QtNetwork/QTcpServer>
+#include "session/tls_server.h"
+
 #include <QtNetwork/QTcpSocket>
 
 #include <algorithm>
@@ -35,12 +36,26 @@ PeerId SessionHost::allocatePeerId() {
   return kNoPeer;
 }
 
+bool SessionHost::admits(const QHostAddress& address) const {
+  int pending = 0;
+  int fromAddress = 0;
+  for (const auto& [id, peer] : m_peers) {
+    const HostPeerConnection* c = peer->connection;
+    if (c->isWelcomed() || c->isClosing()) continue;
+    ++pending;
+    if (c->peerAddress().isEqual(address, QHostAddress::TolerantConversion)) ++fromAddress;
+  }
+  return pending < m_options.maxPendingHandshakes && fromAddress < m_options.maxPendingPerAddress;
+}
+
 void SessionHost::acceptConnections() {
   while (m_server->hasPendingConnections()) {
     QTcpSocket* socket = m_server->nextPendingConnection();
-    const PeerId id = m_shutDown ? kNoPeer : allocatePeerId();
+    const bool admitted = !m_shutDown && admits(socket->peerAddress());
+    const PeerId id = admitted ? allocatePeerId() : kNoPeer;
     if (id == kNoPeer) {
-      socket->abort();
+      if (!m_shutDown) ++m_counters.connectionsOverLimit;
+      socket->abort();  // nothing read, nothing sent
       socket->deleteLater();
       continue;
     }
@@ -59,6 +74,8 @@ void SessionHost::acceptConnections() {
     config.udpPort = m_channel->port();
     config.peerId = id;
     config.random = secureRandomBytes;
+    config.channelBinding = fingerprint();
+    config.timeout = std::max(m_options.handshakeTimeout, Millis{1});
     auto* connection = new HostPeerConnection(socket, std::move(config), now(), this);
     auto peer = std::make_unique<Peer>();
     peer->connection = connection;
@@ -76,6 +93,12 @@ void SessionHost::acceptConnections() {
     connect(connection, &HostPeerConnection::transferFinished, this,
             [this, connection] { onTransferFinished(connection); });
     connect(connection, &HostPeerConnection::closed, this, [this, connection] { onClosed(connection); });
+    connect(connection, &HostPeerConnection::tlsFailed, this, [this, connection](const QString& why) {
+      ++m_counters.tlsFailures;
+      emit logMessage(
+          QStringLiteral("TLS handshake with %1 failed: %2").arg(connection->peerAddress().toString(), why));
+    });
+    connect(connection, &HostPeerConnection::oversizeMessage, this, [this] { ++m_counters.oversizeMessages; });
   }
 }
 
@@ -83,6 +106,10 @@ void SessionHost::onWelcomed(HostPeerConnection* connection) {
   const NegotiatedPeer& joined = *connection->peer();
   m_channel->addPeer(joined.peerId, joined.datagramKey, joined.pathToken);
   broadcastPeerList();
+  // The exact level figures built so far; the rest of the ladder is built in the background and each new level
+  // re-sends the list to everybody (onLevelReady).
+  connection->send(m_levels->levelList());
+  m_levels->prefetchAll();
   if (m_arbiter.holder() != kNoPeer) {
     connection->send(LockNotice{LockNoticeKind::Granted, m_arbiter.holder(), m_arbiter.epoch(), 0, {}});
   }
@@ -173,6 +200,7 @@ void SessionHost::startTransfer(Peer& peer, std::uint32_t target) {
 }
 
 void SessionHost::onLevelReady(std::uint32_t target) {
+  broadcast(m_levels->levelList());
   std::vector<PeerId> waiting;
   for (const auto& [id, peer] : m_peers) {
     if (peer->waitingFor == target) waiting.push_back(id);

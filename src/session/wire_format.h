@@ -136,6 +136,16 @@
 //                                                     |          latencyP50Ms, latencyP99Ms, hdMaxPct,
 //                                                     |          hdMeanPct, hdLastPct (finite, ≥ 0)
 //
+// 0x51 LevelList (host → client: after the Welcome, then again whenever it changes)
+//    0  1  total  levels in the host's ladder, full model included, 1..kMaxLevels (built or not)
+//    1  1  count  c ≤ total: levels built so far, then c entries of kLevelEntrySize = 13 bytes, ids ascending:
+//          +0  1  levelId       0 = the full model, i = the i-th ladder level (50%, 20%, 5% of n: 1, 2, 3)
+//          +1  4  vertexCount   exact vertex count n' of that level, ≥ 1 (what a transfer of it will carry)
+//          +5  4  faceCount     exact face count, ≥ 1
+//          +9  4  payloadBytes  size of its transfer (ModelBegin.totalSize), 1..kMaxTransferSize
+//    Lists the levels the host has built so far (it builds the whole ladder in the background after the first
+//    Welcome; count == total: complete); a ResolutionRequest for a listed vertexCount gets exactly that level.
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -147,7 +157,7 @@
 namespace sc::session {
 
 inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 1;
+inline constexpr std::uint8_t kProtocolVersion = 2;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
@@ -172,6 +182,7 @@ enum class MessageType : std::uint8_t {
   Heartbeat = 0x4e,
   Constraints = 0x4f,
   StatsReport = 0x50,
+  LevelList = 0x51,
   ControlEnd,  ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
@@ -203,7 +214,9 @@ inline constexpr int kPathTokenSize = 16;
 inline constexpr int kChecksumSize = 32;  ///< SHA-256.
 inline constexpr std::uint32_t kMaxChunkBytes = 65536;
 inline constexpr std::uint32_t kMaxTransferSize = 1u << 30;  ///< 1 GiB per model transfer.
-inline constexpr int kMaxPeers = 64;
+inline constexpr int kMaxPeers = 128;
+inline constexpr int kMaxLevels = 16;       ///< LevelList: levels in a ladder
+inline constexpr int kLevelEntrySize = 13;  ///< one LevelList entry
 inline constexpr int kMaxHandles = 64;
 inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
 inline constexpr int kHandleEntrySize = 2 + 12 * 8;
@@ -211,8 +224,8 @@ inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;  ///< 42 by
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
-static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));  // largest Keyframe
-static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                  // largest ModelChunk
+static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));              // largest Keyframe
+static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                              // largest ModelChunk
 static_assert(1 + 10 + 4 * (kMaxHandles + kMaxConstraintVertices) <= kMaxControlMessageSize);  // largest Constraints
 
 /// The fixed header of a coefficient datagram, host byte order.

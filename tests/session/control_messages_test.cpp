@@ -46,6 +46,7 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       Heartbeat{0xfffffffe},
       Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
       StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
+      LevelList{4, {{0, 22982, 45960, 9654321}, {2, 5231, 10458, 2200000}, {3, 1719, 3434, kMaxTransferSize}}},
   };
 }
 
@@ -87,7 +88,7 @@ TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
-  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534301026162"));  // frozen: length, type, magic, version, name
+  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534302026162"));  // frozen: length, type, magic, version, name
 }
 
 TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
@@ -99,7 +100,8 @@ TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
   EXPECT_TRUE(encodeControlMessage(Welcome{1, filled(32, 0), filled(16, 0), 1, 1, 0}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(Constraints{1, {{}}, {}}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(Constraints{0, {{1}}, {}}).isEmpty());
-  EXPECT_TRUE(encodeControlMessage(Constraints{1, {}, std::vector<std::uint32_t>(kMaxConstraintVertices + 1, 0)}).isEmpty());
+  EXPECT_TRUE(
+      encodeControlMessage(Constraints{1, {}, std::vector<std::uint32_t>(kMaxConstraintVertices + 1, 0)}).isEmpty());
   EXPECT_EQ(encodeControlMessage(StatsReport{}).size(), 5 + kStatsReportSize);
   StatsReport negative;
   negative.jitterMs = -1.0;
@@ -116,6 +118,44 @@ TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
   EXPECT_TRUE(encodeControlMessage(LockMessage{static_cast<LockRequestKind>(4), 1}).isEmpty());
 }
 
+TEST(ControlMessages, LevelListLayoutAndLimits) {
+  // total, count, then per level: id, vertices, faces, payload bytes (wire_format.h, 0x51).
+  const QByteArray bytes = encodeControlMessage(LevelList{3, {{0, 22982, 45960, 9654321}, {2, 1719, 3434, 700}}});
+  ASSERT_EQ(bytes.size(), 5 + 2 + 2 * kLevelEntrySize);
+  EXPECT_EQ(bytes.toHex(), QByteArray("0000001d51"
+                                      "0302"
+                                      "00000059c60000b38800935031"
+                                      "02000006b700000d6a000002bc"));
+  EXPECT_EQ(encodeControlMessage(LevelList{1, {}}).size(), 5 + 2);  // nothing built yet
+  EXPECT_TRUE(encodeControlMessage(LevelList{}).isEmpty());         // total 0
+  EXPECT_TRUE(encodeControlMessage(LevelList{kMaxLevels + 1, {}}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(LevelList{1, {{0, 1, 1, 1}, {1, 1, 1, 1}}}).isEmpty());  // count > total
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{3, 1, 1, 1}}}).isEmpty());                // id ≥ total
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{1, 5, 5, 5}, {1, 4, 4, 4}}}).isEmpty());  // ids not ascending
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{0, 0, 1, 1}}}).isEmpty());                // no vertices
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{0, 1, 0, 1}}}).isEmpty());                // no faces
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{0, 1, 1, 0}}}).isEmpty());                // empty payload
+  EXPECT_TRUE(encodeControlMessage(LevelList{3, {{0, 1, 1, kMaxTransferSize + 1}}}).isEmpty());
+  // A count larger than the entries that follow (truncated) and more entries than the count (trailing bytes).
+  EXPECT_EQ(decodeControlMessage(0x51, QByteArray::fromHex("0302") + bytes.sliced(7, kLevelEntrySize)).error,
+            ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x51, QByteArray::fromHex("0301") + bytes.sliced(7)).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x51, QByteArray::fromHex("ffff")).error, ControlError::Malformed);  // oversized
+  EXPECT_EQ(decodeControlMessage(0x51, bytes.sliced(5)).error, ControlError::None);
+}
+
+TEST(ControlMessages, ClosestLevelByExactCount) {
+  const LevelList list{4, {{0, 22982, 1, 1}, {1, 11491, 1, 1}, {2, 5231, 1, 1}, {3, 1719, 1, 1}}};
+  EXPECT_EQ(closestLevel(LevelList{}, 5000), nullptr);
+  EXPECT_EQ(closestLevel(list, 0)->vertexCount, 22982u);  // 0 = full
+  EXPECT_EQ(closestLevel(list, 5000)->vertexCount, 5231u);
+  EXPECT_EQ(closestLevel(list, 1149)->vertexCount, 1719u);  // 5% of n: the 5% level, whatever its exact count
+  EXPECT_EQ(closestLevel(list, 3475)->vertexCount, 5231u);  // tie (1756 each way): the larger
+  EXPECT_EQ(closestLevel(list, 100000)->vertexCount, 22982u);
+  EXPECT_TRUE(list.complete());
+  EXPECT_FALSE((LevelList{4, {{0, 22982, 1, 1}}}).complete());
+}
+
 TEST(ControlMessages, HelloOfAnotherVersionDecodesForARefusal) {
   // A later version's Hello may be longer: only magic and version are read, so the host can refuse it by version.
   QByteArray body = QByteArray::fromHex("534307") + filled(300, 9);
@@ -123,12 +163,12 @@ TEST(ControlMessages, HelloOfAnotherVersionDecodesForARefusal) {
   ASSERT_EQ(decoded.error, ControlError::None);
   EXPECT_EQ(std::get<Hello>(decoded.message).version, 7);
   EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("000001")).error, ControlError::Malformed);  // magic
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430100ff")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430200ff")).error, ControlError::Malformed);
 }
 
 TEST(ControlMessages, InvalidUtf8IsMalformed) {
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430102c328")).error, ControlError::Malformed);
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430102c3a9")).error, ControlError::None);  // "é"
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430202c328")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430202c3a9")).error, ControlError::None);  // "é"
 }
 
 TEST(ControlMessages, EveryTruncationIsIncompleteOrMalformed) {
@@ -198,7 +238,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
   }
   ControlFrameReader reader;  // exactly the maximum is not oversize (here: a Hello with trailing bytes)
   reader.append(frame(kMaxControlMessageSize, 0x40,
-                      QByteArray::fromHex("53430100") + QByteArray(kMaxControlMessageSize - 5, 'x')));
+                      QByteArray::fromHex("53430200") + QByteArray(kMaxControlMessageSize - 5, 'x')));
   const auto result = reader.next();
   ASSERT_TRUE(result.has_value());
   EXPECT_EQ(result->error, ControlError::Malformed);
@@ -206,7 +246,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
 }
 
 TEST(ControlFrameReader, UnknownTypesAreReportedAndSkipped) {
-  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x51, 0x7f, 0x80, 0xc0, 0xff}) {
+  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x52, 0x7f, 0x80, 0xc0, 0xff}) {
     ControlFrameReader reader;
     reader.append(frame(3, static_cast<std::uint8_t>(type), "ab") + encodeControlMessage(Heartbeat{5}));
     std::vector<ControlDecodeResult> results;
@@ -286,17 +326,24 @@ TEST(PasswordAuth, RightPasswordIsAcceptedWrongOneRejected) {
   // The challenge crosses the wire; the client derives the key from what it received.
   const QByteArray wire = encodeControlMessage(challenge);
   const Challenge received = std::get<Challenge>(decodeControlMessage(0x42, wire.sliced(5)).message);
-  const auto respond = [&](const QString& password) {
-    return answerChallenge(derivePasswordKey(password, received.salt, received.iterations), received);
+  // Channel bindings: the host's certificate hash, and the one a man in the middle would show the client.
+  const QByteArray hostCertificate = secureRandomBytes(32);
+  const QByteArray relayCertificate = secureRandomBytes(32);
+  const auto respond = [&](const QString& password, const QByteArray& binding) {
+    return answerChallenge(derivePasswordKey(password, received.salt, received.iterations), received, binding);
   };
-  const ChallengeResponse right = respond(QStringLiteral("correct horse"));
+  const ChallengeResponse right = respond(QStringLiteral("correct horse"), hostCertificate);
   EXPECT_FALSE(right.mac.contains("correct horse"));
-  EXPECT_TRUE(verifyChallengeResponse(hostKey, challenge, right));
-  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, respond(QStringLiteral("correct hors"))));
-  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, respond(QString())));
-  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, ChallengeResponse{}));
+  EXPECT_TRUE(verifyChallengeResponse(hostKey, challenge, hostCertificate, right));
+  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, hostCertificate,
+                                       respond(QStringLiteral("correct hors"), hostCertificate)));
+  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, hostCertificate, respond(QString(), hostCertificate)));
+  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, hostCertificate, ChallengeResponse{}));
+  // The right password over another TLS channel (bound to another certificate) is refused: no relaying.
+  EXPECT_FALSE(verifyChallengeResponse(hostKey, challenge, hostCertificate,
+                                       respond(QStringLiteral("correct horse"), relayCertificate)));
   // A recorded response does not answer a fresh nonce (replay).
-  EXPECT_FALSE(verifyChallengeResponse(hostKey, makeChallenge(salt, kIterations), right));
+  EXPECT_FALSE(verifyChallengeResponse(hostKey, makeChallenge(salt, kIterations), hostCertificate, right));
   // Another session's salt gives another key.
   EXPECT_NE(derivePasswordKey(QStringLiteral("correct horse"), secureRandomBytes(kSaltSize), kIterations), hostKey);
 }

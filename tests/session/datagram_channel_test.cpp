@@ -17,6 +17,7 @@
 #include <QtNetwork/QUdpSocket>
 #include <QtTest/QSignalSpy>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -150,6 +151,42 @@ TEST(DatagramChannel, DeliversFramesWithinQuantisation) {
   EXPECT_EQ(s.client.currentFrame(), 2u);
   EXPECT_EQ(s.client.framesApplied(), 2u);
   EXPECT_LE((s.client.coefficients() - Z2).cwiseAbs().maxCoeff(), 1e-4 * Z2.cwiseAbs().maxCoeff());
+}
+
+TEST(DatagramChannel, ExtrapolateShowsOverdueFramesThenWithdrawsThem) {
+  ClientDatagramOptions options;
+  options.concealment = Concealment::Extrapolate;
+  Session s(options);
+  ASSERT_TRUE(s.open());
+  ASSERT_NE(s.client.predictor(), nullptr);
+  std::vector<std::uint32_t> shown;
+  std::vector<std::uint32_t> withdrawn;
+  QObject::connect(&s.client, &ClientDatagramChannel::frameUpdated, &s.client,
+                   [&shown](std::uint32_t frame) { shown.push_back(frame); });
+  QObject::connect(&s.client, &ClientDatagramChannel::predictionWithdrawn, &s.client,
+                   [&withdrawn](std::uint32_t frame) { withdrawn.push_back(frame); });
+  // A handle moving at constant velocity, 30 ms per frame; then the stream stops (the drag paused).
+  const auto linear = [](std::uint32_t f) { return Eigen::MatrixXd(frameZ(1) * (1.0 + 0.05 * f)); };
+  for (std::uint32_t f = 1; f <= 6; ++f) {
+    s.host.sendFrame(f, linear(f), sessionNow());
+    ASSERT_TRUE(waitUntil([&] { return s.client.receivedFrame() == f && s.client.assembler()->accepted() == 2 * f; }));
+    waitUntil([] { return false; }, 30);
+  }
+  EXPECT_GT(s.client.predictor()->interval().count(), 0);
+  ASSERT_TRUE(waitUntil([&] { return !withdrawn.empty(); }, 3000));
+  EXPECT_EQ(withdrawn, std::vector<std::uint32_t>{6});
+  EXPECT_GE(s.client.predictor()->framesPredicted(), 4u);  // maxFrames after the last frame
+  // Frames 7..10 were shown (predicted) before the withdrawal; then frame 6 again.
+  for (std::uint32_t f = 7; f <= 10; ++f) EXPECT_NE(std::find(shown.begin(), shown.end(), f), shown.end()) << f;
+  EXPECT_EQ(shown.back(), 6u);
+  EXPECT_EQ(s.client.currentFrame(), 6u);
+  EXPECT_EQ(s.client.receivedFrame(), 6u);
+  EXPECT_LE((s.client.coefficients() - linear(6)).cwiseAbs().maxCoeff(), 2e-4);
+  // A real frame after the pause is shown as it is.
+  s.host.sendFrame(7, linear(20), sessionNow());
+  ASSERT_TRUE(waitUntil([&] { return s.client.receivedFrame() == 7u && s.client.assembler()->accepted() == 14; }));
+  EXPECT_EQ(s.client.currentFrame(), 7u);
+  EXPECT_LE((s.client.coefficients() - linear(20)).cwiseAbs().maxCoeff(), 5e-4);
 }
 
 /// Rebinds the client's socket to another local port while its channel stays open (NAT rebinding: the same

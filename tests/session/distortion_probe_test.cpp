@@ -57,6 +57,26 @@ TEST(DistortionProbe, PairsUseTheLastZShownForTheNewestFrameNotAfterTheReference
   EXPECT_EQ(probe.pendingReferences(), 0u);
 }
 
+TEST(DistortionProbe, PredictedFramesCountAsShownUntilWithdrawn) {
+  DistortionProbe probe;
+  probe.displayed(1, constantZ(1.0));
+  probe.displayed(2, constantZ(2.0));  // predicted frame 2 (frame 2 lost)
+  probe.displayed(3, constantZ(3.0));  // a real frame 3
+  probe.displayed(4, constantZ(4.0));  // predicted 4 and 5, then withdrawn: back to frame 3
+  probe.displayed(5, constantZ(5.0));
+  probe.withdraw(3);
+  probe.displayed(3, constantZ(3.0));
+  EXPECT_EQ(probe.historySize(), 3u);
+  probe.reference(2, constantZ(0.0));
+  probe.reference(4, constantZ(0.0));
+  const std::vector<DistortionPair> ready = probe.takeAll();
+  ASSERT_EQ(ready.size(), 2u);
+  EXPECT_EQ(ready[0].shownFrame, 2u);  // the prediction was on screen for frame 2
+  EXPECT_EQ(ready[0].shown, constantZ(2.0));
+  EXPECT_EQ(ready[1].shownFrame, 3u);  // withdrawn: frame 3 is what shows from then on
+  EXPECT_EQ(ready[1].shown, constantZ(3.0));
+}
+
 TEST(DistortionProbe, FrameNumbersWrap) {
   DistortionProbe probe;
   probe.displayed(0xfffffffeu, constantZ(1.0));

@@ -84,7 +84,7 @@ struct Link {
 };
 
 ClientHandshakeConfig clientConfig(std::optional<QString> password = std::nullopt) {
-  return ClientHandshakeConfig{QString::fromUtf8("Zoë"), std::move(password)};
+  return ClientHandshakeConfig{QString::fromUtf8("Zoë"), std::move(password), {}};
 }
 
 void expectJoined(const Link& link) {
@@ -152,6 +152,25 @@ TEST(Handshake, WrongPasswordIsRefusedAndTheReasonReachesTheClient) {
   EXPECT_EQ(link.client.errorText(), QStringLiteral("wrong password"));
 }
 
+TEST(Handshake, PasswordProofIsBoundToTheHostCertificate) {
+  // Same password, same binding: joins. Right password but the client saw another certificate (a relay that
+  // terminated its TLS): the proof does not verify on the host.
+  const QByteArray hostCertificate(32, '\x11');
+  HostHandshakeConfig bound = hostConfig(QStringLiteral("correct horse"));
+  bound.channelBinding = hostCertificate;
+  ClientHandshakeConfig honest = clientConfig(QStringLiteral("correct horse"));
+  honest.channelBinding = hostCertificate;
+  Link good(bound, honest);
+  good.run();
+  expectJoined(good);
+
+  ClientHandshakeConfig relayed = clientConfig(QStringLiteral("correct horse"));
+  relayed.channelBinding = QByteArray(32, '\x22');
+  Link bad(std::move(bound), std::move(relayed));
+  bad.run();
+  expectRefused(bad, RefuseReason::WrongPassword, {MessageType::Challenge});
+}
+
 TEST(Handshake, ClientWithoutPasswordOnAProtectedSessionGetsAClearLocalError) {
   Link link(hostConfig(QStringLiteral("correct horse")), clientConfig());
   link.run();
@@ -166,16 +185,16 @@ TEST(Handshake, ClientWithoutPasswordOnAProtectedSessionGetsAClearLocalError) {
 
 TEST(Handshake, VersionMismatchIsRefusedBeforeAnyChallenge) {
   // Our encoder writes only our version, so a future client's Hello is spelled out: L = 6, type 0x40, magic,
-  // version 2, and a byte a later version might add (the host must not read past the version).
+  // version 3, and a byte a later version might add (the host must not read past the version).
   Link link(hostConfig(QStringLiteral("pw")), clientConfig(QStringLiteral("pw")));
   link.client.start();  // the client's own Hello is replaced by the raw one below
-  link.toHost.append(QByteArray::fromHex("0000000540534302ff"));
+  link.toHost.append(QByteArray::fromHex("0000000540534303ff"));
   link.sendToHost({});
   expectRefused(link, RefuseReason::VersionMismatch);  // no Challenge before the Refused
   ASSERT_TRUE(link.client.refusal());
   EXPECT_EQ(link.client.refusal()->hostVersion, kProtocolVersion);
-  EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version 1")));
   EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version 2")));
+  EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version 3")));
 }
 
 TEST(Handshake, SessionFullIsRefused) {
@@ -188,7 +207,7 @@ TEST(Handshake, SessionFullIsRefused) {
 
 TEST(Handshake, BlankOrControlCharacterNamesAreRefused) {
   for (const QString& name : {QStringLiteral("   "), QString(), QStringLiteral("a\nb"), QStringLiteral("x\u0007")}) {
-    Link link(hostConfig(), ClientHandshakeConfig{name, std::nullopt});
+    Link link(hostConfig(), ClientHandshakeConfig{name, std::nullopt, {}});
     link.run();
     expectRefused(link, RefuseReason::BadName);
   }

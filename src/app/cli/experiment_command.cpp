@@ -1,5 +1,6 @@
 #include "app/cli/experiment_command.h"
 
+#include "app/cli/load_experiment.h"
 #include "app/cli/loss_experiment.h"
 #include "app/cli/session_setup.h"
 #include "app/report/line_plot.h"
@@ -48,8 +49,14 @@ std::optional<std::vector<double>> parseLosses(const QString& text) {
 }  // namespace
 
 int runExperimentCommand(const QStringList& arguments) {
+  if (!arguments.isEmpty() && arguments.constFirst() == QLatin1String("load")) {
+    return runLoadExperimentCommand(withMeshPositional(arguments.mid(1)));
+  }
+  if (!arguments.isEmpty() && arguments.constFirst() == QLatin1String("load-host")) {
+    return runLoadHost(arguments.mid(1));  // the load experiment's host child (MESH given positionally)
+  }
   if (arguments.isEmpty() || arguments.constFirst() != QLatin1String("loss")) {
-    QTextStream(stderr) << "usage: shapecast-cli experiment loss [--mesh MESH] [options]; see --help\n";
+    QTextStream(stderr) << "usage: shapecast-cli experiment loss|load [--mesh MESH] [options]; see --help\n";
     return kExitUsage;
   }
   SubcommandParser command(QStringLiteral("experiment loss"),
@@ -117,7 +124,11 @@ int runExperimentCommand(const QStringList& arguments) {
           "moves a handle sphere of 5% of the bbox diagonal by 15% of the diagonal over 3 s at 30 fps and back; "
           "anchors: everything farther than 40%. Distortion: vertex-set Hausdorff distance between what the client "
           "displayed for each frame and the exact frame at its own resolution, in % of the full rest bbox "
-          "diagonal. Latency: from the drag command's arrival at the host to the decoded datagram at the client.")
+          "diagonal. Latency: from the drag command's arrival at the host to the decoded datagram at the client. "
+          "Concealment of what did not arrive: hold-last (rows keep their last value), zero-fill (rows fall back "
+          "to 0, the paper's way), extrapolate (hold-last + dead reckoning: missing rows and, when the next frame "
+          "is 1.5 intervals overdue, whole frames predicted as Z_k + j·(Z_k − Z_k−1), at most 4 frames, then "
+          "withdrawn; the predicted frames are what the distortion measures for those frames).")
           .arg(settings.burst ? QStringLiteral(" --burst") : QString(), report::machineDescription(),
                QFileInfo(command.meshPath()).fileName())
           .arg(model->vertexCount())

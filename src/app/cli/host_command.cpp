@@ -3,6 +3,7 @@
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
 #include "session/session_host.h"
+#include "session/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QTextStream>
@@ -113,7 +114,11 @@ int runHostCommand(const QStringList& arguments) {
              .arg(host.tcpPort())
              .arg(host.udpPort())
              .arg(options.password ? QStringLiteral(", password required") : QString());
-  out << QStringLiteral("join with: shapecast-cli join 127.0.0.1:%1 --name NAME\n").arg(host.tcpPort());
+  const QString fingerprint = session::formatFingerprint(host.fingerprint());
+  out << QStringLiteral("TLS certificate fingerprint (SHA-256), for joiners to compare: %1\n").arg(fingerprint);
+  out << QStringLiteral("join with: shapecast-cli join 127.0.0.1:%1 --name NAME --fingerprint %2\n")
+             .arg(host.tcpPort())
+             .arg(fingerprint);
   out.flush();
 
   QObject::connect(&host, &session::SessionHost::logMessage, &host,

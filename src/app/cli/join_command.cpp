@@ -4,6 +4,7 @@
 #include "app/cli/session_setup.h"
 #include "session/distortion_meter.h"
 #include "session/session_clock.h"
+#include "session/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QFile>
@@ -41,12 +42,24 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
   const QCommandLineOption seed(QStringLiteral("seed"), QStringLiteral("seed of the simulated loss (default 1)"),
                                 QStringLiteral("S"), QStringLiteral("1"));
   const QCommandLineOption zeroFill(QStringLiteral("zero-fill"),
-                                    QStringLiteral("conceal lost bands with zeros (the paper's way) not hold-last"));
+                                    QStringLiteral("conceal lost bands with zeros (the paper's way); same as "
+                                                   "--concealment zero-fill"));
+  const QCommandLineOption concealment(
+      QStringLiteral("concealment"),
+      QStringLiteral("what lost datagrams show: hold-last, zero-fill, or extrapolate (hold-last + dead reckoning "
+                     "of missing rows and overdue frames); default %1")
+          .arg(QString::fromLatin1(session::toString(session::SessionClientOptions{}.concealment))),
+      QStringLiteral("name"));
   const QCommandLineOption seconds(QStringLiteral("seconds"), QStringLiteral("leave after T seconds"),
                                    QStringLiteral("T"));
+  const QCommandLineOption fingerprint(
+      QStringLiteral("fingerprint"),
+      QStringLiteral("the host's certificate fingerprint (SHA-256, as the host prints it); without it the first "
+                     "one seen for this address is remembered and a different one later is refused"),
+      QStringLiteral("hex"));
   const QCommandLineOption statsJson(QStringLiteral("stats-json"), QStringLiteral("write the final figures here"),
                                      QStringLiteral("file"));
-  p.addOptions({name, passwordFile, level, loss, burst, seed, zeroFill, seconds, statsJson});
+  p.addOptions({name, passwordFile, level, loss, burst, seed, zeroFill, concealment, seconds, fingerprint, statsJson});
   if (!command.parse(arguments, exitCode)) return std::nullopt;
   exitCode = kExitUsage;
 
@@ -54,6 +67,15 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
   args.client.host = command.peerHost();
   args.client.port = command.peerPort();
   args.client.name = p.value(name);
+  args.client.trustOnFirstUse = true;
+  if (p.isSet(fingerprint)) {
+    const std::optional<QByteArray> pinned = session::parseFingerprint(p.value(fingerprint));
+    if (!pinned) {
+      command.error(QStringLiteral("--fingerprint takes 64 hex digits (colons allowed), as the host prints it"));
+      return std::nullopt;
+    }
+    args.client.fingerprint = *pinned;
+  }
   if (p.isSet(passwordFile)) {
     args.client.password = readPasswordFile(command, p.value(passwordFile));
     if (!args.client.password) return std::nullopt;
@@ -92,6 +114,16 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
     args.client.impairment = impairment;
   }
   if (p.isSet(zeroFill)) args.client.concealment = session::Concealment::ZeroFill;
+  if (p.isSet(concealment)) {
+    const std::optional<session::Concealment> c = session::concealmentFromString(p.value(concealment).toStdString());
+    if (!c || (p.isSet(zeroFill) && *c != session::Concealment::ZeroFill)) {
+      command.error(
+          QStringLiteral("--concealment takes hold-last, zero-fill or extrapolate (and agrees with "
+                         "--zero-fill)"));
+      return std::nullopt;
+    }
+    args.client.concealment = *c;
+  }
   if (p.isSet(seconds)) {
     args.seconds = p.value(seconds).toDouble(&ok);
     if (!ok || *args.seconds <= 0.0) {
@@ -153,8 +185,23 @@ int runJoinCommand(const QStringList& arguments) {
 
   session::SessionClient client(args->client);
   session::DistortionMeter meter(client, session::DistortionMeter::Mode::Live, &client);
-  if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
+  // --level N: the host serves the rung closest to N (by exact counts where built); once the host's level list is
+  // complete, ask for the closest exact level should that be another one (at most once).
   FILE* progress = command.basisArguments().json ? stderr : stdout;
+  bool exactRequested = false;
+  QObject::connect(&client, &session::SessionClient::levelsChanged, &client, [&, progress] {
+    if (exactRequested || !client.levels().complete()) return;
+    exactRequested = true;
+    QStringList counts;
+    for (const session::LevelInfo& level : client.levels().levels) counts << QString::number(level.vertexCount);
+    QTextStream(progress) << QStringLiteral("host levels (vertices): %1\n").arg(counts.join(QStringLiteral(", ")));
+    const session::LevelInfo* closest = session::closestLevel(client.levels(), args->client.level);
+    if (args->client.level == 0 || closest == nullptr || closest->vertexCount == client.levelVertexCount()) return;
+    QTextStream(progress)
+        << QStringLiteral("asking for the closest exact level: %1 vertices\n").arg(closest->vertexCount);
+    client.requestResolution(closest->vertexCount);
+  });
+  if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
   QTextStream(progress) << QStringLiteral("joined as peer %1, displaying %2 vertices\n")
                                .arg(client.peerId())
                                .arg(client.levelVertexCount());

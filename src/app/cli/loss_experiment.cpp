@@ -35,7 +35,7 @@ auto inThreadOf(QObject* object, F f) {
   return result;
 }
 
-/// One of the four measuring clients of a loss ratio. Each runs in its own thread, as separate client processes
+/// One of the six measuring clients of a loss ratio. Each runs in its own thread, as separate client processes
 /// would, so one client's reconstruction never delays another's datagrams (the latency figure).
 struct MeasuringClient {
   SessionClient* client = nullptr;            ///< lives in `thread`; handed back to the main thread before deletion
@@ -49,9 +49,10 @@ struct MeasuringClient {
   PeerIdAndLevel identity;
 };
 
-QString concealmentName(session::Concealment c) {
-  return c == session::Concealment::HoldLast ? QStringLiteral("hold-last") : QStringLiteral("zero-fill");
-}
+constexpr session::Concealment kConcealments[] = {session::Concealment::HoldLast, session::Concealment::ZeroFill,
+                                                  session::Concealment::Extrapolate};
+
+QString concealmentName(session::Concealment c) { return QString::fromLatin1(session::toString(c)); }
 
 session::ImpairmentSettings impairmentFor(const LossExperimentSettings& settings, double loss) {
   session::ImpairmentSettings impairment;
@@ -156,10 +157,10 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
 
   std::vector<LossRow> rows;
   for (double loss : settings.losses) {
-    say(QStringLiteral("loss %1: joining four clients").arg(loss));
+    say(QStringLiteral("loss %1: joining %2 clients").arg(loss).arg(2 * std::size(kConcealments)));
     std::vector<MeasuringClient> clients;
     for (bool full : {true, false}) {
-      for (session::Concealment c : {session::Concealment::HoldLast, session::Concealment::ZeroFill}) {
+      for (session::Concealment c : kConcealments) {
         MeasuringClient m;
         session::SessionClientOptions options = clientOptions(
             QStringLiteral("%1 %2").arg(full ? QStringLiteral("full") : QStringLiteral("low"), concealmentName(c)),
@@ -264,8 +265,12 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
     for (std::size_t c = 0; c < clients.size(); ++c) {
       LossRow& row = lossRows[c];
       row.frames = static_cast<int>(distortions[c].size());
-      for (double d : distortions[c]) {
-        row.hdMaxPct = std::max(row.hdMaxPct, d);
+      for (std::size_t i = 0; i < distortions[c].size(); ++i) {
+        const double d = distortions[c][i];
+        if (d > row.hdMaxPct) {
+          row.hdMaxPct = d;
+          row.hdMaxFrame = static_cast<int>(pairs[c][i].frame - firstFrame);
+        }
         row.hdMeanPct += d / std::max(1, row.frames);
       }
       rows.push_back(row);

@@ -36,6 +36,8 @@ constexpr const char* kUsage =
     "      take the edit lock, play a drag script, release\n"
     "  experiment loss [--mesh MESH] [--loss 0,0.02,...] [--burst] [--json]\n"
     "      reproduce the paper's Figures 3 and 4 on loopback and write them to docs/benchmarks.md\n"
+    "  experiment load --clients N --seconds T [--mesh MESH] [--markdown FILE] [--json]\n"
+    "      one host process, N headless clients and a 30 fps drag: host CPU, per-client loss and latency\n"
     "\n"
     "run 'shapecast-cli <subcommand> --help' for the options of a subcommand\n";
 

@@ -2,6 +2,7 @@
 // and the loss experiment, the way two terminals on one machine would use them.
 
 #include "cli_test_support.h"
+#include "host_process.h"
 
 #include <gtest/gtest.h>
 #include <QDir>
@@ -14,49 +15,11 @@
 #include <QTemporaryDir>
 #include <QThread>
 
+#include <map>
 #include <memory>
 
 namespace sc::testing {
 namespace {
-
-/// A running `shapecast-cli host` on a generated torus; stopped (SIGTERM) at destruction.
-class HostProcess {
- public:
-  HostProcess(const QString& mesh, const QStringList& extra = {}) {
-    m_process.setProcessChannelMode(QProcess::SeparateChannels);
-    m_process.start(QStringLiteral(SHAPECAST_CLI),
-                    QStringList{QStringLiteral("host"), mesh, QStringLiteral("--port"), QStringLiteral("0"),
-                                QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30"),
-                                QStringLiteral("--reference-every"), QStringLiteral("5")} +
-                        extra);
-    const QRegularExpression portLine(QStringLiteral("TCP port (\\d+)"));
-    for (int i = 0; i < 600 && m_port == 0; ++i) {
-      m_process.waitForReadyRead(100);
-      m_output += m_process.readAllStandardOutput();
-      const QRegularExpressionMatch match = portLine.match(QString::fromUtf8(m_output));
-      if (match.hasMatch()) m_port = match.captured(1).toUShort();
-      if (m_process.state() == QProcess::NotRunning) break;
-    }
-  }
-  ~HostProcess() {
-    m_process.terminate();
-    m_process.waitForFinished(10000);
-  }
-  quint16 port() const { return m_port; }
-  QString address() const { return QStringLiteral("127.0.0.1:%1").arg(m_port); }
-  /// Stops the host (SIGTERM, graceful) and returns everything it printed.
-  QByteArray stop() {
-    m_process.terminate();
-    m_process.waitForFinished(10000);
-    return m_output + m_process.readAllStandardOutput();
-  }
-  int exitCode() const { return m_process.exitCode(); }
-
- private:
-  QProcess m_process;
-  QByteArray m_output;
-  quint16 m_port = 0;
-};
 
 class SessionCommandsTest : public ::testing::Test {
  protected:
@@ -149,12 +112,12 @@ TEST_F(SessionCommandsTest, LossExperimentPrintsRowsAndAPlot) {
                              QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30")});
   ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
   const QJsonArray rows = QJsonDocument::fromJson(run.out.trimmed()).object()[QStringLiteral("rows")].toArray();
-  ASSERT_EQ(rows.size(), 8);  // 2 ratios × {full, low} × {hold-last, zero-fill}
-  double holdLast = 0.0, zeroFill = 0.0;
+  ASSERT_EQ(rows.size(), 12);  // 2 ratios × {full, low} × {hold-last, zero-fill, extrapolate}
+  std::map<QString, double> meanByConcealment;
   for (const QJsonValue& value : rows) {
     const QJsonObject row = value.toObject();
-    for (const char* key : {"loss", "concealment", "level", "measured_loss", "hd_max_pct", "hd_mean_pct",
-                            "payload_bytes_per_frame", "latency_p99_ms"})
+    for (const char* key : {"loss", "concealment", "level", "measured_loss", "hd_max_pct", "hd_max_frame",
+                            "hd_mean_pct", "payload_bytes_per_frame", "latency_p99_ms"})
       EXPECT_TRUE(row.contains(QLatin1String(key))) << key;
     EXPECT_GT(row[QStringLiteral("frames")].toInt(), 150);
     EXPECT_LE(row[QStringLiteral("payload_bytes_per_frame")].toDouble(), 800.0);
@@ -162,11 +125,12 @@ TEST_F(SessionCommandsTest, LossExperimentPrintsRowsAndAPlot) {
       EXPECT_EQ(row[QStringLiteral("measured_loss")].toDouble(), 0.0);
     } else {
       EXPECT_NEAR(row[QStringLiteral("measured_loss")].toDouble(), 0.3, 0.1);
-      (row[QStringLiteral("concealment")].toString() == QLatin1String("hold-last") ? holdLast : zeroFill) +=
-          row[QStringLiteral("hd_mean_pct")].toDouble();
+      meanByConcealment[row[QStringLiteral("concealment")].toString()] += row[QStringLiteral("hd_mean_pct")].toDouble();
     }
   }
-  EXPECT_LT(holdLast, zeroFill);
+  ASSERT_EQ(meanByConcealment.size(), 3u);
+  EXPECT_TRUE(meanByConcealment.contains(QStringLiteral("extrapolate")));
+  EXPECT_LT(meanByConcealment[QStringLiteral("hold-last")], meanByConcealment[QStringLiteral("zero-fill")]);
   EXPECT_TRUE(QFile::exists(plot));
 }
 
