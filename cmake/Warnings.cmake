@@ -6,7 +6,7 @@
 function(shapecast_set_warnings target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
                                            -Wold-style-cast -Wcast-align -Woverloaded-virtual
-                                           -Wimplicit-fallthrough -Wno-maybe-uninitialized)
+                                           -Wimplicit-fallthrough $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized>)
   if(SHAPECAST_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

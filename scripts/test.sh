@@ -1,11 +1,35 @@
 #!/usr/bin/env bash
-# Installs what is missing, builds with warnings as errors, and runs every test (ctest) under a real
-# X server (xvfb-run) so the GUI tests get a display. Extra arguments go to ctest (e.g. -R Harmonic).
+# CI: the normal job, and an opt-in sanitiser job, one after the other, each printing its wall time.
+#   1. normal: installs what is missing, builds build/ with warnings as errors, runs every test (ctest), including
+#      the fuzz corpus replays (FuzzReplay.*).
+#   2. sanitisers (only with SHAPECAST_SANITIZE_JOB=1, not yet in CI: see README "Status"): builds build-asan/ with
+#      ASan + UBSan (SHAPECAST_SANITIZE, no benchmarks) and runs the whole suite again. Leaks fail a test
+#      (detect_leaks=1); the only suppressions are third-party leaks named in cmake/lsan.supp.
+# Tests run under a real X server (xvfb-run) so the GUI tests get a display. Extra arguments go to ctest in both
+# jobs (e.g. -R Harmonic).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-"$root/scripts/setup.sh" -DSHAPECAST_WERROR=ON
-cd "$root/build"
 # ctest runs two test processes on the two cores; OpenBLAS's own worker threads would oversubscribe them and each
 # BLAS call would wait for a time slice (measured: a 0.6 s basis taking 5 s). Single-threaded BLAS for the tests.
 export OPENBLAS_NUM_THREADS=1
-xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"
+run_ctest() {
+  xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"
+}
+
+start=$SECONDS
+"$root/scripts/setup.sh" -DSHAPECAST_WERROR=ON
+(cd "$root/build" && run_ctest "$@")
+echo "normal job (build + tests): $((SECONDS - start)) s"
+
+if [[ "${SHAPECAST_SANITIZE_JOB:-0}" == 1 ]]; then
+  start=$SECONDS
+  cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSHAPECAST_WERROR=ON \
+    -DSHAPECAST_SANITIZE=ON -DSHAPECAST_BUILD_BENCH=OFF
+  cmake --build "$root/build-asan" -j"$(nproc)"
+  # abort_on_error: a report kills the test (ctest shows the report). UBSan aborts by itself (no recover).
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:check_initialization_order=1
+  export LSAN_OPTIONS="suppressions=$root/cmake/lsan.supp:print_suppressions=0"
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  (cd "$root/build-asan" && run_ctest "$@")
+  echo "sanitiser job (ASan + UBSan build + tests): $((SECONDS - start)) s"
+fi

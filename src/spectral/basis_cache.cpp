@@ -103,9 +103,11 @@ CacheReadStatus readBasisCache(const std::filesystem::path& file, const BasisCac
 
   basis.shift = key.shift;
   basis.eigenvalues.resize(key.m);
-  std::memcpy(basis.eigenvalues.data(), in.data() + kHeaderSize, 8 * key.m);
   basis.vectors.resize(key.n, key.m);
-  std::memcpy(basis.vectors.data(), in.data() + kHeaderSize + 8 * key.m, 8 * std::size_t{key.n} * key.m);
+  // An empty (n or m = 0) basis has null data(), and memcpy(nullptr, …, 0) is undefined: copy only real bytes.
+  if (key.m > 0) std::memcpy(basis.eigenvalues.data(), in.data() + kHeaderSize, 8 * key.m);
+  if (basis.vectors.size() > 0)
+    std::memcpy(basis.vectors.data(), in.data() + kHeaderSize + 8 * key.m, 8 * std::size_t{key.n} * key.m);
   return CacheReadStatus::Hit;
 }
 

@@ -74,6 +74,7 @@ class Reader {
   }
   void getBytes(void* data, std::size_t size) {
     assert(m_offset + size <= m_in.size());
+    if (size == 0) return;  // an empty section's data() may be null, and memcpy(nullptr, …, 0) is undefined
     std::memcpy(data, m_in.data() + m_offset, size);
     m_offset += size;
   }
