@@ -5,3 +5,9 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/scripts/setup.sh"
 "$root/build/bin/shapecast-bench-basis" "$@"
+# Viewport frame time (reconstruction + redraw) on both reconstruction paths; needs a display, so under Xvfb.
+if command -v xvfb-run > /dev/null; then
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$root/build/bin/shapecast-bench-viewport"
+else
+  echo "xvfb-run not found: skipping shapecast-bench-viewport" >&2
+fi

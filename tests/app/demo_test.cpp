@@ -2,9 +2,12 @@
 // three windows whose two clients reach Live and show the mesh (the low one at ≈5% behind 10% loss); the dock
 // changes a client's impairment live; the first start picks a mesh (a generated one when none is fetched), becomes
 // Live with a default handle, anchors, the lock and the Drag tool. With SHAPECAST_TEST_SCREENSHOTS=DIR the demo's
-// windows are saved to DIR (demo-host.png, demo-client-full.png, demo-client-low.png).
+// windows are saved to DIR (demo-host.png, demo-client-full.png, demo-client-low.png). DemoScreenshots (`shapecast
+// --demo --screenshot-dir`) writes its four PNGs, none blank, after a scripted drag that reached the clients.
 
 #include "app/gui/demo.h"
+#include "app/gui/demo_screenshots.h"
+#include "app/gui/drag_commands.h"
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
@@ -25,6 +28,7 @@
 #include <QSpinBox>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QUndoStack>
 
 namespace sc::app {
 namespace {
@@ -130,6 +134,43 @@ TEST_F(DemoTest, ThreeWindowsBothClientsLive) {
       EXPECT_FALSE(image.isNull());
       EXPECT_TRUE(image.save(QDir(shots).filePath(QString::fromLatin1(file)), "PNG")) << file;
     }
+  }
+}
+
+TEST_F(DemoTest, ScreenshotDirWritesFourImagesAfterAScriptedDrag) {
+  DemoOptions options;
+  options.meshPath = m_meshPath;
+  options.m = 20;
+  options.useBasisCache = false;
+  options.errorDialogs = false;
+  Demo demo(options);
+  DemoScreenshotOptions shotOptions;
+  shotOptions.directory = m_dir.filePath(QStringLiteral("shots"));
+  shotOptions.afterSeconds = 1.0;
+  shotOptions.windowSize = QSize(640, 480);
+  shotOptions.mainWindowSize = QSize(800, 600);
+  shotOptions.liveTimeoutSeconds = 60;
+  DemoScreenshots screenshots(demo, shotOptions);
+  bool done = false;
+  bool written = false;
+  QString message;
+  QObject::connect(&screenshots, &DemoScreenshots::finished, [&](bool ok, const QString& why) {
+    done = true;
+    written = ok;
+    message = why;
+  });
+  ASSERT_TRUE(demo.start());
+  screenshots.start();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return done; }, 90000));
+  ASSERT_TRUE(written) << message.toStdString();
+  // the scripted drag was a real drag of the host: it is in the undo history and moved the clients
+  EXPECT_EQ(demo.hostWindow()->dragHistory()->stack()->count(), 1);
+  EXPECT_GT(demo.fullClientWindow()->session()->coefficients().norm(), 1e-6);
+  for (const QString& name : DemoScreenshots::fileNames()) {
+    const QImage image(QDir(shotOptions.directory).filePath(name));
+    ASSERT_FALSE(image.isNull()) << name.toStdString();
+    EXPECT_GE(image.width(), 600) << name.toStdString();
+    EXPECT_GT(sc::testing::pixelStdDev(image), 5.0) << name.toStdString();
   }
 }
 

@@ -82,6 +82,7 @@ class SessionWindowTest : public ::testing::Test {
     settings.port = port;
     settings.password = password;
     settings.name = QStringLiteral("bob");
+    settings.knownHostsFile = m_dir.filePath(QStringLiteral("known_hosts.ini"));  // not the user's settings
     return settings;
   }
 
@@ -153,6 +154,15 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.1f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   EXPECT_GT(maxDifference(hosting->positions(), rest), 0.1f);
+  // The join dialog's client extrapolates by default; after the drag stopped (the host's still frame) it shows a
+  // received frame, not a prediction past it.
+  const session::ClientDatagramChannel& joinedChannel = joined->sessionClient()->channel();
+  ASSERT_NE(joinedChannel.predictor(), nullptr);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return hosting->sessionHost()->counters().stillFramesSent >= 1; }, 5000));
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return joinedChannel.receivedFrame() == hosting->sessionHost()->currentFrame(); }, 5000));
+  EXPECT_EQ(joinedChannel.currentFrame(), joinedChannel.receivedFrame());
+  EXPECT_EQ(joinedChannel.predictor()->predictedFrames(), 0);
 
   // Without the lock the client can neither constrain nor drag, and its viewport refuses drags.
   EXPECT_FALSE(joined->canDrag());

@@ -72,3 +72,20 @@ TEST_F(ShapecastExe, BadSizeIsAUsageError) {
                                       QStringLiteral("--size"), QStringLiteral("big")});
   EXPECT_EQ(run.exitCode, 64);
 }
+
+TEST_F(ShapecastExe, ScreenshotDirNeedsTheDemoAndSensibleSeconds) {
+  const QString dir = m_dir.filePath(QStringLiteral("shots"));
+  EXPECT_EQ(runShapecast({QStringLiteral("--screenshot-dir"), dir}).exitCode, 64);
+  EXPECT_EQ(runShapecast({QStringLiteral("--demo"), QStringLiteral("--screenshot-dir"), dir, QStringLiteral("--after"),
+                          QStringLiteral("soon")})
+                .exitCode,
+            64);
+  EXPECT_FALSE(QFileInfo::exists(dir));
+}
+
+TEST_F(ShapecastExe, MalformedFingerprintIsAUsageError) {
+  const RunResult run = runShapecast({QStringLiteral("--join"), QStringLiteral("127.0.0.1:47100"),
+                                      QStringLiteral("--fingerprint"), QStringLiteral("ab:cd:not-hex")});
+  EXPECT_EQ(run.exitCode, 64);
+  EXPECT_TRUE(run.standardError.contains(QStringLiteral("--fingerprint"))) << run.standardError.toStdString();
+}

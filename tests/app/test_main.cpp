@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QStandardPaths>
 #include <QSurfaceFormat>
 
 int main(int argc, char** argv) {
@@ -17,6 +18,12 @@ int main(int argc, char** argv) {
   if (qEnvironmentVariableIsEmpty("DISPLAY") && qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") &&
       qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) {
     qputenv("QT_QPA_PLATFORM", "offscreen");
+  }
+  // Settings (recent sessions, known hosts) and the host's TLS identity go to ~/.qttest, not the user's folders.
+  QStandardPaths::setTestModeEnabled(true);
+  // Frames at full resolution unless a test turns adaptive resolution on (pixel comparisons stay deterministic).
+  if (qEnvironmentVariableIsEmpty("SHAPECAST_ADAPTIVE_RESOLUTION")) {
+    qputenv("SHAPECAST_ADAPTIVE_RESOLUTION", "0");
   }
   QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
   QApplication app(argc, argv);

@@ -65,6 +65,7 @@ void Demo::joinClients(quint16 port) {
   full.host = QStringLiteral("127.0.0.1");
   full.port = port;
   full.name = QStringLiteral("full");
+  full.fingerprint = m_host->session()->hostFingerprint();  // in-process clients pin their own host
   m_fullClient->joinSession(full);
   m_fullClient->setWindowTitle(tr("Demo client, full resolution — ShapeCast"));
 

@@ -1,5 +1,8 @@
 #include "app/gui/drag_commands.h"
 
+#include "app/gui/session_snapshot.h"
+#include "model/session_file.h"
+
 #include <QAction>
 #include <QKeySequence>
 #include <QUndoStack>
@@ -46,6 +49,7 @@ void DragHistory::bind(SessionController* session) {
   if (session != nullptr) {
     connect(session, &SessionController::lockChanged, this, &DragHistory::updateActions);
     connect(session, &SessionController::stateChanged, this, &DragHistory::updateActions);
+    connect(session, &SessionController::savedSessionRestored, this, &DragHistory::restoreSaved);
   }
   updateActions();
 }
@@ -62,6 +66,25 @@ void DragHistory::dragFinished() {
   }
   m_before.reset();
   updateActions();
+}
+
+void DragHistory::restoreSaved() {
+  const model::SessionFile* saved = m_session != nullptr ? m_session->savedSession() : nullptr;
+  if (saved == nullptr) return;
+  m_before.reset();
+  m_stack->clear();
+  std::vector<DragCommand*> commands;
+  commands.reserve(saved->history.size());
+  for (const model::SavedDrag& drag : saved->history) {
+    // detached while rebuilding: push()'s redo() and setIndex()'s undo()s only move the index
+    auto* command = new DragCommand(nullptr, toHostDeformation(drag.before), toHostDeformation(drag.after));
+    m_stack->push(command);
+    commands.push_back(command);
+  }
+  m_stack->setIndex(saved->historyIndex);
+  for (DragCommand* command : commands) command->attach(m_session);
+  updateActions();
+  emit restored();
 }
 
 bool DragHistory::allowed() const {

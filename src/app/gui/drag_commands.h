@@ -9,6 +9,10 @@
 // can undo or redo (the actions are disabled otherwise). A client's drags are not recorded; undoing on the host
 // after a client dragged restores the host's recorded state, replacing the client's constraints and pose. Each
 // command restores an absolute state, so the history stays meaningful whatever happened in between.
+//
+// A host started from a saved session (model/session_file.h) gets the saved history back: on the controller's
+// savedSessionRestored() the stack is rebuilt from the file's drags with the file's index, so Undo/Redo walk the
+// same states as before saving.
 
 #include "app/gui/session_controller.h"
 
@@ -35,6 +39,9 @@ class DragCommand final : public QUndoCommand {
 
   [[nodiscard]] const HostDeformation& before() const { return m_before; }
   [[nodiscard]] const HostDeformation& after() const { return m_after; }
+  /// The session undo()/redo() restore through (nullptr: they only move the stack's index, as while rebuilding
+  /// a saved history).
+  void attach(SessionController* session) { m_session = session; }
 
  private:
   QPointer<SessionController> m_session;
@@ -61,6 +68,10 @@ class DragHistory final : public QObject {
   void dragStarted();
   /// Pushes a DragCommand when the drag changed the state since dragStarted().
   void dragFinished();
+  /// Replaces the history with the bound session's savedSession() drags, `historyIndex` of them applied, without
+  /// changing the shape (the controller restored the file's current state). Emits restored(). No-op without a
+  /// saved session. Cost: O(drags · ids).
+  void restoreSaved();
 
   /// Undoes / redoes one drag; false when not allowed now (see canUndo()) or nothing to undo / redo.
   bool undo();

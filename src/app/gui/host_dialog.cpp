@@ -80,7 +80,8 @@ void HostDialog::browse() {
   const QString current = ui->meshPathCombo->currentText();
   const QString path = QFileDialog::getOpenFileName(
       this, tr("Mesh to Host"), current.isEmpty() ? QString() : QFileInfo(current).absolutePath(),
-      tr("Meshes (*.off *.obj *.ply *.stl *.OFF *.OBJ *.PLY *.STL);;All files (*)"));
+      tr("Meshes and sessions (*.off *.obj *.ply *.stl *.shapecast *.OFF *.OBJ *.PLY *.STL);;"
+         "ShapeCast sessions (*.shapecast);;All files (*)"));
   if (!path.isEmpty()) ui->meshPathCombo->setEditText(path);
 }
 

@@ -3,6 +3,7 @@
 #include "app/gui/session_controller.h"
 #include "model/cache_location.h"
 #include "model/mesh_loader.h"
+#include "model/session_file.h"
 #include "session/host_model.h"
 #include "session/wire_format.h"
 #include "spectral/basis_pipeline.h"
@@ -39,6 +40,23 @@ std::optional<model::LoadedMesh> loadHostMesh(const QString& path, PreparedHost&
     return std::nullopt;
   }
   return mesh;
+}
+
+/// The saved session at `path`, or nullopt with prepared.error set.
+std::shared_ptr<const model::SessionFile> loadSavedSession(const QString& path, PreparedHost& prepared) {
+  model::SessionFileResult read = model::readSessionFile(path);
+  if (const auto* error = std::get_if<model::SessionFileError>(&read)) {
+    prepared.error = error->message;
+    return nullptr;
+  }
+  auto saved = std::make_shared<model::SessionFile>(std::get<model::SessionFile>(std::move(read)));
+  if (saved->m > session::kMaxRows) {
+    prepared.error = HostPreparation::tr("The session has m = %1; at most %2 frequencies can be sent.")
+                         .arg(saved->m)
+                         .arg(session::kMaxRows);
+    return nullptr;
+  }
+  return saved;
 }
 
 /// The basis of `mesh`, or nullopt with prepared.error or prepared.cancelled set.
@@ -78,14 +96,25 @@ std::shared_ptr<PreparedHost> prepare(const HostSettings& settings, const std::a
                                       const Report& report) {
   auto prepared = std::make_shared<PreparedHost>();
   try {
-    std::optional<model::LoadedMesh> mesh = loadHostMesh(settings.meshPath, *prepared);
+    HostSettings used = settings;
+    std::optional<model::LoadedMesh> mesh;
+    if (model::isSessionFile(settings.meshPath)) {
+      prepared->saved = loadSavedSession(settings.meshPath, *prepared);
+      if (!prepared->saved) return prepared;
+      mesh.emplace();
+      mesh->V = prepared->saved->V;
+      mesh->F = prepared->saved->F;
+      used.m = prepared->saved->m;
+    } else {
+      mesh = loadHostMesh(settings.meshPath, *prepared);
+    }
     if (!mesh) return prepared;
     if (cancelled.load()) {
       prepared->cancelled = true;
       return prepared;
     }
     report(10, HostPreparation::tr("Computing the harmonic basis"));
-    std::optional<spectral::BasisComputation> basis = computeBasis(*mesh, settings, cancelled, report, *prepared);
+    std::optional<spectral::BasisComputation> basis = computeBasis(*mesh, used, cancelled, report, *prepared);
     if (!basis) return prepared;
     report(95, HostPreparation::tr("Preparing the display"));
     auto model = std::make_shared<session::HostModel>();

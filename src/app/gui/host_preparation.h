@@ -1,6 +1,7 @@
 #pragma once
 // HostPreparation: the host's long start-up work on a worker thread, for SessionController::host(): load the
-// mesh, compute (or read from the cache) its harmonic basis, and build the full-resolution display level. It
+// mesh (or a saved session, model/session_file.h: its mesh and m), compute (or read from the cache) the harmonic
+// basis, and build the full-resolution display level. It
 // reports progress and its result back to a context object's thread through queued calls, so the GUI thread
 // never waits for it; cancel() stops it at the next check (after the mesh load, or at the eigensolve's next
 // progress callback), join() and the destructor wait for the thread.
@@ -23,6 +24,10 @@ namespace sc::spectral {
 struct ResolutionLevel;
 }
 
+namespace sc::model {
+struct SessionFile;
+}
+
 namespace sc::app {
 
 struct HostSettings;
@@ -36,6 +41,7 @@ struct PreparedHost {
 
   std::shared_ptr<session::HostModel> model;        ///< null unless it succeeded
   std::unique_ptr<spectral::ResolutionLevel> full;  ///< fullResolutionLevel() of the model: K = float(H)
+  std::shared_ptr<const model::SessionFile> saved;  ///< the session file hosted (null for a mesh file)
   QString error;                                    ///< readable reason when it failed
   bool cancelled = false;
 };
@@ -56,7 +62,10 @@ class HostPreparation final {
 
   /// Starts the worker (once). `progress` (10, then 10..95 during the eigensolve, then 95) and finally `done`
   /// (exactly once) run on `context`'s thread as queued calls, which Qt drops if `context` is destroyed first.
-  /// settings: meshPath, m (clamped to 1 ≤ m < #V and the wire's row limit) and useBasisCache are used.
+  /// settings: meshPath, m (clamped to 1 ≤ m < #V and the wire's row limit) and useBasisCache are used. A
+  /// meshPath that is a session file (model::isSessionFile) is read whole: its mesh (already cleaned: used as it
+  /// is, so the basis cache's mesh hash matches the saving host's) and its m replace the mesh load and settings.m;
+  /// a broken file is an error naming the problem.
   void start(const HostSettings& settings, QObject* context, ProgressFn progress, DoneFn done);
   /// Asks the worker to stop; `done` then reports cancelled (unless it had already finished).
   void cancel() { m_cancelled.store(true); }

@@ -3,6 +3,7 @@
 #include "ui_join_dialog.h"
 
 #include "app/gui/recent_sessions.h"
+#include "session/tls_identity.h"
 #include "session/wire_format.h"
 
 #include <QDialogButtonBox>
@@ -33,6 +34,13 @@ QString validateJoinSettings(const JoinSettings& settings) {
   return {};
 }
 
+QString validateFingerprintText(const QString& text) {
+  if (text.trimmed().isEmpty() || session::parseFingerprint(text)) return {};
+  return JoinDialog::tr(
+      "The host fingerprint must be 64 hexadecimal digits (colons or spaces between them are "
+      "fine), as the host's Session info shows it; or leave it empty.");
+}
+
 JoinDialog::JoinDialog(QWidget* parent) : QDialog(parent), ui(new Ui::JoinDialog) {
   ui->setupUi(this);
   ui->resolutionCombo->addItem(tr("Full resolution"));
@@ -60,6 +68,7 @@ JoinSettings JoinDialog::settings() const {
   const int index = std::max(0, ui->resolutionCombo->currentIndex());
   const double fraction = kResolutionFractions[static_cast<std::size_t>(index) % kResolutionFractions.size()];
   if (fraction < 1.0) s.levelFraction = fraction;
+  s.fingerprint = session::parseFingerprint(ui->fingerprintEdit->text()).value_or(QByteArray());
   return s;
 }
 
@@ -75,13 +84,16 @@ void JoinDialog::setSettings(const JoinSettings& settings) {
     }
   }
   ui->resolutionCombo->setCurrentIndex(index);
+  ui->fingerprintEdit->setText(settings.fingerprint.isEmpty() ? QString()
+                                                              : session::formatFingerprint(settings.fingerprint));
 }
 
 QString JoinDialog::errorText() const { return ui->errorLabel->text(); }
 
 void JoinDialog::accept() {
   const JoinSettings s = settings();
-  const QString error = validateJoinSettings(s);
+  QString error = validateJoinSettings(s);
+  if (error.isEmpty()) error = validateFingerprintText(ui->fingerprintEdit->text());
   ui->errorLabel->setText(error);
   if (!error.isEmpty()) return;
   QSettings store;

@@ -2,26 +2,31 @@
 //
 //   shapecast                                   (first start: host the default mesh, ready to drag)
 //   shapecast --demo [MESH]                     (one host and two client windows on loopback)
+//   shapecast --demo [MESH] --screenshot-dir DIR [--after SECONDS]   (README screenshots, then exit)
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
-//   shapecast --host MESH [--port P] [--name N] [--m M]
-//   shapecast --join HOST:PORT [--name N] [--level full|N|P%]
+//   shapecast --host MESH|SESSION.shapecast [--port P] [--name N] [--m M]
+//   shapecast --join HOST:PORT [--name N] [--level full|N|P%] [--fingerprint HEX]
 //
-// --host starts hosting MESH at once (the basis is computed in the background), --join joins a session at once;
+// --host starts hosting MESH at once (the basis is computed in the background), or a saved session file (its mesh,
+// m, shape and undo history; --m is then the file's), --join joins a session at once;
 // a password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
 // With no arguments at all, the window hosts the default mesh (first_start.h: the fetched dragon, else another
 // fetched mesh, else a generated torus) on port 47100 (any free port if taken) with a default handle and anchors,
 // the lock requested and the Drag tool active. --demo is demo.h. With MESH, the mesh is loaded (viewed) at start-up.
 // With --screenshot, the first rendered frame of the viewport is saved to FILE and the program exits: 0 on success, 1
 // when MESH could not be loaded, 2 when the image could not be written, 64 for bad arguments. Load errors then go to
-// stderr instead of a dialog.
+// stderr instead of a dialog. --demo --screenshot-dir is demo_screenshots.h: exit 0 when every PNG was written, 2
+// otherwise (the reason on stderr).
 
 #include "app/gui/demo.h"
+#include "app/gui/demo_screenshots.h"
 #include "app/gui/first_start.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/join_dialog.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_controller.h"
+#include "session/tls_identity.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -132,6 +137,11 @@ int main(int argc, char* argv[]) {
       QStringLiteral("level"),
       QStringLiteral("Display resolution when joining: full, a vertex count, or a percentage such as 20%."),
       QStringLiteral("level"), QStringLiteral("full"));
+  const QCommandLineOption fingerprintOption(
+      QStringLiteral("fingerprint"),
+      QStringLiteral("With --join: the host's SHA-256 certificate fingerprint (64 hex digits, colons optional); "
+                     "without it the first fingerprint seen for host:port is remembered and a changed one refused."),
+      QStringLiteral("hex"));
   const QCommandLineOption portOption(QStringLiteral("port"),
                                       QStringLiteral("TCP port to host on (default 47100; 0 = any free port)."),
                                       QStringLiteral("port"), QStringLiteral("47100"));
@@ -142,7 +152,16 @@ int main(int argc, char* argv[]) {
       QStringLiteral("demo"),
       QStringLiteral("Open a host and two client windows (full and 5% resolution, 10% emulated loss) on loopback, "
                      "sharing MESH or the default mesh."));
-  parser.addOptions({hostOption, joinOption, nameOption, levelOption, portOption, frequenciesOption, demoOption});
+  const QCommandLineOption screenshotDirOption(
+      QStringLiteral("screenshot-dir"),
+      QStringLiteral("With --demo: drag on the host for a while, save the windows as PNG images into <dir>, exit."),
+      QStringLiteral("dir"));
+  const QCommandLineOption afterOption(
+      QStringLiteral("after"),
+      QStringLiteral("With --screenshot-dir: seconds of dragging before the images (default 20)."),
+      QStringLiteral("seconds"), QStringLiteral("20"));
+  parser.addOptions({hostOption, joinOption, nameOption, levelOption, fingerprintOption, portOption, frequenciesOption,
+                     demoOption, screenshotDirOption, afterOption});
   parser.process(app);
 
   const QStringList positional = parser.positionalArguments();
@@ -159,16 +178,34 @@ int main(int argc, char* argv[]) {
   if (parser.isSet(hostOption) && parser.isSet(joinOption)) {
     return usageError(QStringLiteral("--host and --join cannot be used together"));
   }
+  if (parser.isSet(screenshotDirOption) && !parser.isSet(demoOption)) {
+    return usageError(QStringLiteral("--screenshot-dir needs --demo"));
+  }
   if (parser.isSet(demoOption)) {
     if (parser.isSet(hostOption) || parser.isSet(joinOption) || screenshot) {
       return usageError(QStringLiteral("--demo cannot be used with --host, --join or --screenshot"));
     }
     sc::app::DemoOptions options;
     if (!positional.isEmpty()) options.meshPath = positional.first();
+    const bool shots = parser.isSet(screenshotDirOption);
+    options.errorDialogs = !shots;
+    sc::app::DemoScreenshotOptions shotOptions;
+    shotOptions.directory = parser.value(screenshotDirOption);
+    bool ok = false;
+    shotOptions.afterSeconds = parser.value(afterOption).toDouble(&ok);
+    if (!ok || !(shotOptions.afterSeconds >= 1.0) || shotOptions.afterSeconds > 600.0) {
+      return usageError(QStringLiteral("--after takes seconds from 1 to 600"));
+    }
     sc::app::Demo demo(options);
     QObject::connect(&demo, &sc::app::Demo::failed,
                      [](const QString& message) { std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message)); });
+    sc::app::DemoScreenshots screenshots(demo, shotOptions);
+    QObject::connect(&screenshots, &sc::app::DemoScreenshots::finished, [](bool written, const QString& message) {
+      if (!written) std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(message));
+      QCoreApplication::exit(written ? 0 : kExitScreenshotFailed);
+    });
     if (!demo.start()) return kExitLoadFailed;
+    if (shots) screenshots.start();
     return QApplication::exec();
   }
   std::optional<sc::app::HostSettings> hostSettings;
@@ -197,6 +234,11 @@ int main(int argc, char* argv[]) {
     settings.name = name.isEmpty() ? qEnvironmentVariable("USER", QStringLiteral("guest")) : name;
     if (!parseLevel(parser.value(levelOption), settings)) {
       return usageError(QStringLiteral("--level takes full, a vertex count or a percentage such as 20%"));
+    }
+    if (parser.isSet(fingerprintOption)) {
+      const std::optional<QByteArray> pinned = sc::session::parseFingerprint(parser.value(fingerprintOption));
+      if (!pinned) return usageError(QStringLiteral("--fingerprint takes 64 hex digits (colons or spaces allowed)"));
+      settings.fingerprint = *pinned;
     }
     const QString problem = sc::app::validateJoinSettings(settings);
     if (!problem.isEmpty()) return usageError(problem);

@@ -1,14 +1,16 @@
-// MainWindow: construction and the file actions (open, export the deformed mesh, save a screenshot, the Edit menu's
-// undo/redo). The session wiring (menus, lock toolbar, status bar fields, docks, controller signals) is in
-// main_window_session.cpp.
+// MainWindow: construction and the file actions (open, export the deformed mesh, save a screenshot, open and save
+// a session file, the Edit menu's undo/redo). The session wiring (menus, lock toolbar, status bar fields, docks,
+// controller signals) is in main_window_session.cpp.
 
 #include "app/gui/main_window.h"
 
 #include "ui_main_window.h"
 
 #include "app/gui/drag_commands.h"
+#include "app/gui/host_dialog.h"
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/session_snapshot.h"
 #include "model/mesh_loader.h"
 #include "model/mesh_writer.h"
 
@@ -48,7 +50,69 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   connectViewportToSession();
   setUpSessionDocks();
   setUpEditAndExport();
+  setUpSessionFileActions();
   updateLockControls();
+}
+
+void MainWindow::setUpSessionFileActions() {
+  // File → Open Session… / Save Session…, right after Open….
+  auto* openAction = new QAction(tr("Open Sess&ion…"), this);
+  openAction->setObjectName(QStringLiteral("actionOpenSession"));
+  openAction->setStatusTip(tr("Host a saved session again (.shapecast: mesh, shape and undo history)"));
+  auto* saveAction = new QAction(tr("Sa&ve Session…"), this);
+  saveAction->setObjectName(QStringLiteral("actionSaveSession"));
+  saveAction->setStatusTip(tr("Save the hosted session (mesh, shape and undo history) to host it again later"));
+  const QList<QAction*> fileActions = ui->menuFile->actions();
+  const qsizetype openAt = fileActions.indexOf(ui->actionOpen);
+  QAction* before = openAt >= 0 && openAt + 1 < fileActions.size() ? fileActions[openAt + 1] : nullptr;
+  ui->menuFile->insertActions(before, {openAction, saveAction});
+  connect(openAction, &QAction::triggered, this, &MainWindow::chooseAndOpenSession);
+  connect(saveAction, &QAction::triggered, this, &MainWindow::chooseAndSaveSession);
+  const auto updateEnabled = [this, saveAction] {
+    saveAction->setEnabled(m_session != nullptr && m_session->role() == SessionController::Role::Host &&
+                           m_session->state() == SessionController::State::Live);
+  };
+  connect(this, &MainWindow::sessionStarted, this, [this, updateEnabled](SessionController* controller) {
+    connect(controller, &SessionController::stateChanged, this, updateEnabled);
+    updateEnabled();
+  });
+  updateEnabled();
+}
+
+bool MainWindow::saveSession(const QString& path, QString* error) {
+  if (m_session == nullptr) {
+    if (error != nullptr) *error = tr("Only a live host can save its session.");
+    return false;
+  }
+  return sc::app::saveSession(path, *m_session, m_dragHistory, error);
+}
+
+void MainWindow::chooseAndSaveSession() {
+  QString path =
+      QFileDialog::getSaveFileName(this, tr("Save Session"), m_lastDirectory, tr("ShapeCast session (*.shapecast)"));
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".") + QLatin1StringView(model::kSessionFileSuffix);
+  QString error;
+  if (saveSession(path, &error)) {
+    m_lastDirectory = QFileInfo(path).absolutePath();
+    statusBar()->showMessage(tr("Saved the session to %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+  } else {
+    statusBar()->showMessage(error, kCleaningMessageMs);
+    if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Save Session"), error);
+  }
+}
+
+void MainWindow::chooseAndOpenSession() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open Session"), m_lastDirectory,
+                                                    tr("ShapeCast sessions (*.shapecast);;All files (*)"));
+  if (path.isEmpty()) return;
+  m_lastDirectory = QFileInfo(path).absolutePath();
+  // The Host dialog with this file: port, password and name are still the user's to choose.
+  HostDialog dialog(this);
+  HostSettings settings = dialog.settings();
+  settings.meshPath = path;
+  dialog.setSettings(settings);
+  if (dialog.exec() == QDialog::Accepted) hostSession(dialog.settings());
 }
 
 void MainWindow::setUpEditAndExport() {

@@ -61,7 +61,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] SessionDocks* docks() const { return m_docks; }
   /// The client's Network conditions dock (objectName "networkConditionsDock", bound to session()).
   [[nodiscard]] NetworkConditionsDock* networkConditionsDock() const { return m_networkDock; }
-  /// Time of the last reconstruction and of the last redraw (update request → frame swapped), milliseconds.
+  /// Time of the last reconstruction and of the last redraw (MeshViewport::FrameTimes::totalMs()), milliseconds.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
   /// Undo/redo of the host user's committed drags (Edit menu; see drag_commands.h).
@@ -74,6 +74,9 @@ class MainWindow : public QMainWindow {
   bool exportDeformedMesh(const QString& path, QString* error = nullptr);
   /// Saves the viewport's framebuffer as a PNG image. False with `error` on failure.
   bool saveScreenshot(const QString& path, QString* error = nullptr);
+  /// File → Save Session…: writes the hosted session (mesh, m, mode, current shape, undo history) to `path`
+  /// (session_snapshot.h). False with a readable `error` unless this window is a live host or when writing fails.
+  bool saveSession(const QString& path, QString* error = nullptr);
 
  public slots:
   void showHostDialog();
@@ -93,10 +96,13 @@ class MainWindow : public QMainWindow {
   void chooseAndOpenMesh();
   void chooseAndExportMesh();
   void chooseAndSaveScreenshot();
+  void chooseAndSaveSession();
+  void chooseAndOpenSession();
 
  private:
   SessionController* newSession();
   void setUpEditAndExport();
+  void setUpSessionFileActions();
   void setUpSessionControls();
   void setUpSessionStatusBar();
   void connectViewportToSession();

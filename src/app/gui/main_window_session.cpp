@@ -12,6 +12,8 @@
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_docks.h"
+#include "app/gui/session_identity_view.h"
+#include "spectral/reconstruction_kernel.h"
 
 #include <QActionGroup>
 #include <QComboBox>
@@ -54,6 +56,21 @@ void MainWindow::setUpSessionControls() {
   m_levelCombo->setEnabled(false);
   m_levelCombo->setSizeAdjustPolicy(QComboBox::AdjustToContents);
   ui->sessionToolBar->addWidget(m_levelCombo);
+  // The host's certificate fingerprint (docs/security.md): a toolbar button and Session ▸ Session info….
+  const auto showSessionInfo = [this] {
+    auto* dialog = new SessionInfoDialog(m_session, this);
+    dialog->setAttribute(Qt::WA_DeleteOnClose);
+    dialog->show();
+  };
+  auto* identity = new HostIdentityButton(this);
+  QAction* identityAction = ui->sessionToolBar->addWidget(identity);
+  identityAction->setVisible(false);
+  connect(identity, &HostIdentityButton::shownChanged, identityAction, &QAction::setVisible);
+  connect(identity, &QToolButton::clicked, this, showSessionInfo);
+  connect(this, &MainWindow::sessionStarted, identity, &HostIdentityButton::bind);
+  QAction* infoAction = ui->menuSession->addAction(tr("Session &Info…"));
+  infoAction->setObjectName(QStringLiteral("actionSessionInfo"));
+  connect(infoAction, &QAction::triggered, this, showSessionInfo);
   connect(ui->actionLock, &QAction::triggered, this, [this] {
     if (m_session == nullptr) return;
     if (m_session->lockWanted()) {
@@ -114,7 +131,7 @@ void MainWindow::connectViewportToSession() {
   connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
     if (!m_redrawPending) return;
     m_redrawPending = false;
-    m_redrawMs = static_cast<double>(m_redrawClock.nsecsElapsed()) / 1e6;
+    m_redrawMs = ui->viewport->frameTimes().totalMs();  // normals, paint, composition: as shapecast-bench-viewport
     updateTimingLabel();
   });
 }
@@ -157,6 +174,7 @@ SessionController* MainWindow::newSession() {
   connect(m_session, &SessionController::positionsChanged, this, &MainWindow::showSessionPositions);
   connect(m_session, &SessionController::lockChanged, this, &MainWindow::updateLockControls);
   connect(m_session, &SessionController::peersChanged, this, &MainWindow::updateLockControls);
+  connect(m_session, &SessionController::levelsChanged, this, &MainWindow::updateLevelCombo);
   connect(m_session, &SessionController::statsChanged, this, &MainWindow::updateTimingLabel);
   connect(m_session, &SessionController::stateChanged, this, [this] {
     updateSessionActions();
@@ -201,6 +219,10 @@ void MainWindow::onSessionMesh() {
   const Eigen::MatrixXd& V = m_session->displayRestPositions();
   const Eigen::MatrixXi& F = m_session->displayFaces();
   ui->viewport->setMesh(V, F);
+  // On the GPU path the viewport reconstructs rest + K·Z itself (shows setCoefficients() frames).
+  const spectral::ResolutionLevel* level = m_session->level();
+  if (ui->viewport->reconstructionPath() == ReconstructionPath::Gpu && level != nullptr && level->K.rows() == V.rows())
+    ui->viewport->setReconstructionBasis(level->K, spectral::interleavedPositions(V));
   showSessionPositions();
   m_meshSizeLabel->setText(meshSizeText(static_cast<int>(V.rows()), static_cast<int>(F.rows())));
   statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kCleaningMessageMs);
@@ -214,6 +236,14 @@ void MainWindow::showSessionPositions() {
   if (!m_redrawPending) {
     m_redrawPending = true;
     m_redrawClock.start();
+  }
+  if (ui->viewport->hasReconstructionBasis() && ui->viewport->reconstructionPath() == ReconstructionPath::Gpu) {
+    const Eigen::MatrixXd Z = m_session->coefficients();
+    const spectral::ResolutionLevel* level = m_session->level();
+    if (level != nullptr && Z.rows() == level->K.cols() && Z.cols() == 3) {
+      ui->viewport->setCoefficients(Z.cast<float>());
+      return;
+    }
   }
   ui->viewport->setPositionsInterleaved(positions);
 }
@@ -243,7 +273,7 @@ void MainWindow::updateLevelCombo() {
   const std::vector<LevelChoice> levels = m_session->levels();
   for (const LevelChoice& level : levels) {
     m_levelCombo->addItem(level.label, QVariant::fromValue<uint>(level.target));
-    if (level.target == m_session->levelTarget()) m_levelCombo->setCurrentIndex(m_levelCombo->count() - 1);
+    if (level.current) m_levelCombo->setCurrentIndex(m_levelCombo->count() - 1);
   }
   m_levelCombo->setEnabled(m_session->role() == SessionController::Role::Client && levels.size() > 1);
 }
@@ -264,8 +294,10 @@ void MainWindow::updateTimingLabel() {
     m_timingLabel->clear();
     return;
   }
-  m_timingLabel->setText(tr("reconstruction %1 ms + redraw %2 ms")
-                             .arg(m_session->reconstructionMs(), 0, 'f', 2)
+  const double reconstruction = m_session->reconstructionMs();
+  m_timingLabel->setText(tr("reconstruction + redraw: %1 ms (%2 + %3)")
+                             .arg(reconstruction + m_redrawMs, 0, 'f', 1)
+                             .arg(reconstruction, 0, 'f', 2)
                              .arg(m_redrawMs, 0, 'f', 1));
 }
 
@@ -274,7 +306,15 @@ void MainWindow::onSessionFailed(const QString& message) {
   updateLockControls();
   statusBar()->showMessage(message, kCleaningMessageMs);
   emit sessionFailed(message);
-  if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Session"), message);
+  if (!m_errorDialogsEnabled) return;
+  if (m_session != nullptr && m_session->fingerprintRefused()) {
+    QMessageBox box(QMessageBox::Critical, tr("Host fingerprint does not match"), message, QMessageBox::Ok, this);
+    box.setObjectName(QStringLiteral("fingerprintRefusedBox"));
+    box.setInformativeText(fingerprintRefusedAdvice());
+    box.exec();
+    return;
+  }
+  QMessageBox::warning(this, tr("Session"), message);
 }
 
 void MainWindow::onProgress(int percent, const QString& what) {

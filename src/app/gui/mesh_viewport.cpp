@@ -35,9 +35,25 @@ MeshViewport::MeshViewport(QWidget* parent) : QOpenGLWidget(parent) {
     m_visibleHint.clear();
     update();
   });
+  m_adaptive = defaultAdaptiveResolution();
+  m_path = defaultReconstructionPath();
+  m_restoreTimer.setSingleShot(true);
+  m_restoreTimer.setInterval(kIdleRestoreMs + kIdleRestoreMs / 10);  // the next paint is no longer interactive
+  connect(&m_restoreTimer, &QTimer::timeout, this, qOverload<>(&MeshViewport::update));
+  connect(this, &QOpenGLWidget::frameSwapped, this, [this] {
+    if (m_sinceLastPaint.isValid()) {
+      m_frameTimes.composeMs = static_cast<double>(m_sinceLastPaint.nsecsElapsed()) * 1e-6;
+    }
+  });
 }
 
 MeshViewport::~MeshViewport() { cleanup(); }
+
+double MeshViewport::lapMs(QElapsedTimer& timer) {
+  const double ms = static_cast<double>(timer.nsecsElapsed()) * 1e-6;
+  timer.start();
+  return ms;
+}
 
 QSize MeshViewport::minimumSizeHint() const { return {200, 150}; }
 
@@ -77,6 +93,7 @@ void MeshViewport::setPositions(const Eigen::MatrixXd& V) {
   }
   m_showingCoefficients = false;
   m_hostPositionsStale = false;
+  m_frameTimes.reconstructMs = 0.0;
   m_positions.resize(static_cast<std::size_t>(3 * V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     for (Eigen::Index k = 0; k < 3; ++k) {
@@ -94,6 +111,7 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
   }
   m_showingCoefficients = false;
   m_hostPositionsStale = false;
+  m_frameTimes.reconstructMs = 0.0;
   const float origin[3] = {static_cast<float>(m_origin(0)), static_cast<float>(m_origin(1)),
                            static_cast<float>(m_origin(2))};
   m_positions.resize(3 * n);
@@ -105,9 +123,13 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
 
 // m_positions changed: recompute the normals and the scene bounds, mark the upload and repaint.
 void MeshViewport::positionsChanged() {
+  QElapsedTimer timer;
+  timer.start();
   m_normals.resize(m_positions.size());
   vertexNormals(m_positions, m_indices, m_normals);
+  m_frameTimes.normalsMs = lapMs(timer);
   updateBounds();
+  m_frameTimes.boundsMs = lapMs(timer);
   m_vertexDataDirty = true;
   update();
 }

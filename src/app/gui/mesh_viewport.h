@@ -4,12 +4,14 @@
 // vertex_picking.h and the drag pose in DragGesture; this class owns the GL objects and the host-side buffers and
 // turns mouse gestures into intent signals (handlePainted, dragMoved, …) that a controller maps to session calls.
 
+#include "app/gui/mesh_viewport_resolution.h"
 #include "app/gui/orbit_camera.h"
 #include "app/gui/vertex_picking.h"
 #include "spectral/resolution_level.h"
 
 #include <Eigen/Core>
 
+#include <QElapsedTimer>
 #include <QOpenGLBuffer>
 #include <QOpenGLFunctions>
 #include <QOpenGLVertexArrayObject>
@@ -56,6 +58,27 @@ struct ReconstructionTimings {
   }
 };
 
+/// Wall-clock cost of the stages of the latest frame, in milliseconds (QElapsedTimer), for the status bar and
+/// shapecast-bench-viewport. The host stages (reconstruct, normals, bounds) run in setCoefficients() /
+/// setPositions*(); the GL stages in paintGL(). Without MeshViewport::setProfiling() the GL stages only count the
+/// time to issue the commands (the rasteriser may still be busy); with it each GL stage ends with glFinish().
+struct FrameTimes {
+  double reconstructMs = 0.0;  ///< X' = X̂' + K·Z on the CPU (0 on the GPU path and for explicit positions)
+  double normalsMs = 0.0;      ///< CPU vertex normals (0 where the shader computes them)
+  double boundsMs = 0.0;       ///< scene bounds for the camera
+  double uploadMs = 0.0;       ///< buffer uploads in paintGL()
+  double backgroundMs = 0.0;   ///< clear and gradient pass
+  double meshMs = 0.0;         ///< the mesh pass(es)
+  double overlayMs = 0.0;      ///< QPainter overlay (0 when nothing is shown over the view)
+  double composeMs = 0.0;      ///< paintGL() end → frameSwapped(): Qt's composition into the window and the swap
+  double renderScale = 1.0;    ///< internal resolution of the frame (see MeshViewport::setAdaptiveResolution)
+  [[nodiscard]] double hostMs() const { return reconstructMs + normalsMs + boundsMs; }
+  [[nodiscard]] double paintMs() const { return uploadMs + backgroundMs + meshMs + overlayMs; }
+  /// The whole frame: host stages, paintGL() and the composition/swap (the redraw part of the status bar's
+  /// "reconstruction + redraw"; valid once frameSwapped() was emitted for the frame).
+  [[nodiscard]] double totalMs() const { return hostMs() + paintMs() + composeMs; }
+};
+
 /// Renders a triangle mesh with area-weighted vertex normals, two-light Blinn–Phong shading over a vertical
 /// gradient background, framed on its vertices; optionally with its edges drawn over it (wireframe) and with the
 /// handle (orange-red) and anchor (blue) vertices tinted.
@@ -79,6 +102,10 @@ struct ReconstructionTimings {
 /// work at all, at the price of a faceted look that smooth CPU vertex normals do not have (invisible at 100k
 /// vertices, visible on a coarse level). Host positions for picking and dragging are reconstructed on the CPU
 /// lazily, only when a gesture starts.
+///
+/// Adaptive resolution (setAdaptiveResolution(), on by default on software rasterisers): frames that follow each
+/// other quickly are drawn at a reduced internal resolution chosen from the measured paint time, and the view
+/// redraws itself at full resolution once idle. frameTimes() reports each frame's stages.
 ///
 /// Signals carry std::vector / Eigen values and are meant for direct (same-thread) connections.
 class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
@@ -146,8 +173,14 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   /// O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex shader does the rest.
   void setCoefficients(const Eigen::MatrixXf& Z);
 
-  /// Chooses where setCoefficients() frames are reconstructed (default Cpu). Gpu falls back to Cpu where the
-  /// context cannot do it (shader failed, m > kMaxGpuBasisSize, K larger than GL_MAX_TEXTURE_BUFFER_SIZE).
+  /// The path a new viewport starts with: $SHAPECAST_RECONSTRUCTION ("cpu" or "gpu") when set, otherwise Cpu on a
+  /// software rasteriser (where shapecast-bench-viewport measures the CPU path faster: llvmpipe shades vertices on
+  /// one thread, and 100k vertices × m/4 texel fetches cost more than the CPU kernel and normals) and Gpu on a real
+  /// GPU. Probed once per process (see defaultSampleCount()).
+  static ReconstructionPath defaultReconstructionPath();
+  /// Chooses where setCoefficients() frames are reconstructed (default defaultReconstructionPath()). Gpu falls back to
+  /// Cpu where the context cannot do it (shader failed, m > kMaxGpuBasisSize, K larger than
+  /// GL_MAX_TEXTURE_BUFFER_SIZE).
   void setReconstructionPath(ReconstructionPath path);
   [[nodiscard]] ReconstructionPath reconstructionPath() const { return m_path; }
   /// Whether the GPU path can draw the current basis (false until the GL context exists).
@@ -161,6 +194,32 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   /// there is none since the last setReconstructionBasis(). Cpu when nothing can be measured.
   ReconstructionPath fasterPath();
   [[nodiscard]] const std::optional<ReconstructionTimings>& reconstructionTimings() const { return m_timings; }
+
+  /// Stage times of the latest frame (see FrameTimes); the host stages are those of the latest position change.
+  [[nodiscard]] const FrameTimes& frameTimes() const { return m_frameTimes; }
+  /// Profiling: when on, paintGL() calls glFinish() after each GL stage so that FrameTimes attributes the
+  /// rasteriser's work to the stage that caused it (slower overall: no overlap of CPU and GPU). Default off.
+  void setProfiling(bool on) { m_profiling = on; }
+
+  /// Paint time (upload, background and mesh passes, resolve) that adaptive resolution keeps frames within, ms.
+  static constexpr double kPaintBudgetMs = 18.0;
+  /// A paint less than this long after the previous one is interactive; one this long after it, or the repaint
+  /// that follows this long without paints, is drawn at full resolution.
+  static constexpr int kIdleRestoreMs = 300;
+  /// Adaptive resolution (default: on for software rasterisers — see defaultSampleCount() — off on a GPU; the
+  /// environment variable SHAPECAST_ADAPTIVE_RESOLUTION=0/1 overrides the default): interactive frames (a paint
+  /// within kIdleRestoreMs of the previous one) render the background and mesh into an offscreen framebuffer of
+  /// AdaptiveResolution::scale() times the widget's pixel size and stretch it onto the widget (linear filter);
+  /// the scale follows the measured paint time (glFinish() at the end of each paint) against kPaintBudgetMs.
+  /// Once nothing has been painted for kIdleRestoreMs the view repaints itself at full resolution. Needs a
+  /// single-sampled widget framebuffer; with multisampling frames are always full resolution.
+  void setAdaptiveResolution(bool on);
+  [[nodiscard]] bool adaptiveResolution() const { return m_adaptive; }
+  /// Replaces kPaintBudgetMs for this viewport (ms > 0; e.g. tests, or a client that must leave time for other
+  /// work) and starts again from full resolution.
+  void setPaintBudget(double ms) { m_resolution = AdaptiveResolution(ms); }
+  /// The default of setAdaptiveResolution() for new viewports (probed once per process, see defaultSampleCount()).
+  static bool defaultAdaptiveResolution();
 
   /// Positions the GPU path computes for the current Z, read back through transform feedback (3·#V floats, in
   /// the coordinates given to setMesh()); empty without a basis, coefficients, context or GPU path support.
@@ -242,6 +301,9 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
  private:
   enum class Gesture { None, Camera, Paint, Drag, Blocked };
 
+  /// Milliseconds since `timer` was (re)started, which restarts it (for FrameTimes).
+  static double lapMs(QElapsedTimer& timer);
+
   // GL side (mesh_viewport.cpp).
   void positionsChanged();
   void updateBounds();
@@ -257,6 +319,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void uploadIfDirty();
   void drawBackground();
   void drawMesh(bool wireframe);
+  void drawScene(double scale, bool finish);
   void drawOverlay();
   [[nodiscard]] DepthImage renderDepth();
 
@@ -299,6 +362,12 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   bool m_basisDirty = false;
   bool m_restDirty = false;
   std::optional<ReconstructionTimings> m_timings;
+  FrameTimes m_frameTimes;
+  bool m_profiling = false;
+  bool m_adaptive = false;
+  AdaptiveResolution m_resolution{kPaintBudgetMs};
+  QElapsedTimer m_sinceLastPaint;
+  QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
 
   // Interaction.
   ViewportTool m_tool = ViewportTool::Orbit;
@@ -317,7 +386,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   std::unique_ptr<QOpenGLShaderProgram> m_meshProgram;
   std::unique_ptr<QOpenGLShaderProgram> m_backgroundProgram;
   std::unique_ptr<QOpenGLFramebufferObject> m_pickFbo;
-  QOpenGLFunctions_3_3_Core* m_gl33 = nullptr;  // for glPolygonMode; owned by the context
+  std::unique_ptr<QOpenGLFramebufferObject> m_sceneFbo;  // reduced-resolution frames
+  QOpenGLFunctions_3_3_Core* m_gl33 = nullptr;           // for glPolygonMode; owned by the context
   QOpenGLVertexArrayObject m_meshVao;
   QOpenGLVertexArrayObject m_backgroundVao;
   QOpenGLBuffer m_positionBuffer{QOpenGLBuffer::VertexBuffer};

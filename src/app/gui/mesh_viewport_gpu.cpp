@@ -94,15 +94,21 @@ void MeshViewport::setCoefficients(const Eigen::MatrixXf& Z) {
 // Shows rest + K·Z on the current path: the CPU path reconstructs (and computes normals) now, the GPU path only
 // widens the camera bounds and repaints.
 void MeshViewport::applyCoefficients() {
+  QElapsedTimer timer;
+  timer.start();
   if (m_path == ReconstructionPath::Cpu) {
     m_positions.resize(m_rest.size());
     spectral::reconstructInterleaved(m_basis, m_rest, m_coefficients, m_positions);
     m_hostPositionsStale = false;
+    m_frameTimes.reconstructMs = lapMs(timer);
     positionsChanged();
     return;
   }
   m_hostPositionsStale = true;
   updateBounds();
+  m_frameTimes.reconstructMs = 0.0;
+  m_frameTimes.normalsMs = 0.0;
+  m_frameTimes.boundsMs = lapMs(timer);
   update();
 }
 

@@ -52,19 +52,52 @@ QString MeshViewport::rendererName() {
   return result;
 }
 
-int MeshViewport::defaultSampleCount() {
-  static const int samples = [] {
-    bool ok = false;
-    const int fromEnvironment = qEnvironmentVariableIntValue("SHAPECAST_MSAA", &ok);
-    if (ok) {
-      return std::max(0, fromEnvironment);
-    }
-    const QString renderer = rendererName().toLower();
-    const bool software = renderer.contains(QLatin1String("llvmpipe")) ||
-                          renderer.contains(QLatin1String("softpipe")) || renderer.contains(QLatin1String("software"));
-    return software ? 0 : 4;
+namespace {
+
+// Whether the default format's renderer is a software rasteriser (probed once per process).
+bool softwareRenderer() {
+  static const bool software = [] {
+    const QString renderer = MeshViewport::rendererName().toLower();
+    return renderer.contains(QLatin1String("llvmpipe")) || renderer.contains(QLatin1String("softpipe")) ||
+           renderer.contains(QLatin1String("software"));
   }();
+  return software;
+}
+
+// $name as an integer ≥ 0, or `otherwise` when unset or not an integer.
+int environmentOr(const char* name, int otherwise) {
+  bool ok = false;
+  const int value = qEnvironmentVariableIntValue(name, &ok);
+  return ok ? std::max(0, value) : otherwise;
+}
+
+}  // namespace
+
+int MeshViewport::defaultSampleCount() {
+  static const int samples = environmentOr("SHAPECAST_MSAA", softwareRenderer() ? 0 : 4);
   return samples;
+}
+
+ReconstructionPath MeshViewport::defaultReconstructionPath() {
+  static const ReconstructionPath path = [] {
+    const QByteArray chosen = qgetenv("SHAPECAST_RECONSTRUCTION").toLower();
+    if (chosen == "cpu" || chosen == "gpu") {
+      return chosen == "gpu" ? ReconstructionPath::Gpu : ReconstructionPath::Cpu;
+    }
+    return softwareRenderer() ? ReconstructionPath::Cpu : ReconstructionPath::Gpu;
+  }();
+  return path;
+}
+
+bool MeshViewport::defaultAdaptiveResolution() {
+  static const bool adaptive = environmentOr("SHAPECAST_ADAPTIVE_RESOLUTION", softwareRenderer() ? 1 : 0) != 0;
+  return adaptive;
+}
+
+void MeshViewport::setAdaptiveResolution(bool on) {
+  m_adaptive = on;
+  m_resolution.reset();
+  update();
 }
 
 void MeshViewport::setSampleCount(int samples) {
@@ -81,6 +114,7 @@ void MeshViewport::cleanup() {
   m_glReady = false;
   destroyGpuObjects();
   m_pickFbo.reset();
+  m_sceneFbo.reset();
   for (QOpenGLBuffer* buffer : {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer}) {
     buffer->destroy();
   }
@@ -164,14 +198,76 @@ void MeshViewport::paintGL() {
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_CULL_FACE);
+  // Interactive (a paint shortly after the previous one) frames may be drawn at a reduced resolution.
+  const bool interactive = m_sinceLastPaint.isValid() && m_sinceLastPaint.elapsed() < kIdleRestoreMs;
+  const bool scalable = m_adaptive && m_gl33 != nullptr && format().samples() <= 0;
+  const double scale = interactive && scalable ? m_resolution.scale() : 1.0;
+  QElapsedTimer paint;
+  paint.start();
+  drawScene(scale, scalable);  // finished when scalable: the rasteriser's time belongs to the measurement
+  if (scalable) {
+    m_resolution.record(scale, static_cast<double>(paint.nsecsElapsed()) * 1e-6);
+  }
+  if (scale < 1.0) {
+    m_restoreTimer.start();
+  }
+  QElapsedTimer overlay;
+  overlay.start();
+  drawOverlay();
+  if (m_profiling) {
+    glFinish();
+  }
+  m_frameTimes.overlayMs = lapMs(overlay);
+  m_frameTimes.renderScale = scale;
+  m_sinceLastPaint.start();  // from the end of this paint: a slow frame does not make the next one idle
+}
+
+// Upload, background and mesh passes into the widget's framebuffer, or at `scale` < 1 into m_sceneFbo that is
+// then stretched onto it (the mesh pass's time includes that blit). Fills the GL stages of m_frameTimes. `finish`:
+// glFinish() at the end.
+void MeshViewport::drawScene(double scale, bool finish) {
+  QElapsedTimer timer;
+  timer.start();
+  // Ends one FrameTimes stage (with glFinish() when profiling).
+  const auto stage = [this, &timer](double& ms) {
+    if (m_profiling) {
+      glFinish();
+    }
+    ms = lapMs(timer);
+  };
+  m_frameTimes.uploadMs = m_frameTimes.meshMs = 0.0;
+  if (m_meshProgram) {
+    uploadIfDirty();
+    stage(m_frameTimes.uploadMs);
+  }
+  const QSize full = (QSizeF(width(), height()) * devicePixelRatioF()).toSize();
+  const QSize reduced = (QSizeF(full) * scale).toSize().expandedTo(QSize(1, 1));
+  const bool offscreen = scale < 1.0 && reduced != full;
+  if (offscreen) {
+    if (!m_sceneFbo || m_sceneFbo->size() != reduced) {
+      m_sceneFbo = std::make_unique<QOpenGLFramebufferObject>(reduced, QOpenGLFramebufferObject::Depth);
+    }
+    m_sceneFbo->bind();
+    glViewport(0, 0, reduced.width(), reduced.height());
+  }
   glClearColor(kBackgroundBottom.x(), kBackgroundBottom.y(), kBackgroundBottom.z(), 1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   drawBackground();
+  stage(m_frameTimes.backgroundMs);
   if (m_meshProgram) {
-    uploadIfDirty();
     drawMesh(m_wireframe);
   }
-  drawOverlay();
+  if (offscreen) {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
+    m_gl33->glBlitFramebuffer(0, 0, reduced.width(), reduced.height(), 0, 0, full.width(), full.height(),
+                              GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glBindFramebuffer(GL_FRAMEBUFFER, defaultFramebufferObject());
+    glViewport(0, 0, full.width(), full.height());
+  }
+  if (finish) {
+    glFinish();
+  }
+  stage(m_frameTimes.meshMs);
 }
 
 void MeshViewport::uploadIfDirty() {

@@ -11,6 +11,7 @@
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/resolution_level.h"
 
+#include <QLocale>
 #include <QTimer>
 
 #include <chrono>
@@ -161,11 +162,23 @@ std::vector<LevelChoice> SessionController::levels() const {
   if (m_model) n = m_model->vertexCount();
   if (m_client != nullptr && m_client->session()) n = static_cast<int>(m_client->session()->vertexCount);
   if (n <= 0) return out;
-  out.push_back({0, tr("Full (%1 vertices)").arg(n)});
+  const QLocale locale;
+  const std::uint32_t shown = m_client != nullptr ? m_client->levelVertexCount() : 0;
+  out.push_back({0, tr("Full — %1 vertices").arg(locale.toString(n)),
+                 m_host != nullptr || (shown != 0 ? shown == static_cast<std::uint32_t>(n) : m_levelTarget == 0)});
   if (m_host != nullptr) return out;
+  if (m_client != nullptr && m_client->levels().complete()) {
+    for (const session::LevelInfo& level : m_client->levels().levels) {
+      if (level.levelId == 0) continue;  // the full model, listed above
+      out.push_back(
+          {level.vertexCount, tr("%1 vertices").arg(locale.toString(level.vertexCount)), shown == level.vertexCount});
+    }
+    return out;
+  }
   for (int target : model::levelTargets(n)) {
     if (target >= n) continue;
-    out.push_back({static_cast<std::uint32_t>(target), tr("≈ %1 vertices").arg(target)});
+    out.push_back({static_cast<std::uint32_t>(target), tr("≈ %1 vertices").arg(locale.toString(target)),
+                   m_levelTarget == static_cast<std::uint32_t>(target)});
   }
   return out;
 }

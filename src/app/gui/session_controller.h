@@ -17,7 +17,8 @@
 // its next progress callback). Nothing blocks the GUI thread for longer than one reconstruction of the displayed level.
 //
 // Errors never throw: every failure (unreadable mesh, basis failure, port in use, unreachable host, wrong password,
-// version mismatch (the host's Refused text), host gone or silent) becomes failed(QString).
+// version mismatch (the host's Refused text), host gone or silent, a host certificate that does not match the
+// pinned or remembered fingerprint: fingerprintRefused()) becomes failed(QString).
 
 #include "session/control_messages.h"
 #include "session/lock_messages.h"
@@ -41,6 +42,10 @@ class SessionClient;
 class DistortionMeter;
 struct HostModel;
 }  // namespace sc::session
+
+namespace sc::model {
+struct SessionFile;
+}
 
 namespace sc::spectral {
 struct ResolutionLevel;
@@ -73,6 +78,19 @@ struct JoinSettings {
   std::optional<double> levelFraction;
   /// Emulated network conditions on receive from the start (see SessionController::setNetworkConditions).
   std::optional<session::ImpairmentSettings> impairment;
+  /// Pinned SHA-256 of the host's certificate (session::parseFingerprint); empty: trust on first use, as
+  /// `shapecast-cli join` (the first fingerprint seen for host:port is remembered, a changed one is refused).
+  QByteArray fingerprint;
+  /// The known-hosts store (session::KnownHosts); empty: the application's QSettings (tests give an INI file).
+  QString knownHostsFile;
+};
+
+/// How the host's certificate was trusted when joining (SessionController::hostTrust()).
+enum class HostTrust {
+  None,      ///< not joined (or hosting), or refused
+  Pinned,    ///< matched the fingerprint the user entered
+  Known,     ///< matched the fingerprint remembered from an earlier join of this host:port
+  FirstUse,  ///< first join of this host:port: remembered now; the user should compare it with the host's once
 };
 
 /// Emulated network conditions of a client, as the Network conditions dock edits them.
@@ -98,7 +116,8 @@ struct HostDeformation {
 /// One entry of the resolution selector.
 struct LevelChoice {
   std::uint32_t target = 0;  ///< what setLevel() takes (0 = full resolution)
-  QString label;             ///< "Full (N vertices)" or "≈ N vertices"
+  QString label;             ///< "Full — N vertices", then "N vertices" (exact) or "≈ N vertices"
+  bool current = false;      ///< the displayed level (exact list) or the target last asked for
 };
 
 class SessionController final : public QObject {
@@ -179,6 +198,9 @@ class SessionController final : public QObject {
   /// Host only: the constraints this user last sent and the pose its drags left (nullopt on a client, or
   /// before this user's constraints reached the deformer). Constraints or drags of clients are not included.
   [[nodiscard]] std::optional<HostDeformation> hostDeformation() const;
+  /// Host started from a session file (host() with a `.shapecast` file as meshPath): that file's content, else
+  /// nullptr. Its current state is restored once live (savedSessionRestored()).
+  [[nodiscard]] const model::SessionFile* savedSession() const { return m_saved.get(); }
   /// Host only, as the lock holder and outside a drag: sets `state`'s constraints and solves its pose again, so
   /// that everyone sees that shape (a new frame); handle() and anchors() become the state's and the next drag
   /// starts from its pose. False (nothing changed) on a client, without the lock, during a drag, with an empty
@@ -201,8 +223,9 @@ class SessionController final : public QObject {
   [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
 
   // --- levels
-  /// The resolution choices: full, then model::levelTargets(n) largest first, labelled "≈ N vertices" (the host
-  /// sends the ladder level closest to N). A host displays only the full level.
+  /// The resolution choices: full, then, once the host's LevelList is complete, its levels with their exact
+  /// vertex counts ("5,231 vertices"), before that model::levelTargets(n) largest first, labelled "≈ N vertices"
+  /// (the host sends the ladder level closest to N). A host displays only the full level.
   [[nodiscard]] std::vector<LevelChoice> levels() const;
   /// The target last asked for (0 = full).
   [[nodiscard]] std::uint32_t levelTarget() const { return m_levelTarget; }
@@ -225,6 +248,16 @@ class SessionController final : public QObject {
   /// assembled from its receiver statistics and distortion meter. nullopt when unknown.
   [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const;
 
+  // --- host identity (docs/security.md)
+  /// SHA-256 of the host's TLS certificate (session::kFingerprintSize bytes): on a host its own (once live); on a
+  /// client the one the host showed (once the TLS handshake ended, also when it was refused). Empty otherwise.
+  [[nodiscard]] QByteArray hostFingerprint() const;
+  /// Client: how that fingerprint was trusted (None until the certificate was accepted, and on a host).
+  [[nodiscard]] HostTrust hostTrust() const;
+  /// Client: true when the join failed because the host's certificate did not match the pinned fingerprint or
+  /// the one remembered for that host:port (the failed() text names both).
+  [[nodiscard]] bool fingerprintRefused() const;
+
   /// The underlying session objects (nullptr when not of that role or not started), for tests and docks.
   [[nodiscard]] session::SessionHost* sessionHost() const { return m_host; }
   [[nodiscard]] session::SessionClient* sessionClient() const { return m_client; }
@@ -245,12 +278,18 @@ class SessionController final : public QObject {
   void networkConditionsChanged();
   /// Long work: percent 0..100 and what is being done.
   void progress(int percent, const QString& what);
+  /// Client: the host's level list changed (levels() may have changed).
+  void levelsChanged();
+  /// Hosting from a session file: the lock was taken and the file's current state restored (emitted once, after
+  /// hostingStarted(); DragHistory rebuilds the saved undo history on it).
+  void savedSessionRestored();
 
  private:
   void changeState(State next);
   void fail(const QString& message);
   void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);
   void onHostFrame();
+  void restoreSavedSession();
   void onClientState();
   void onClientLevel();
   void onLockChanged();
@@ -276,7 +315,9 @@ class SessionController final : public QObject {
   Eigen::MatrixXd m_lastZ;
   HostSettings m_hostSettings;
   std::optional<double> m_joinFraction;
+  HostTrust m_joinTrust = HostTrust::None;  ///< client: what an accepted certificate means (set by join())
   std::unique_ptr<HostPreparation> m_preparation;
+  std::shared_ptr<const model::SessionFile> m_saved;  ///< host: the session file it was started from
 
   // client
   session::SessionClient* m_client = nullptr;

@@ -1,11 +1,13 @@
 // SessionController, client side: joining (SessionClient and its distortion meter), the client's levels, its
-// emulated network conditions, its own statistics and the once-a-second reconstruction timing.
+// emulated network conditions, its own statistics, the once-a-second reconstruction timing, and how the host's
+// certificate was trusted (pinned fingerprint or trust on first use, session::KnownHosts).
 #include "app/gui/session_controller.h"
 
 #include "session/distortion_meter.h"
 #include "session/session_client.h"
 #include "session/session_clock.h"
 #include "session/session_host.h"
+#include "session/tls_known_hosts.h"
 #include "spectral/resolution_level.h"
 
 #include <QTimer>
@@ -28,7 +30,16 @@ bool SessionController::join(const JoinSettings& settings) {
   options.level = settings.level;
   options.levelFraction = settings.levelFraction;
   options.impairment = settings.impairment;
+  options.fingerprint = settings.fingerprint;
+  options.trustOnFirstUse = true;  // as shapecast-cli join: remember the first fingerprint, refuse a change
+  options.knownHostsFile = settings.knownHostsFile;
   m_joinFraction = settings.levelFraction;
+  if (!settings.fingerprint.isEmpty()) {
+    m_joinTrust = HostTrust::Pinned;
+  } else {
+    const bool known = session::KnownHosts(settings.knownHostsFile).lookup(settings.host, settings.port).has_value();
+    m_joinTrust = known ? HostTrust::Known : HostTrust::FirstUse;
+  }
   m_client = new session::SessionClient(options, this);
   m_meter = new session::DistortionMeter(*m_client, session::DistortionMeter::Mode::Live, m_client);
   connect(m_client, &session::SessionClient::stateChanged, this, &SessionController::onClientState);
@@ -42,6 +53,7 @@ bool SessionController::join(const JoinSettings& settings) {
   connect(m_client, &session::SessionClient::positionsUpdated, this, &SessionController::positionsChanged);
   connect(m_client, &session::SessionClient::lockChanged, this, &SessionController::onLockChanged);
   connect(m_client, &session::SessionClient::peersChanged, this, &SessionController::peersChanged);
+  connect(m_client, &session::SessionClient::levelsChanged, this, &SessionController::levelsChanged);
   changeState(State::Connecting);
   emit progress(0, tr("Connecting to %1:%2").arg(settings.host).arg(settings.port));
   m_client->start();
@@ -81,6 +93,21 @@ void SessionController::onClientLevel() {
   emit positionsChanged();
   emit peersChanged();
   emit lockChanged();
+}
+
+HostTrust SessionController::hostTrust() const {
+  // The handshake starts only once the certificate passed the fingerprint check (SessionClient::onEncrypted).
+  if (m_client == nullptr || m_client->handshake().state() == session::ClientHandshake::State::SendHello) {
+    return HostTrust::None;
+  }
+  return m_joinTrust;
+}
+
+bool SessionController::fingerprintRefused() const {
+  // A certificate was seen but the handshake never started: the fingerprint check is the only thing in between.
+  return m_client != nullptr && m_client->state() == session::SessionClient::State::Failed &&
+         !m_client->hostFingerprint().isEmpty() &&
+         m_client->handshake().state() == session::ClientHandshake::State::SendHello;
 }
 
 const spectral::ResolutionLevel* SessionController::clientLevel() const {

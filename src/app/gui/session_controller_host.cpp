@@ -1,9 +1,12 @@
-// SessionController, host side: preparation (HostPreparation on a worker thread), starting the SessionHost, and
-// the host's own display (X̂ + H·Z of the full level on every new frame).
+// SessionController, host side: preparation (HostPreparation on a worker thread), starting the SessionHost, the
+// restoring of a saved session's state, and the host's own display (X̂ + H·Z of the full level on every new frame).
 #include "app/gui/session_controller.h"
 
 #include "app/gui/host_preparation.h"
+#include "app/gui/session_snapshot.h"
+#include "model/session_file.h"
 #include "session/host_model.h"
+#include "session/session_client.h"
 #include "session/session_host.h"
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/resolution_level.h"
@@ -37,6 +40,7 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
     return;
   }
   m_model = prepared->model;
+  m_saved = prepared->saved;
   m_fullLevel = std::move(prepared->full);
   m_rest = spectral::interleavedPositions(m_model->V);
   m_hostPositions = m_rest;
@@ -45,6 +49,7 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
   options.tcpPort = m_hostSettings.port;
   options.password = m_hostSettings.password;
   options.hostName = m_hostSettings.name.isEmpty() ? QStringLiteral("host") : m_hostSettings.name;
+  if (m_saved) options.deformer.mode = m_saved->mode;
   m_host = new session::SessionHost(m_model, options, this);
   QString error;
   if (!m_host->start(&error)) {
@@ -63,6 +68,38 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
   emit peersChanged();
   emit lockChanged();
   emit hostingStarted(m_host->tcpPort());
+  if (m_saved) restoreSavedSession();
+}
+
+void SessionController::restoreSavedSession() {
+  const auto restore = [this] {
+    if (m_saved->current && !restoreHostDeformation(toHostDeformation(*m_saved->current))) {
+      emit failed(tr("The saved shape could not be restored (the deformer refused its constraints)."));
+    }
+    emit savedSessionRestored();
+  };
+  if (!m_saved->current) {
+    emit savedSessionRestored();
+    return;
+  }
+  // The host's own lock request is granted at once when nobody holds the lock (a fresh host); otherwise the state
+  // is restored when it is granted.
+  requestLock();
+  if (canDrag()) {
+    restore();
+    return;
+  }
+  auto connection = std::make_shared<QMetaObject::Connection>();
+  *connection = connect(this, &SessionController::lockChanged, this, [this, restore, connection] {
+    if (!canDrag()) return;
+    disconnect(*connection);
+    restore();
+  });
+}
+
+QByteArray SessionController::hostFingerprint() const {
+  if (m_host != nullptr) return m_host->fingerprint();
+  return m_client != nullptr ? m_client->hostFingerprint() : QByteArray();
 }
 
 void SessionController::onHostFrame() {

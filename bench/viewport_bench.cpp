@@ -1,0 +1,229 @@
+// shapecast-bench-viewport: per-frame cost of showing a client's deformation frames in the real MeshViewport.
+//
+// Opens a MeshViewport of the given size (a top-level window; run under xvfb-run on a headless machine) on each
+// mesh, gives it a synthetic m-column basis (smooth sines of the rest coordinates: the cost does not depend on K's
+// values) and, for each reconstruction path, applies a new Z every frame: setCoefficients(Z), a synchronous
+// repaint() and glFinish(). Prints median and p90 of every stage (FrameTimes) and of the whole frame, with
+// "compose" = frame − host stages − paintGL stages (the QOpenGLWidget composition into the window and the swap,
+// i.e. the Xvfb blit). Baselines: "empty" (no mesh: background only) and "static" (mesh, no new positions).
+//
+// Usage: shapecast-bench-viewport [--frames 30] [--size 1024x768] [--m 100] [--profile] [MESH ...]
+//   --profile  glFinish() after each GL stage (attributes the rasteriser's work to its stage; slower overall).
+//   MESH       default: assets/meshes/dragon_vrip_res3.ply (23k) and dragon_vrip_res2.ply (100k).
+
+#include "app/gui/mesh_viewport.h"
+#include "app/report/machine_info.h"
+#include "model/mesh_loader.h"
+#include "spectral/reconstruction_kernel.h"
+
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QDir>
+#include <QElapsedTimer>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions>
+#include <QThread>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <functional>
+#include <random>
+#include <variant>
+#include <vector>
+
+namespace {
+
+using sc::app::FrameTimes;
+using sc::app::MeshViewport;
+using sc::app::ReconstructionPath;
+
+constexpr unsigned long kFrameGapMs = 20;  // Qt defers a repaint() within one display frame of the last one
+constexpr int kWarmupFrames = 3;
+
+/// Column k: scale·sin((k+1)·x_axis + phase_k), axis = k mod 3; deterministic.
+sc::spectral::RowMatrixXf syntheticBasis(const Eigen::MatrixXd& V, int m, float scale) {
+  sc::spectral::RowMatrixXf K(V.rows(), m);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> phase(0.0f, 6.28f);
+  const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+  for (int k = 0; k < m; ++k) {
+    const float p = phase(rng);
+    const auto axis = static_cast<Eigen::Index>(k % 3);
+    const auto frequency = static_cast<float>((1 + k % 8) * 6.28 / size);
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      K(i, k) = scale * std::sin(frequency * static_cast<float>(V(i, axis)) + p);
+    }
+  }
+  return K;
+}
+
+struct Series {
+  std::vector<double> values;
+  void add(double v) { values.push_back(v); }
+  [[nodiscard]] double quantile(double q) const {
+    if (values.empty()) return 0.0;
+    std::vector<double> v = values;
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+  }
+};
+
+struct Stages {
+  Series set, reconstruct, normals, bounds, upload, background, mesh, overlay, compose, frame, cpu, scale;
+  void add(const FrameTimes& t, double setMs, double frameMs, double cpuMs) {
+    cpu.add(cpuMs);
+    scale.add(t.renderScale);
+    set.add(setMs);
+    reconstruct.add(t.reconstructMs);
+    normals.add(t.normalsMs);
+    bounds.add(t.boundsMs);
+    upload.add(t.uploadMs);
+    background.add(t.backgroundMs);
+    mesh.add(t.meshMs);
+    overlay.add(t.overlayMs);
+    compose.add(frameMs - setMs - t.paintMs());
+    frame.add(frameMs);
+  }
+  void print(const char* label) const {
+    const std::pair<const char*, const Series*> rows[] = {
+        {"reconstruct", &reconstruct}, {"normals", &normals}, {"bounds", &bounds},   {"upload", &upload},
+        {"background", &background},   {"mesh", &mesh},       {"overlay", &overlay}, {"compose+swap", &compose}};
+    std::printf("  %-8s frame median %7.2f ms  p90 %7.2f ms  (%zu frames), process CPU %7.2f ms |", label,
+                frame.quantile(0.5), frame.quantile(0.9), frame.values.size(), cpu.quantile(0.5));
+    std::printf(" scale %.2f/%.2f |", scale.quantile(0.5), scale.quantile(0.1));
+    for (const auto& [name, series] : rows) {
+      std::printf(" %s %.2f/%.2f", name, series->quantile(0.5), series->quantile(0.9));
+    }
+    std::printf("\n");
+  }
+};
+
+/// CPU time of this process (all threads, llvmpipe's included) in ms: unlike wall time it hardly depends on what
+/// else runs on the machine.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+void glFinishOn(MeshViewport& viewport) {
+  viewport.makeCurrent();
+  QOpenGLContext::currentContext()->functions()->glFinish();
+  viewport.doneCurrent();
+}
+
+/// Runs `frames` synchronous frames: change(frame) (the host side, timed as "set"), repaint(), glFinish().
+Stages runFrames(MeshViewport& viewport, int frames, const std::function<void(int)>& change) {
+  Stages stages;
+  for (int frame = -kWarmupFrames; frame < frames; ++frame) {
+    QCoreApplication::processEvents();
+    QThread::msleep(kFrameGapMs);
+    const int painted = viewport.paintCount();
+    QElapsedTimer timer;
+    const double cpuStart = processCpuMs();
+    timer.start();
+    change(frame);
+    const double setMs = static_cast<double>(timer.nsecsElapsed()) * 1e-6;
+    viewport.repaint();
+    glFinishOn(viewport);
+    const double frameMs = static_cast<double>(timer.nsecsElapsed()) * 1e-6;
+    if (frame >= 0 && viewport.paintCount() != painted) {
+      stages.add(viewport.frameTimes(), setMs, frameMs, processCpuMs() - cpuStart);
+    }
+  }
+  return stages;
+}
+
+bool waitForFirstPaint(MeshViewport& viewport) {
+  QElapsedTimer timer;
+  timer.start();
+  while (viewport.paintCount() == 0 && timer.elapsed() < 10000) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+  }
+  return viewport.paintCount() > 0;
+}
+
+void benchMesh(const QString& file, QSize size, int m, int frames, bool profile) {
+  const auto loaded = sc::model::loadMesh(file.toStdString());
+  if (!std::holds_alternative<sc::model::LoadedMesh>(loaded)) {
+    std::printf("%s: cannot load, skipped\n", qPrintable(file));
+    return;
+  }
+  const auto& mesh = std::get<sc::model::LoadedMesh>(loaded);
+  MeshViewport viewport;
+  viewport.setProfiling(profile);
+  viewport.resize(size);
+  viewport.show();
+  if (!waitForFirstPaint(viewport)) {
+    std::printf("%s: the viewport never painted (no display?), skipped\n", qPrintable(file));
+    return;
+  }
+  std::printf("%s: %lld vertices, %lld triangles, m = %d, %dx%d logical px (dpr %.2f), samples %d\n",
+              qPrintable(QFileInfo(file).fileName()), static_cast<long long>(mesh.V.rows()),
+              static_cast<long long>(mesh.F.rows()), m, size.width(), size.height(), viewport.devicePixelRatioF(),
+              viewport.sampleCount());
+  runFrames(viewport, frames, [](int) {}).print("empty");
+  viewport.setMesh(mesh.V, mesh.F);
+  runFrames(viewport, frames, [](int) {}).print("static");
+  const std::vector<float> rest = sc::spectral::interleavedPositions(mesh.V);
+  viewport.setReconstructionBasis(syntheticBasis(mesh.V, m, 0.004f), rest);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Eigen::MatrixXf Z0(m, 3);
+  for (Eigen::Index i = 0; i < Z0.size(); ++i) Z0.data()[i] = u(rng);
+  const auto frame = [&](int f) { viewport.setCoefficients(Z0 * std::sin(0.3f * static_cast<float>(f))); };
+  for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
+    viewport.setReconstructionPath(path);
+    const char* label = path == ReconstructionPath::Cpu ? "cpu" : "gpu";
+    if (viewport.reconstructionPath() != path) {
+      std::printf("  %-8s unavailable here\n", label);
+      continue;
+    }
+    runFrames(viewport, frames, frame).print(label);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(MeshViewport::preferredSurfaceFormat());
+  QApplication app(argc, argv);
+  QCommandLineParser parser;
+  parser.addHelpOption();
+  parser.addOption(
+      {QStringLiteral("frames"), QStringLiteral("Frames per path."), QStringLiteral("n"), QStringLiteral("30")});
+  parser.addOption({QStringLiteral("size"), QStringLiteral("Viewport size WxH."), QStringLiteral("size"),
+                    QStringLiteral("1024x768")});
+  parser.addOption({QStringLiteral("m"), QStringLiteral("Basis size."), QStringLiteral("m"), QStringLiteral("100")});
+  parser.addOption({QStringLiteral("profile"), QStringLiteral("glFinish() after each GL stage.")});
+  parser.addPositionalArgument(QStringLiteral("meshes"), QStringLiteral("Mesh files."), QStringLiteral("[MESH...]"));
+  parser.process(app);
+  const QStringList size = parser.value(QStringLiteral("size")).split(QLatin1Char('x'));
+  const int frames = parser.value(QStringLiteral("frames")).toInt();
+  const int m = parser.value(QStringLiteral("m")).toInt();
+  if (size.size() != 2 || size[0].toInt() <= 0 || size[1].toInt() <= 0 || frames <= 0 || m <= 0) {
+    std::fprintf(stderr, "usage: shapecast-bench-viewport [--frames N] [--size WxH] [--m M] [--profile] [MESH...]\n");
+    return 2;
+  }
+  QStringList meshes = parser.positionalArguments();
+  if (meshes.isEmpty()) {
+    const QDir assets(QStringLiteral(SHAPECAST_ASSETS_DIR));
+    meshes = {assets.filePath(QStringLiteral("dragon_vrip_res3.ply")),
+              assets.filePath(QStringLiteral("dragon_vrip_res2.ply"))};
+  }
+  std::printf("machine   %s\n", qPrintable(sc::report::machineDescription()));
+  std::printf("adaptive resolution %s (paint budget %.0f ms)\n",
+              MeshViewport::defaultAdaptiveResolution() ? "on" : "off", MeshViewport::kPaintBudgetMs);
+  std::printf(
+      "renderer  %s; LP_NUM_THREADS=%s; QThread::idealThreadCount %d\n", qPrintable(MeshViewport::rendererName()),
+      qEnvironmentVariableIsSet("LP_NUM_THREADS") ? qPrintable(qEnvironmentVariable("LP_NUM_THREADS")) : "unset",
+      QThread::idealThreadCount());
+  std::printf("per stage: median/p90 ms; frame = setCoefficients + repaint + glFinish%s\n",
+              parser.isSet(QStringLiteral("profile")) ? " (profiling: glFinish after each GL stage)" : "");
+  for (const QString& mesh : meshes) {
+    benchMesh(mesh, QSize(size[0].toInt(), size[1].toInt()), m, frames, parser.isSet(QStringLiteral("profile")));
+  }
+  return 0;
+}
