@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -128,6 +129,10 @@ LevelDecodeResult readPayload(Reader& in, const Header& h) {
   level.F = F.cast<int>();
   if (std::string error = contentError(level, rows, cols, h.fullVertices); !error.empty())
     return failure(LevelDecodeStatus::BadContent, error);
+  // NaN or ∞ would flow into every reconstructed position (and the viewport's bounds) of this client.
+  const bool weightsFinite = std::all_of(values.begin(), values.end(), [](double w) { return std::isfinite(w); });
+  if (!level.restV.allFinite() || !weightsFinite || !level.K.allFinite())
+    return failure(LevelDecodeStatus::BadContent, "a position, weight or K entry is not finite");
   level.P.resize(h.lowVertices, h.fullVertices);
   level.P.reserve(static_cast<Eigen::Index>(h.nonZeros));
   for (std::uint32_t i = 0; i < h.lowVertices; ++i) {

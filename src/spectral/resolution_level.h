@@ -94,7 +94,7 @@ enum class LevelDecodeStatus {
   UnsupportedVersion,  ///< another format version.
   BadSize,             ///< longer than the declared sizes.
   BadChecksum,         ///< the trailing checksum does not match.
-  BadContent,          ///< checksum fine but an index or CSR offset out of range.
+  BadContent,          ///< checksum fine but an index or CSR offset out of range, or a non-finite number.
 };
 
 /// Result of decodeResolutionLevel(): a level only when status == Ok.

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <random>
 
 namespace sc::spectral {
@@ -167,6 +168,20 @@ TEST_F(ResolutionLevelTest, IndicesOutOfRangeAreBadContentEvenWithAValidChecksum
   ResolutionLevel broken = *s_level;
   broken.F(0, 1) = static_cast<int>(broken.restV.rows());
   EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(broken)).status, LevelDecodeStatus::BadContent);
+}
+
+TEST_F(ResolutionLevelTest, NonFiniteNumbersAreBadContentEvenWithAValidChecksum) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  ResolutionLevel position = *s_level;
+  position.restV(0, 2) = nan;
+  EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(position)).status, LevelDecodeStatus::BadContent);
+  ResolutionLevel weight = *s_level;
+  weight.P.valuePtr()[0] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(weight)).status, LevelDecodeStatus::BadContent);
+  ResolutionLevel basis = *s_level;
+  basis.K(0, 0) = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(basis)).status, LevelDecodeStatus::BadContent);
+  EXPECT_TRUE(decodeResolutionLevel(encodeResolutionLevel(*s_level)).ok());
 }
 
 TEST(DominantFullVertices, PicksTheLargestWeightOfEachRowSortedAndUnique) {
