@@ -12,8 +12,10 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # ctest runs two test processes on the two cores; OpenBLAS's own worker threads would oversubscribe them and each
 # BLAS call would wait for a time slice (measured: a 0.6 s basis taking 5 s). Single-threaded BLAS for the tests.
 export OPENBLAS_NUM_THREADS=1
+# -noreset: by default the X server resets whenever its last client leaves, and a test starting during that reset
+# cannot connect ("could not connect to display"); with one process per test that happened about once a CI run.
 run_ctest() {
-  xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"
+  xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"
 }
 
 start=$SECONDS
