@@ -16,6 +16,7 @@
 #include <QtNetwork/QUdpSocket>
 #include <QtTest/QTest>
 
+#include "harmonic_host_model.h"
 #include "raw_control_peer.h"
 #include "session/host_datagram_channel.h"
 #include "session/path_open.h"
@@ -191,17 +192,8 @@ bool startsWithTlsRecord(const QByteArray& bytes) {
 class Security : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const sc::testing::GeneratedMesh mesh = sc::testing::icosphere(2);
-    auto model = std::make_shared<HostModel>();
-    model->V = mesh.V;
-    model->F = mesh.F;
-    model->operators = spectral::laplaceOperators(mesh.V, mesh.F);
-    spectral::BasisOptions options;
-    options.m = 20;
-    spectral::BasisResult basis = spectral::manifoldHarmonicBasis(model->operators, options);
-    ASSERT_TRUE(basis.ok()) << basis.message;
-    model->basis = std::move(basis.basis);
-    s_model = std::move(model);
+    s_model = testing::harmonicHostModel(sc::testing::icosphere(2), 20);
+    ASSERT_EQ(s_model->rowCount(), 20);
     s_identity = std::make_shared<const TlsIdentity>(*generateTlsIdentity(QStringLiteral("test host")));
   }
   static void TearDownTestSuite() {

@@ -14,6 +14,7 @@
 #include <QtCore/QtEndian>
 #include <QtTest/QTest>
 
+#include "harmonic_host_model.h"
 #include "raw_control_peer.h"
 #include "session/handle_transforms.h"
 #include "session/host_datagram_channel.h"
@@ -31,19 +32,7 @@ namespace {
 using testing::kRawWaitMs;
 using testing::RawControlPeer;
 
-/// A HostModel of `mesh` with an m-function harmonic basis.
-std::shared_ptr<const HostModel> harmonicModel(const sc::testing::GeneratedMesh& mesh, int m) {
-  auto model = std::make_shared<HostModel>();
-  model->V = mesh.V;
-  model->F = mesh.F;
-  model->operators = spectral::laplaceOperators(mesh.V, mesh.F);
-  spectral::BasisOptions options;
-  options.m = m;
-  spectral::BasisResult basis = spectral::manifoldHarmonicBasis(model->operators, options);
-  EXPECT_TRUE(basis.ok()) << basis.message;
-  model->basis = std::move(basis.basis);
-  return model;
-}
+using testing::harmonicHostModel;
 
 /// Runs the event loop until `done()` holds or `timeoutMs` passed; returns done(). Unlike QTest::qWaitFor (which
 /// sleeps 10 ms between passes), it blocks only until the next event, so a join of many round trips takes
@@ -75,7 +64,7 @@ qint64 residentKiB() {
 class SessionFaults : public ::testing::Test {
  protected:
   /// icosphere(2): 162 vertices, m = 20, a full-model payload of a few KiB.
-  static void SetUpTestSuite() { s_small = harmonicModel(sc::testing::icosphere(2), 20); }
+  static void SetUpTestSuite() { s_small = harmonicHostModel(sc::testing::icosphere(2), 20); }
   static void TearDownTestSuite() { s_small.reset(); }
 
   static SessionHostOptions hostOptions() {
@@ -170,7 +159,7 @@ TEST_F(SessionFaults, ClientVanishingMidTransferFreesItsPeerAndTheLock) {
   // icosphere(5), m = 120: a full-model payload of about 5.3 MB (K alone is 10242 · 120 float32), far above what
   // a 4 KiB receive window, the host's kernel send buffer (on loopback its 64 KiB segments let it grow past
   // 1 MiB) and its 256 KiB transfer high-water mark hold, so the transfer is certainly unfinished.
-  const std::shared_ptr<const HostModel> medium = harmonicModel(sc::testing::icosphere(5), 120);
+  const std::shared_ptr<const HostModel> medium = harmonicHostModel(sc::testing::icosphere(5), 120);
   auto host = startHost(medium);
   auto bystander = join(host->tcpPort(), QStringLiteral("bystander"));
   ASSERT_EQ(host->counters().transfersCompleted, 1u);

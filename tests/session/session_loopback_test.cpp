@@ -12,6 +12,7 @@
 #include <QtTest/QSignalSpy>
 #include <QtTest/QTest>
 
+#include "harmonic_host_model.h"
 #include "model/mesh_decimation.h"
 #include "raw_control_peer.h"
 #include "session/control_frame.h"
@@ -37,24 +38,14 @@ QByteArray toBytes(const std::vector<std::byte>& bytes) {
   return {reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size())};
 }
 
-/// A control connection driven by hand: every decoded message from the host is kept in order.
 /// A hand-made peer speaking TLS and raw control messages (tests/session/raw_control_peer.h).
 using RawPeer = testing::RawControlPeer;
 
 class SessionLoopback : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const sc::testing::GeneratedMesh mesh = sc::testing::icosphere(2);
-    auto model = std::make_shared<HostModel>();
-    model->V = mesh.V;
-    model->F = mesh.F;
-    model->operators = spectral::laplaceOperators(mesh.V, mesh.F);
-    spectral::BasisOptions options;
-    options.m = 20;
-    spectral::BasisResult basis = spectral::manifoldHarmonicBasis(model->operators, options);
-    ASSERT_TRUE(basis.ok()) << basis.message;
-    model->basis = std::move(basis.basis);
-    s_model = std::move(model);
+    s_model = testing::harmonicHostModel(sc::testing::icosphere(2), 20);
+    ASSERT_EQ(s_model->rowCount(), 20);
   }
   static void TearDownTestSuite() { s_model.reset(); }
 
