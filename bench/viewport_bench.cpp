@@ -11,8 +11,10 @@
 //   --profile  glFinish() after each GL stage (attributes the rasteriser's work to its stage; slower overall).
 //   MESH       default: assets/meshes/dragon_vrip_res3.ply (23k) and dragon_vrip_res2.ply (100k).
 
+#include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/report/machine_info.h"
+#include "model/mesh_decimation.h"
 #include "model/mesh_loader.h"
 #include "spectral/reconstruction_kernel.h"
 
@@ -36,6 +38,7 @@
 namespace {
 
 using sc::app::FrameTimes;
+using sc::app::InteractiveProxyBuilder;
 using sc::app::MeshViewport;
 using sc::app::ReconstructionPath;
 
@@ -90,7 +93,7 @@ struct Stages {
     const std::pair<const char*, const Series*> rows[] = {
         {"reconstruct", &reconstruct}, {"normals", &normals}, {"bounds", &bounds},   {"upload", &upload},
         {"background", &background},   {"mesh", &mesh},       {"overlay", &overlay}, {"compose+swap", &compose}};
-    std::printf("  %-8s frame median %7.2f ms  p90 %7.2f ms  (%zu frames), process CPU %7.2f ms |", label,
+    std::printf("  %-10s frame median %7.2f ms  p90 %7.2f ms  (%zu frames), process CPU %7.2f ms |", label,
                 frame.quantile(0.5), frame.quantile(0.9), frame.values.size(), cpu.quantile(0.5));
     std::printf(" scale %.2f/%.2f |", scale.quantile(0.5), scale.quantile(0.1));
     for (const auto& [name, series] : rows) {
@@ -174,14 +177,27 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile)
   Eigen::MatrixXf Z0(m, 3);
   for (Eigen::Index i = 0; i < Z0.size(); ++i) Z0.data()[i] = u(rng);
   const auto frame = [&](int f) { viewport.setCoefficients(Z0 * std::sin(0.3f * static_cast<float>(f))); };
-  for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
-    viewport.setReconstructionPath(path);
-    const char* label = path == ReconstructionPath::Cpu ? "cpu" : "gpu";
-    if (viewport.reconstructionPath() != path) {
-      std::printf("  %-8s unavailable here\n", label);
-      continue;
+  // Both paths with the mesh's own triangles, then (a dense mesh) with the interactive proxy the app builds.
+  const bool dense = mesh.F.rows() > InteractiveProxyBuilder::kMinTriangles;
+  for (const bool proxy : {false, true}) {
+    if (proxy && !dense) break;
+    if (proxy) {
+      QElapsedTimer timer;
+      timer.start();
+      viewport.setInteractiveProxy(sc::model::proxyTriangles(mesh.V, mesh.F, InteractiveProxyBuilder::kProxyTriangles));
+      std::printf("  proxy      %d triangles, built in %.2f s (on a worker thread in the app)\n",
+                  viewport.proxyTriangleCount(), static_cast<double>(timer.elapsed()) * 1e-3);
     }
-    runFrames(viewport, frames, frame).print(label);
+    for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
+      viewport.setReconstructionPath(path);
+      const QString label = QString::fromLatin1(path == ReconstructionPath::Cpu ? "cpu" : "gpu") +
+                            (proxy ? QStringLiteral("+proxy") : QString());
+      if (viewport.reconstructionPath() != path) {
+        std::printf("  %-10s unavailable here\n", qPrintable(label));
+        continue;
+      }
+      runFrames(viewport, frames, frame).print(qPrintable(label));
+    }
   }
 }
 

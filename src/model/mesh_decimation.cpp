@@ -7,10 +7,13 @@
 #include <OpenMesh/Tools/Utils/HeapT.hh>
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <numeric>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -142,6 +145,26 @@ class Decimater : public OpenMesh::Decimater::BaseDecimaterT<Mesh> {
     return done;
   }
 
+  /// The vertex each input vertex now stands for: itself, or (after collapses) the vertex it was merged into.
+  /// Cost: O(#V) (each chain is followed once, then short-cut).
+  std::vector<int> representatives() {
+    std::vector<int> out(m_mesh.n_vertices(), -1);
+    m_collapsedInto.resize(m_mesh.n_vertices(), -1);
+    const auto find = [&](int v) {
+      std::vector<int> path;
+      while (out[static_cast<std::size_t>(v)] < 0 && m_collapsedInto[static_cast<std::size_t>(v)] >= 0) {
+        path.push_back(v);
+        v = m_collapsedInto[static_cast<std::size_t>(v)];
+      }
+      const int root = out[static_cast<std::size_t>(v)] >= 0 ? out[static_cast<std::size_t>(v)] : v;
+      out[static_cast<std::size_t>(v)] = root;
+      for (const int w : path) out[static_cast<std::size_t>(w)] = root;
+      return root;
+    };
+    for (std::size_t v = 0; v < out.size(); ++v) find(static_cast<int>(v));
+    return out;
+  }
+
  private:
   struct Candidate {
     float priority;
@@ -175,6 +198,8 @@ class Decimater : public OpenMesh::Decimater::BaseDecimaterT<Mesh> {
   }
 
   void collapse(CollapseInfo& ci) {
+    m_collapsedInto.resize(m_mesh.n_vertices(), -1);
+    m_collapsedInto[static_cast<std::size_t>(ci.v0.idx())] = ci.v1.idx();  // v0 merges into v1, which stays put
     preprocess_collapse(ci);
     m_mesh.collapse(ci.v0v1);
     postprocess_collapse(ci);
@@ -208,6 +233,7 @@ class Decimater : public OpenMesh::Decimater::BaseDecimaterT<Mesh> {
   std::vector<Mesh::HalfedgeHandle> m_target;  ///< per vertex: its cheapest legal collapse
   std::vector<float> m_priority;               ///< per vertex: that collapse's priority (heap key), −1 if none
   std::vector<int> m_position;                 ///< per vertex: heap position, −1 when not stored
+  std::vector<int> m_collapsedInto;            ///< per vertex: the vertex it was collapsed into, −1 if none
   std::vector<Candidate> m_candidates;         ///< scratch
 };
 
@@ -261,18 +287,29 @@ class ModBoundaryQuadric : public OpenMesh::Decimater::ModQuadricT<Mesh> {
   OpenMesh::VPropHandleT<Quadric> m_boundary;
 };
 
-/// Silences OpenMesh's error stream for the lifetime of the guard (add_face() reports every refused face).
+/// Silences OpenMesh's error stream for the lifetime of the guard (add_face() reports every refused face). The
+/// stream is process-wide and decimations run on several threads at once (a host's levels, a viewport's proxy):
+/// the first guard in disables it, the last one out restores what it found.
 class QuietOmerr {
  public:
-  QuietOmerr() : m_wasEnabled(omerr().is_enabled()) { omerr().disable(); }
+  QuietOmerr() {
+    const std::lock_guard lock(s_mutex);
+    if (s_depth++ == 0) {
+      s_wasEnabled = omerr().is_enabled();
+      omerr().disable();
+    }
+  }
   ~QuietOmerr() {
-    if (m_wasEnabled) omerr().enable();
+    const std::lock_guard lock(s_mutex);
+    if (--s_depth == 0 && s_wasEnabled) omerr().enable();
   }
   QuietOmerr(const QuietOmerr&) = delete;
   QuietOmerr& operator=(const QuietOmerr&) = delete;
 
  private:
-  bool m_wasEnabled;
+  static inline std::mutex s_mutex;
+  static inline int s_depth = 0;
+  static inline bool s_wasEnabled = false;
 };
 
 /// Builds the halfedge mesh; returns the number of faces OpenMesh refused.
@@ -295,6 +332,19 @@ std::size_t referencedVertices(const Mesh& mesh) {
       std::count_if(mesh.vertices().begin(), mesh.vertices().end(), [&](auto v) { return !mesh.is_isolated(v); }));
 }
 
+/// Collapses from `alive` referenced vertices down to `target`: multiple-choice first on large meshes, then the
+/// priority queue (see kRandomShare). Returns the referenced vertices left (more than `target` when no legal
+/// collapse is left).
+std::size_t decimateTo(Decimater& decimater, const Mesh& mesh, std::size_t alive, std::size_t target,
+                       SplitMix64& random) {
+  const double randomShare = mesh.n_vertices() >= kMultipleChoiceMinVertices ? kRandomShare : 0.0;
+  const std::size_t collapses = alive - target;
+  const auto randomCollapses = static_cast<std::size_t>(randomShare * static_cast<double>(collapses));
+  alive -= decimater.decimateMultipleChoice(randomCollapses, kSamples, random);
+  alive -= decimater.decimateGreedy(collapses - randomCollapses);
+  return alive;
+}
+
 /// Copies the live faces and their vertices out, renumbering vertices in handle order.
 DecimatedMesh extract(const Mesh& mesh) {
   std::vector<int> index(mesh.n_vertices(), -1);
@@ -303,10 +353,12 @@ DecimatedMesh extract(const Mesh& mesh) {
     if (!mesh.is_isolated(v)) index[static_cast<std::size_t>(v.idx())] = next++;
   DecimatedMesh out;
   out.V.resize(next, 3);
+  out.sourceVertices.resize(next);
   for (const auto v : mesh.vertices())
     if (const int i = index[static_cast<std::size_t>(v.idx())]; i >= 0) {
       const Mesh::Point& p = mesh.point(v);
       out.V.row(i) << p[0], p[1], p[2];
+      out.sourceVertices(i) = v.idx();  // handles are input indices: no garbage collection ran
     }
   out.F.resize(static_cast<Eigen::Index>(mesh.n_faces()), 3);
   Eigen::Index f = 0;
@@ -341,7 +393,6 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
   decimater.module(quadric).unset_max_err();
   const bool ready = decimater.initialize();
   assert(ready && "a decimater with one priority module always initialises");
-  const double randomShare = mesh.n_vertices() >= kMultipleChoiceMinVertices ? kRandomShare : 0.0;
   SplitMix64 random(kRandomSeed);
   std::vector<std::size_t> order(targets.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
@@ -352,12 +403,7 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
   for (std::size_t i : order) {
     assert(targets[i] >= 3 && "a level needs at least 3 vertices");
     const auto target = static_cast<std::size_t>(targets[i]);
-    if (ready && alive > target) {
-      const std::size_t collapses = alive - target;
-      const auto randomCollapses = static_cast<std::size_t>(randomShare * static_cast<double>(collapses));
-      alive -= decimater.decimateMultipleChoice(randomCollapses, kSamples, random);
-      alive -= decimater.decimateGreedy(collapses - randomCollapses);
-    }
+    if (ready && alive > target) alive = decimateTo(decimater, mesh, alive, target, random);
     levels[i] = extract(mesh);
     levels[i].droppedFaces = dropped;
     levels[i].targetVertices = targets[i];
@@ -367,6 +413,42 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
 
 DecimatedMesh decimateMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int targetVertices) {
   return std::move(resolutionLadder(V, F, {targetVertices}).front());
+}
+
+Eigen::MatrixXi proxyTriangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int targetTriangles) {
+  assert(targetTriangles >= 1 && "a proxy needs at least one triangle");
+  if (F.rows() <= targetTriangles) return F;
+  Mesh mesh;
+  buildMesh(V, F, mesh);
+  const std::size_t referenced = referencedVertices(mesh);
+  // Triangles per referenced vertex (about 2 on a closed mesh) turn the triangle target into a vertex target.
+  const double trianglesPerVertex = static_cast<double>(mesh.n_faces()) / std::max<double>(1.0, referenced);
+  const auto target = static_cast<std::size_t>(std::max(3.0, std::round(targetTriangles / trianglesPerVertex)));
+  Decimater decimater(mesh);
+  ModBoundaryQuadric::Handle quadric;
+  decimater.add(quadric);
+  decimater.module(quadric).unset_max_err();
+  if (decimater.initialize() && referenced > target) {
+    SplitMix64 random(kRandomSeed);
+    decimateTo(decimater, mesh, referenced, target, random);
+  }
+  // Every input face through the collapses: the surviving faces, plus the faces the halfedge mesh refused
+  // (non-manifold), which would otherwise leave holes; collapsed faces become degenerate and are left out.
+  const std::vector<int> stand = decimater.representatives();
+  std::set<std::array<int, 3>> seen;
+  Eigen::MatrixXi proxy(F.rows(), 3);
+  Eigen::Index count = 0;
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const std::array<int, 3> face = {stand[static_cast<std::size_t>(F(f, 0))], stand[static_cast<std::size_t>(F(f, 1))],
+                                     stand[static_cast<std::size_t>(F(f, 2))]};
+    if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) continue;
+    std::array<int, 3> key = face;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) continue;
+    proxy.row(count++) << face[0], face[1], face[2];
+  }
+  proxy.conservativeResize(count, 3);
+  return proxy;
 }
 
 }  // namespace sc::model

@@ -25,6 +25,11 @@ void expectGoodLevel(const testing::GeneratedMesh& input, const DecimatedMesh& l
   std::vector<bool> used(static_cast<std::size_t>(low.V.rows()), false);
   for (Eigen::Index i = 0; i < low.F.size(); ++i) used[static_cast<std::size_t>(low.F.data()[i])] = true;
   EXPECT_EQ(std::count(used.begin(), used.end(), false), 0) << "unreferenced vertices";
+  ASSERT_EQ(low.sourceVertices.size(), low.V.rows());
+  for (Eigen::Index i = 0; i < low.V.rows(); ++i) {
+    ASSERT_TRUE(low.sourceVertices(i) >= 0 && low.sourceVertices(i) < input.V.rows());
+    ASSERT_EQ(low.V.row(i), input.V.row(low.sourceVertices(i))) << "vertex " << i << " is not its source";
+  }
   const double diagonal = spectral::boundingBoxDiagonal(input.V);
   const auto d = spectral::symmetricSurfaceDistance(low.V, low.F, input.V, input.F, diagonal);
   EXPECT_LT(d.maxRelative, tolerance);
@@ -86,6 +91,34 @@ TEST(MeshDecimation, LargeMeshesUseMultipleChoiceAndGiveTheSameLevelEveryRun) {
   EXPECT_EQ(a.V, b.V);
   EXPECT_EQ(a.F, b.F);
   expectGoodLevel(torus, a, 0.01);
+}
+
+TEST(MeshDecimation, ProxyTrianglesIndexTheInputVerticesAndKeepTheShape) {
+  const auto torus = testing::torus(120, 50);  // 12,000 triangles
+  const Eigen::MatrixXi proxy = proxyTriangles(torus.V, torus.F, 3000);
+  EXPECT_NEAR(static_cast<double>(proxy.rows()), 3000.0, 60.0);
+  ASSERT_GE(proxy.minCoeff(), 0);
+  ASSERT_LT(proxy.maxCoeff(), torus.V.rows());
+  const double diagonal = spectral::boundingBoxDiagonal(torus.V);
+  EXPECT_LT(spectral::symmetricSurfaceDistance(torus.V, proxy, torus.V, torus.F, diagonal).maxRelative, 0.01);
+  // The proxy follows a deformation of the input's vertices: moved vertices, moved proxy.
+  const Eigen::MatrixXd moved = torus.V * 2.0;
+  EXPECT_LT(spectral::symmetricSurfaceDistance(moved, proxy, moved, torus.F, 2.0 * diagonal).maxRelative, 0.01);
+  EXPECT_EQ(proxyTriangles(torus.V, torus.F, 20000), torus.F) << "a mesh already small enough is its own proxy";
+}
+
+TEST(MeshDecimation, ProxyTrianglesKeepTheFacesTheHalfedgeMeshRefuses) {
+  auto sphere = testing::icosphere(3);  // 1,280 triangles
+  // A fin as in NonManifoldFacesAreDroppedAndTheRestDecimated: refused by the halfedge mesh, kept by the proxy.
+  const int fin = static_cast<int>(sphere.V.rows());
+  sphere.V.conservativeResize(fin + 1, 3);
+  sphere.V.row(fin) << 0, 0, 2;
+  sphere.F.conservativeResize(sphere.F.rows() + 1, 3);
+  sphere.F.row(sphere.F.rows() - 1) << sphere.F(0, 0), sphere.F(0, 1), fin;
+  // Drawn until its own edge collapses (then its triangle degenerates, measured: below a 400-triangle proxy).
+  const Eigen::MatrixXi proxy = proxyTriangles(sphere.V, sphere.F, 1000);
+  EXPECT_NEAR(static_cast<double>(proxy.rows()), 1000.0, 20.0);
+  EXPECT_TRUE((proxy.array() == fin).any()) << "the refused face is still drawn";
 }
 
 TEST(MeshDecimation, Dragon100kDecimatesToFivePercentAndMaps) {

@@ -4,6 +4,8 @@
 
 #include "app/gui/main_window.h"
 
+#include "app/gui/interactive_proxy.h"
+
 #include "ui_main_window.h"
 
 #include "app/gui/drag_commands.h"
@@ -36,6 +38,7 @@ constexpr int kCleaningMessageMs = 10000;  ///< status bar messages (the same in
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWindow) {
   ui->setupUi(this);
+  m_proxyBuilder = new InteractiveProxyBuilder(ui->viewport, this);
   m_meshSizeLabel = new QLabel(tr("No mesh"), this);
   m_meshSizeLabel->setObjectName(QStringLiteral("meshSizeLabel"));
   statusBar()->addPermanentWidget(m_meshSizeLabel);
@@ -244,6 +247,7 @@ bool MainWindow::openMesh(const QString& path) {
 
   const auto& mesh = std::get<model::LoadedMesh>(result);
   ui->viewport->setMesh(mesh.V, mesh.F);
+  m_proxyBuilder->build(mesh.V, mesh.F);
   m_openedV = mesh.V;
   m_openedF = mesh.F;
   const int vertexCount = static_cast<int>(mesh.V.rows());

@@ -21,6 +21,7 @@ namespace sc::app {
 
 class MeshViewport;
 class DragHistory;
+class InteractiveProxyBuilder;
 class SessionDocks;
 class NetworkConditionsDock;
 
@@ -133,6 +134,7 @@ class MainWindow : public QMainWindow {
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
   DragHistory* m_dragHistory = nullptr;
+  InteractiveProxyBuilder* m_proxyBuilder = nullptr;  ///< the viewport's proxy while a dense mesh moves
   Eigen::MatrixXd m_openedV;  ///< the mesh last opened with openMesh() (exported when not in a session)
   Eigen::MatrixXi m_openedF;
 };

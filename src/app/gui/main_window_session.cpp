@@ -1,6 +1,7 @@
 // MainWindow: the session wiring. Session menu, tool actions, lock toolbar and resolution selector, status bar
 // fields, viewport intents to the SessionController, the docks; and the controller's signals back to the window.
 
+#include "app/gui/interactive_proxy.h"
 #include "app/gui/main_window.h"
 
 #include "ui_main_window.h"
@@ -219,6 +220,7 @@ void MainWindow::onSessionMesh() {
   const Eigen::MatrixXd& V = m_session->displayRestPositions();
   const Eigen::MatrixXi& F = m_session->displayFaces();
   ui->viewport->setMesh(V, F);
+  m_proxyBuilder->build(V, F);
   // On the GPU path the viewport reconstructs rest + K·Z itself (shows setCoefficients() frames).
   const spectral::ResolutionLevel* level = m_session->level();
   if (ui->viewport->reconstructionPath() == ReconstructionPath::Gpu && level != nullptr && level->K.rows() == V.rows())

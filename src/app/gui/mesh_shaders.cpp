@@ -93,7 +93,8 @@ vec3 toSrgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
 // Diffuse plus Blinn specular for one directional light (all vectors unit, view space).
 vec3 shade(vec3 n, vec3 v, vec3 l, vec3 lightColor, vec3 albedo, float specular, float shininess) {
   float diffuse = max(dot(n, l), 0.0);
-  float highlight = diffuse > 0.0 ? pow(max(dot(n, normalize(l + v)), 0.0), shininess) : 0.0;
+  float c = max(dot(n, normalize(l + v)), 0.0);
+  float highlight = diffuse > 0.0 ? c / (shininess - shininess * c + c) : 0.0;
   return lightColor * (albedo * diffuse + vec3(specular * highlight));
 }
 
@@ -122,7 +123,8 @@ void main() {
   vec3 ground = vec3(0.16, 0.14, 0.12);
   color += albedo * mix(ground, sky, 0.5 + 0.5 * n.y) * 0.40;
 
-  float rim = pow(1.0 - max(dot(n, v), 0.0), 3.0);
+  float t = 1.0 - max(dot(n, v), 0.0);
+  float rim = t * t * t;
   color += vec3(0.55, 0.65, 0.80) * rim * 0.12;
   fragColor = vec4(toSrgb(color), 1.0);
 }

@@ -71,6 +71,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   const Eigen::RowVector3d hi = V.colwise().maxCoeff();
   m_origin = 0.5 * (lo + hi);
   m_vertexCount = static_cast<int>(V.rows());
+  m_proxyIndices.clear();
   m_indices.resize(static_cast<std::size_t>(F.size()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -160,6 +161,7 @@ void MeshViewport::clearMesh() {
   m_positions.clear();
   m_normals.clear();
   m_indices.clear();
+  m_proxyIndices.clear();
   m_handles.clear();
   m_anchors.clear();
   m_vertexCount = 0;
@@ -167,6 +169,23 @@ void MeshViewport::clearMesh() {
   m_vertexDataDirty = true;
   m_indicesDirty = true;
   emit meshChanged();
+  update();
+}
+
+void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
+  const bool valid = triangles.size() == 0 ||
+                     (triangles.cols() == 3 && triangles.minCoeff() >= 0 && triangles.maxCoeff() < m_vertexCount);
+  assert(valid && "setInteractiveProxy needs #P by 3 indices into the current mesh's vertices");
+  if (!valid) {
+    return;
+  }
+  m_proxyIndices.resize(static_cast<std::size_t>(triangles.size()));
+  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      m_proxyIndices[static_cast<std::size_t>(3 * f + c)] = static_cast<std::uint32_t>(triangles(f, c));
+    }
+  }
+  m_indicesDirty = true;
   update();
 }
 

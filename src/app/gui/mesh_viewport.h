@@ -72,6 +72,7 @@ struct FrameTimes {
   double overlayMs = 0.0;      ///< QPainter overlay (0 when nothing is shown over the view)
   double composeMs = 0.0;      ///< paintGL() end → frameSwapped(): Qt's composition into the window and the swap
   double renderScale = 1.0;    ///< internal resolution of the frame (see MeshViewport::setAdaptiveResolution)
+  int triangles = 0;           ///< triangles drawn: the mesh's, or its interactive proxy's
   [[nodiscard]] double hostMs() const { return reconstructMs + normalsMs + boundsMs; }
   [[nodiscard]] double paintMs() const { return uploadMs + backgroundMs + meshMs + overlayMs; }
   /// The whole frame: host stages, paintGL() and the composition/swap (the redraw part of the status bar's
@@ -158,6 +159,17 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
 
   /// Removes the mesh (background only). Emits meshChanged().
   void clearMesh();
+
+  /// A coarse triangulation of the current mesh's own vertices (model::proxyTriangles()) that interactive frames
+  /// draw instead of the mesh's triangles while adaptive resolution is on. On a software rasteriser a dense
+  /// mesh's frame costs per triangle, at any pixel scale (vertex and setup work, and a fragment block per tiny
+  /// triangle), so a moving dense mesh is drawn as its proxy, with the same vertex buffer (it follows every
+  /// deformation), and in full once idle (kIdleRestoreMs). Normals, picking and idle frames use the full mesh.
+  /// @param[in] triangles  #P by 3 indices into the current mesh's vertices; empty removes the proxy.
+  /// setMesh() and clearMesh() remove it. An index out of range is a programming error (asserted; the proxy is
+  /// ignored in release builds).
+  void setInteractiveProxy(const Eigen::MatrixXi& triangles);
+  [[nodiscard]] int proxyTriangleCount() const { return static_cast<int>(m_proxyIndices.size() / 3); }
 
   /// Sets the reduced basis of the current mesh for setCoefficients(): X' = rest + K·Z.
   /// @param[in] K  #V by m basis (float32, row-major), e.g. spectral::ResolutionLevel::K; #V of the current mesh.
@@ -318,8 +330,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void rebuildTints();
   void uploadIfDirty();
   void drawBackground();
-  void drawMesh(bool wireframe);
-  void drawScene(double scale, bool finish);
+  void drawMesh(bool wireframe, bool proxy);
+  void drawScene(double scale, bool proxy, bool finish);
   void drawOverlay();
   [[nodiscard]] DepthImage renderDepth();
 
@@ -336,10 +348,11 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   // Host side. Positions are stored relative to m_origin (the bounding-box centre at setMesh()) so that float
   // precision is spent on the shape, not on its placement.
   Eigen::RowVector3d m_origin = Eigen::RowVector3d::Zero();
-  std::vector<float> m_positions;        // 3·#V, relative to m_origin
-  std::vector<float> m_normals;          // 3·#V
-  std::vector<std::uint8_t> m_tints;     // 4·#V, RGBA (A = tint strength)
-  std::vector<std::uint32_t> m_indices;  // 3·#F
+  std::vector<float> m_positions;             // 3·#V, relative to m_origin
+  std::vector<float> m_normals;               // 3·#V
+  std::vector<std::uint8_t> m_tints;          // 4·#V, RGBA (A = tint strength)
+  std::vector<std::uint32_t> m_indices;       // 3·#F
+  std::vector<std::uint32_t> m_proxyIndices;  // 3·#P (interactive proxy), after m_indices in m_indexBuffer
   int m_vertexCount = 0;
   bool m_vertexDataDirty = false;
   bool m_tintsDirty = false;

@@ -202,13 +202,14 @@ void MeshViewport::paintGL() {
   const bool interactive = m_sinceLastPaint.isValid() && m_sinceLastPaint.elapsed() < kIdleRestoreMs;
   const bool scalable = m_adaptive && m_gl33 != nullptr && format().samples() <= 0;
   const double scale = interactive && scalable ? m_resolution.scale() : 1.0;
+  const bool proxy = interactive && scalable && !m_proxyIndices.empty();
   QElapsedTimer paint;
   paint.start();
-  drawScene(scale, scalable);  // finished when scalable: the rasteriser's time belongs to the measurement
+  drawScene(scale, proxy, scalable);  // finished when scalable: the rasteriser's time belongs to the measurement
   if (scalable) {
     m_resolution.record(scale, static_cast<double>(paint.nsecsElapsed()) * 1e-6);
   }
-  if (scale < 1.0) {
+  if (scale < 1.0 || proxy) {
     m_restoreTimer.start();
   }
   QElapsedTimer overlay;
@@ -223,9 +224,9 @@ void MeshViewport::paintGL() {
 }
 
 // Upload, background and mesh passes into the widget's framebuffer, or at `scale` < 1 into m_sceneFbo that is
-// then stretched onto it (the mesh pass's time includes that blit). Fills the GL stages of m_frameTimes. `finish`:
-// glFinish() at the end.
-void MeshViewport::drawScene(double scale, bool finish) {
+// then stretched onto it (the mesh pass's time includes that blit). Fills the GL stages of m_frameTimes. `proxy`:
+// the mesh pass draws the interactive proxy. `finish`: glFinish() at the end.
+void MeshViewport::drawScene(double scale, bool proxy, bool finish) {
   QElapsedTimer timer;
   timer.start();
   // Ends one FrameTimes stage (with glFinish() when profiling).
@@ -254,8 +255,9 @@ void MeshViewport::drawScene(double scale, bool finish) {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   drawBackground();
   stage(m_frameTimes.backgroundMs);
+  m_frameTimes.triangles = 0;
   if (m_meshProgram) {
-    drawMesh(m_wireframe);
+    drawMesh(m_wireframe, proxy);
   }
   if (offscreen) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
@@ -288,7 +290,10 @@ void MeshViewport::uploadIfDirty() {
   if (m_indicesDirty) {
     QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
     m_indexBuffer.bind();  // stays bound: the element array binding is VAO state
-    m_indexBuffer.allocate(m_indices.data(), static_cast<int>(m_indices.size() * sizeof(std::uint32_t)));
+    const auto bytes = [](const std::vector<std::uint32_t>& v) { return static_cast<int>(v.size() * 4); };
+    m_indexBuffer.allocate(bytes(m_indices) + bytes(m_proxyIndices));
+    m_indexBuffer.write(0, m_indices.data(), bytes(m_indices));
+    m_indexBuffer.write(bytes(m_indices), m_proxyIndices.data(), bytes(m_proxyIndices));
     m_indicesDirty = false;
   }
   if (m_restDirty && m_restBuffer.isCreated()) {
@@ -319,10 +324,12 @@ void MeshViewport::drawBackground() {
   glDepthMask(GL_TRUE);
 }
 
-void MeshViewport::drawMesh(bool wireframe) {
+// Draws the mesh's triangles, or with `proxy` those of the interactive proxy (after them in m_indexBuffer).
+void MeshViewport::drawMesh(bool wireframe, bool proxy) {
   if (m_indices.empty()) {
     return;
   }
+  proxy = proxy && !m_proxyIndices.empty();
   wireframe = wireframe && m_gl33 != nullptr;
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LEQUAL);
@@ -340,19 +347,21 @@ void MeshViewport::drawMesh(bool wireframe) {
     program->setUniformValue("uNormalMatrix", modelView.normalMatrix());
   }
   QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : &m_meshVao);
-  const auto count = static_cast<GLsizei>(m_indices.size());
+  const auto count = static_cast<GLsizei>(proxy ? m_proxyIndices.size() : m_indices.size());
+  const auto* first = reinterpret_cast<const void*>(proxy ? m_indices.size() * sizeof(std::uint32_t) : 0);
+  m_frameTimes.triangles = count / 3;
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (wireframe) {
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(1.0f, 1.0f);
   }
-  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+  glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);
   glDisable(GL_POLYGON_OFFSET_FILL);
   // === line pass: the same triangles as edges.
   if (wireframe) {
     program->setUniformValue("uLineColor", kWireColor);
     m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);
     m_gl33->glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   }
   if (gpu) {
@@ -379,7 +388,7 @@ DepthImage MeshViewport::renderDepth() {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   uploadIfDirty();
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  drawMesh(false);
+  drawMesh(false, false);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   image.width = size.width();
   image.height = size.height();

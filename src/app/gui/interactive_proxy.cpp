@@ -1,0 +1,58 @@
+#include "app/gui/interactive_proxy.h"
+
+#include "app/gui/mesh_viewport.h"
+#include "model/mesh_decimation.h"
+
+#include <memory>
+
+namespace sc::app {
+
+InteractiveProxyBuilder::InteractiveProxyBuilder(MeshViewport* viewport, QObject* parent)
+    : QObject(parent), m_viewport(viewport) {
+  connect(viewport, &MeshViewport::meshChanged, this, [this] { ++m_generation; });
+}
+
+InteractiveProxyBuilder::~InteractiveProxyBuilder() {
+  if (m_worker.joinable()) {
+    m_worker.join();  // its queued finish() is dropped with this object
+  }
+}
+
+void InteractiveProxyBuilder::build(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  if (F.rows() <= kMinTriangles) {
+    return;
+  }
+  if (m_running) {
+    m_pending.emplace(V, F);
+    m_pendingGeneration = m_generation;
+    return;
+  }
+  start(V, F, m_generation);
+}
+
+void InteractiveProxyBuilder::start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsigned generation) {
+  if (m_worker.joinable()) {
+    m_worker.join();  // finished: it queued finish() before returning
+  }
+  m_running = true;
+  m_worker = std::thread([this, V = std::move(V), F = std::move(F), generation] {
+    auto proxy = std::make_shared<Eigen::MatrixXi>(model::proxyTriangles(V, F, kProxyTriangles));
+    QMetaObject::invokeMethod(
+        this, [this, generation, proxy] { finish(generation, *proxy); }, Qt::QueuedConnection);
+  });
+}
+
+void InteractiveProxyBuilder::finish(unsigned generation, const Eigen::MatrixXi& proxy) {
+  m_running = false;
+  if (generation == m_generation && m_viewport) {
+    m_viewport->setInteractiveProxy(proxy);
+    emit proxyApplied(static_cast<int>(proxy.rows()));
+  }
+  if (m_pending) {
+    auto [V, F] = std::move(*m_pending);
+    m_pending.reset();
+    start(std::move(V), std::move(F), m_pendingGeneration);
+  }
+}
+
+}  // namespace sc::app

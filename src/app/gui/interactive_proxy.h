@@ -1,0 +1,62 @@
+#pragma once
+// InteractiveProxyBuilder: gives a MeshViewport showing a dense mesh its interactive proxy (a coarse triangulation
+// of the mesh's own vertices, model::proxyTriangles()), computed on a worker thread so that the window never
+// waits for it.
+
+#include <Eigen/Core>
+
+#include <QObject>
+#include <QPointer>
+
+#include <optional>
+#include <thread>
+#include <utility>
+
+namespace sc::app {
+
+class MeshViewport;
+
+/// Builds proxies for one viewport. After each MeshViewport::setMesh() of a mesh with more than kMinTriangles
+/// triangles, call build() with the same V and F: the proxy (about kProxyTriangles triangles) is computed on a
+/// worker thread and handed to MeshViewport::setInteractiveProxy() on the GUI thread, unless the viewport's mesh
+/// changed in the meantime (meshChanged() makes a build in flight stale). One build runs at a time; a build asked
+/// for while one runs waits for it (only the latest waits). The destructor waits for the build in flight (about 1 s
+/// at most for the 100k dragon).
+class InteractiveProxyBuilder : public QObject {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(InteractiveProxyBuilder)
+
+ public:
+  /// Meshes with more triangles get a proxy: below it llvmpipe draws a frame within the interactive budget
+  /// (shapecast-bench-viewport: the 47k-triangle dragon needs no proxy).
+  static constexpr int kMinTriangles = 60000;
+  /// Triangles of a proxy (shapecast-bench-viewport on the 201k-triangle dragon: see docs/benchmarks.md).
+  static constexpr int kProxyTriangles = 30000;
+
+  /// Observes `viewport` (not owned; the builder may be its child).
+  explicit InteractiveProxyBuilder(MeshViewport* viewport, QObject* parent = nullptr);
+  ~InteractiveProxyBuilder() override;
+
+  /// Starts (or queues) the proxy of (V, F), the mesh the viewport was just given; does nothing for a mesh with at
+  /// most kMinTriangles triangles. Copies V and F. Cost on the calling thread: the copies.
+  void build(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+  /// Whether a build runs or waits.
+  [[nodiscard]] bool busy() const { return m_running || m_pending.has_value(); }
+
+ signals:
+  /// A proxy of `triangles` triangles was handed to the viewport.
+  void proxyApplied(int triangles);
+
+ private:
+  void start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsigned generation);
+  void finish(unsigned generation, const Eigen::MatrixXi& proxy);
+
+  QPointer<MeshViewport> m_viewport;
+  unsigned m_generation = 0;  // bumped by every meshChanged()
+  bool m_running = false;
+  std::optional<std::pair<Eigen::MatrixXd, Eigen::MatrixXi>> m_pending;
+  unsigned m_pendingGeneration = 0;
+  std::thread m_worker;
+};
+
+}  // namespace sc::app

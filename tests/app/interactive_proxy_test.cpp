@@ -1,0 +1,140 @@
+// Tests for the interactive proxy: MeshViewport draws it in interactive frames and the full mesh once idle
+// (src/app/gui/mesh_viewport_render.cpp), and InteractiveProxyBuilder computes it off the GUI thread and applies
+// it only to the mesh it was built for (src/app/gui/interactive_proxy.cpp). Needs an X server with GL.
+
+#include "app/gui/interactive_proxy.h"
+#include "app/gui/mesh_viewport.h"
+#include "model/mesh_decimation.h"
+
+#include "app_test_support.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QSignalSpy>
+#include <QTest>
+
+namespace {
+
+using sc::app::InteractiveProxyBuilder;
+using sc::app::MeshViewport;
+
+/// Pixels of `image` that differ from `background`, as a mask.
+std::vector<bool> coverage(const QImage& image, const QImage& background) {
+  std::vector<bool> mask;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) mask.push_back(image.pixel(x, y) != background.pixel(x, y));
+  return mask;
+}
+
+class InteractiveProxyTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
+  }
+};
+
+// Frames painted right after each other draw the proxy's triangles; the idle restore draws the mesh's. Both
+// pictures cover the same pixels (the proxy follows the surface).
+TEST_F(InteractiveProxyTest, InteractiveFramesDrawTheProxyAndTheIdleFrameTheMesh) {
+  const auto sphere = sc::testing::icosphere(5);  // 20,480 triangles
+  MeshViewport viewport;
+  viewport.resize(320, 240);
+  viewport.setMesh(sphere.V, sphere.F);
+  viewport.setAdaptiveResolution(true);
+  viewport.setPaintBudget(1e6);  // keeps every frame at full pixel resolution: only the triangles change
+  viewport.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
+  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  const QImage full = viewport.grabFramebuffer();
+  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
+
+  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 2000));
+  ASSERT_GT(viewport.proxyTriangleCount(), 1500);
+  ASSERT_LT(viewport.proxyTriangleCount(), 2500);
+  QImage interactive;
+  for (int i = 0; i < 3; ++i) interactive = viewport.grabFramebuffer();  // right after each other
+  EXPECT_EQ(viewport.frameTimes().triangles, viewport.proxyTriangleCount());
+  EXPECT_EQ(viewport.frameTimes().renderScale, 1.0);
+
+  const int painted = viewport.paintCount();
+  QTest::qWait(MeshViewport::kIdleRestoreMs * 3);
+  EXPECT_GT(viewport.paintCount(), painted) << "the view redrew itself in full once idle";
+  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
+
+  const QImage background = [] {
+    MeshViewport empty;
+    empty.resize(320, 240);
+    empty.show();
+    EXPECT_TRUE(QTest::qWaitForWindowExposed(&empty));
+    return empty.grabFramebuffer();
+  }();
+  const std::vector<bool> a = coverage(full, background), b = coverage(interactive, background);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t covered = 0, disagree = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    covered += a[i] ? 1 : 0;
+    disagree += a[i] != b[i] ? 1 : 0;
+  }
+  EXPECT_GT(covered, a.size() / 10) << "the sphere is on screen";
+  EXPECT_LT(static_cast<double>(disagree), 0.03 * static_cast<double>(covered)) << "the proxy has the mesh's outline";
+}
+
+TEST_F(InteractiveProxyTest, WithoutAdaptiveResolutionEveryFrameDrawsTheMesh) {
+  const auto sphere = sc::testing::icosphere(4);
+  MeshViewport viewport;
+  viewport.resize(200, 150);
+  viewport.setMesh(sphere.V, sphere.F);
+  viewport.setAdaptiveResolution(false);
+  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 500));
+  viewport.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
+  for (int i = 0; i < 3; ++i) viewport.grabFramebuffer();
+  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
+}
+
+TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
+  const auto sphere = sc::testing::icosphere(4);
+  MeshViewport viewport;
+  viewport.setMesh(sphere.V, sphere.F);
+  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 500));
+  ASSERT_GT(viewport.proxyTriangleCount(), 0);
+  viewport.setMesh(sphere.V, sphere.F);
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 500));
+  viewport.clearMesh();
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+}
+
+// The builder works for dense meshes only, off the GUI thread, and a proxy built for a mesh that was replaced
+// in the meantime is thrown away.
+TEST_F(InteractiveProxyTest, BuilderAppliesTheProxyOfTheCurrentDenseMeshOnly) {
+  const auto dense = sc::testing::torus(300, 125);  // 75,000 triangles
+  ASSERT_GT(dense.F.rows(), InteractiveProxyBuilder::kMinTriangles);
+  MeshViewport viewport;
+  InteractiveProxyBuilder builder(&viewport);
+  QSignalSpy applied(&builder, &InteractiveProxyBuilder::proxyApplied);
+
+  viewport.setMesh(dense.V, dense.F);
+  builder.build(dense.V, dense.F);
+  EXPECT_TRUE(builder.busy());
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0) << "built on a worker thread, not in build()";
+  ASSERT_TRUE(applied.wait(30000));
+  EXPECT_NEAR(viewport.proxyTriangleCount(), InteractiveProxyBuilder::kProxyTriangles,
+              0.1 * InteractiveProxyBuilder::kProxyTriangles);
+  EXPECT_EQ(applied.front().front().toInt(), viewport.proxyTriangleCount());
+  EXPECT_FALSE(builder.busy());
+
+  // Replaced while building: the stale proxy is not applied.
+  viewport.setMesh(dense.V, dense.F);
+  builder.build(dense.V, dense.F);
+  const auto small = sc::testing::icosphere(3);
+  viewport.setMesh(small.V, small.F);
+  builder.build(small.V, small.F);  // small: no proxy wanted
+  QTRY_VERIFY_WITH_TIMEOUT(!builder.busy(), 30000);
+  QTest::qWait(50);
+  EXPECT_EQ(applied.size(), 1);
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+}
+
+}  // namespace
