@@ -14,8 +14,8 @@
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/report/machine_info.h"
-#include "model/mesh_decimation.h"
 #include "model/mesh_loader.h"
+#include "model/mesh_proxy.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <QApplication>

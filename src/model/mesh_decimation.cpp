@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <mutex>
 #include <numeric>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -150,8 +149,9 @@ class Decimater : public OpenMesh::Decimater::BaseDecimaterT<Mesh> {
   std::vector<int> representatives() {
     std::vector<int> out(m_mesh.n_vertices(), -1);
     m_collapsedInto.resize(m_mesh.n_vertices(), -1);
+    std::vector<int> path;
     const auto find = [&](int v) {
-      std::vector<int> path;
+      path.clear();
       while (out[static_cast<std::size_t>(v)] < 0 && m_collapsedInto[static_cast<std::size_t>(v)] >= 0) {
         path.push_back(v);
         v = m_collapsedInto[static_cast<std::size_t>(v)];
@@ -345,29 +345,51 @@ std::size_t decimateTo(Decimater& decimater, const Mesh& mesh, std::size_t alive
   return alive;
 }
 
-/// Copies the live faces and their vertices out, renumbering vertices in handle order.
-DecimatedMesh extract(const Mesh& mesh) {
-  std::vector<int> index(mesh.n_vertices(), -1);
-  int next = 0;
-  for (const auto v : mesh.vertices())
-    if (!mesh.is_isolated(v)) index[static_cast<std::size_t>(v.idx())] = next++;
+/// The input faces through the collapses so far (`stand`: Decimater::representatives()): the live faces of the
+/// halfedge mesh, plus the faces it refused, so that those leave no holes; faces that collapsed to an edge or a
+/// point, and repeats, are left out. Orientation and order as in F.
+Eigen::MatrixXi collapsedFaces(const Eigen::MatrixXi& F, const std::vector<int>& stand) {
+  // Non-degenerate mapped faces with their vertex set as a sort key; the first face of each set is kept.
+  struct Mapped {
+    std::array<int, 3> key;
+    Eigen::Index face;
+  };
+  std::vector<Mapped> mapped;
+  mapped.reserve(static_cast<std::size_t>(F.rows()));
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    std::array<int, 3> key = {stand[static_cast<std::size_t>(F(f, 0))], stand[static_cast<std::size_t>(F(f, 1))],
+                              stand[static_cast<std::size_t>(F(f, 2))]};
+    std::sort(key.begin(), key.end());
+    if (key[0] != key[1] && key[1] != key[2]) mapped.push_back({key, f});
+  }
+  std::stable_sort(mapped.begin(), mapped.end(), [](const Mapped& a, const Mapped& b) { return a.key < b.key; });
+  std::vector<Eigen::Index> kept;
+  for (std::size_t i = 0; i < mapped.size(); ++i)
+    if (i == 0 || mapped[i].key != mapped[i - 1].key) kept.push_back(mapped[i].face);
+  std::sort(kept.begin(), kept.end());  // input order
+  Eigen::MatrixXi out(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    for (int k = 0; k < 3; ++k) out(static_cast<Eigen::Index>(i), k) = stand[static_cast<std::size_t>(F(kept[i], k))];
+  return out;
+}
+
+/// The decimated mesh: collapsedFaces() and the input vertices they use, renumbered in input order.
+DecimatedMesh extract(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const std::vector<int>& stand) {
   DecimatedMesh out;
+  out.F = collapsedFaces(F, stand);
+  std::vector<int> index(static_cast<std::size_t>(V.rows()), -1);
+  for (Eigen::Index i = 0; i < out.F.size(); ++i) index[static_cast<std::size_t>(out.F(i))] = 0;
+  int next = 0;
+  for (int& i : index)
+    if (i == 0) i = next++;
   out.V.resize(next, 3);
   out.sourceVertices.resize(next);
-  for (const auto v : mesh.vertices())
-    if (const int i = index[static_cast<std::size_t>(v.idx())]; i >= 0) {
-      const Mesh::Point& p = mesh.point(v);
-      out.V.row(i) << p[0], p[1], p[2];
-      out.sourceVertices(i) = v.idx();  // handles are input indices: no garbage collection ran
+  for (Eigen::Index v = 0; v < V.rows(); ++v)
+    if (const int i = index[static_cast<std::size_t>(v)]; i >= 0) {
+      out.V.row(i) = V.row(v);
+      out.sourceVertices(i) = static_cast<int>(v);
     }
-  out.F.resize(static_cast<Eigen::Index>(mesh.n_faces()), 3);
-  Eigen::Index f = 0;
-  for (const auto face : mesh.faces()) {
-    int k = 0;
-    for (const auto v : face.vertices()) out.F(f, k++) = index[static_cast<std::size_t>(v.idx())];
-    ++f;
-  }
-  out.F.conservativeResize(f, 3);
+  for (Eigen::Index i = 0; i < out.F.size(); ++i) out.F(i) = index[static_cast<std::size_t>(out.F(i))];
   return out;
 }
 
@@ -404,8 +426,8 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
     assert(targets[i] >= 3 && "a level needs at least 3 vertices");
     const auto target = static_cast<std::size_t>(targets[i]);
     if (ready && alive > target) alive = decimateTo(decimater, mesh, alive, target, random);
-    levels[i] = extract(mesh);
-    levels[i].droppedFaces = dropped;
+    levels[i] = extract(V, F, decimater.representatives());
+    levels[i].refusedFaces = dropped;
     levels[i].targetVertices = targets[i];
   }
   return levels;
@@ -413,42 +435,6 @@ std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eige
 
 DecimatedMesh decimateMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int targetVertices) {
   return std::move(resolutionLadder(V, F, {targetVertices}).front());
-}
-
-Eigen::MatrixXi proxyTriangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int targetTriangles) {
-  assert(targetTriangles >= 1 && "a proxy needs at least one triangle");
-  if (F.rows() <= targetTriangles) return F;
-  Mesh mesh;
-  buildMesh(V, F, mesh);
-  const std::size_t referenced = referencedVertices(mesh);
-  // Triangles per referenced vertex (about 2 on a closed mesh) turn the triangle target into a vertex target.
-  const double trianglesPerVertex = static_cast<double>(mesh.n_faces()) / std::max<double>(1.0, referenced);
-  const auto target = static_cast<std::size_t>(std::max(3.0, std::round(targetTriangles / trianglesPerVertex)));
-  Decimater decimater(mesh);
-  ModBoundaryQuadric::Handle quadric;
-  decimater.add(quadric);
-  decimater.module(quadric).unset_max_err();
-  if (decimater.initialize() && referenced > target) {
-    SplitMix64 random(kRandomSeed);
-    decimateTo(decimater, mesh, referenced, target, random);
-  }
-  // Every input face through the collapses: the surviving faces, plus the faces the halfedge mesh refused
-  // (non-manifold), which would otherwise leave holes; collapsed faces become degenerate and are left out.
-  const std::vector<int> stand = decimater.representatives();
-  std::set<std::array<int, 3>> seen;
-  Eigen::MatrixXi proxy(F.rows(), 3);
-  Eigen::Index count = 0;
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const std::array<int, 3> face = {stand[static_cast<std::size_t>(F(f, 0))], stand[static_cast<std::size_t>(F(f, 1))],
-                                     stand[static_cast<std::size_t>(F(f, 2))]};
-    if (face[0] == face[1] || face[1] == face[2] || face[0] == face[2]) continue;
-    std::array<int, 3> key = face;
-    std::sort(key.begin(), key.end());
-    if (!seen.insert(key).second) continue;
-    proxy.row(count++) << face[0], face[1], face[2];
-  }
-  proxy.conservativeResize(count, 3);
-  return proxy;
 }
 
 }  // namespace sc::model

@@ -12,22 +12,27 @@ namespace sc::model {
 struct DecimatedMesh {
   Eigen::MatrixXd V;  ///< #V' by 3 positions, every vertex referenced by a face.
   Eigen::MatrixXi F;  ///< #F' by 3 indices into V, orientation as in the input.
-  /// #V' indices into the input vertices: V.row(i) is the input's vertex sourceVertices[i] (edge collapses keep
-  /// the surviving vertex where it is), so sourceVertices(F) is a coarse triangulation of the input's own vertices.
+  /// #V' indices into the input vertices: V.row(i) is the input's vertex sourceVertices(i) (edge collapses keep
+  /// the surviving vertex where it is), so F mapped through it is a coarse triangulation of the input's own
+  /// vertices (model::proxyTriangles()).
   Eigen::VectorXi sourceVertices;
-  int droppedFaces = 0;    ///< input faces OpenMesh's halfedge mesh refused (non-manifold), left out before decimating.
+  /// Input faces OpenMesh's halfedge mesh refused (non-manifold): they do not steer the collapses, but are carried
+  /// through them into F (see decimateMesh()).
+  int refusedFaces = 0;
   int targetVertices = 0;  ///< the vertex count that was asked for.
 };
 
 /// Decimates (V, F) to about `targetVertices` vertices.
 ///
 /// The faces are added one by one to an OpenMesh TriMesh (double precision); faces it refuses — complex
-/// (non-manifold) edges or vertices, as in the Stanford dragon scans — are dropped and counted, and the
-/// decimation runs on what remains, so the result approximates the manifold part of the input (refused faces
-/// leave small holes, whose outline the boundary planes keep). Vertices left without faces are ignored. The quadric
-/// decimater then collapses the cheapest edges (quadric error plus Garland–Heckbert boundary planes, so open boundaries
-/// keep their outline) until `targetVertices` referenced vertices remain, or no legal collapse is left (the count may
-/// then stay above the target). OpenMesh's complaints on std::cerr are silenced while faces are added (a process-wide
+/// (non-manifold) edges or vertices, as in the Stanford dragon scans — are counted and the decimation runs on what
+/// remains. The quadric decimater collapses the cheapest edges (quadric error plus Garland–Heckbert boundary planes,
+/// so open boundaries keep their outline) until `targetVertices` vertices of the halfedge mesh remain, or no legal
+/// collapse is left (the count may then stay above the target). Each collapse merges a vertex into a neighbour that
+/// stays where it is; the result's faces are ALL input faces mapped through these merges, so the refused faces are
+/// kept (merged like the rest) instead of leaving holes, and faces that collapsed to an edge or a point, and
+/// repeats, are left out. The result may therefore have a few more vertices than the target (vertices that only
+/// refused faces use). OpenMesh's complaints on std::cerr are silenced while faces are added (a process-wide
 /// switch, shared safely by concurrent calls; other OpenMesh users in the meantime are silenced too).
 /// @param[in] V  #V by 3 positions.
 /// @param[in] F  #F by 3 indices into V.
@@ -53,18 +58,5 @@ std::vector<int> levelTargets(int vertexCount, const std::vector<double>& fracti
 /// Cost: one decimateMesh() to the smallest target plus O(#F) per extracted level.
 std::vector<DecimatedMesh> resolutionLadder(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                             const std::vector<int>& targets);
-
-/// A coarse triangulation of a mesh's own vertices, for drawing a dense mesh cheaply (e.g. while it moves): the
-/// input faces mapped through the edge collapses of a decimation to about `targetTriangles` triangles (the same
-/// collapses as decimateMesh()). Collapses keep the surviving vertices in place, so the proxy is made of input
-/// vertices and follows every deformation of V (same vertex buffer). Faces the halfedge mesh refuses (non-manifold)
-/// are mapped too, so they leave no holes; faces that collapse to an edge or a point, and repeats, are left out.
-/// @param[in] V  #V by 3 positions.
-/// @param[in] F  #F by 3 indices into V.
-/// @param[in] targetTriangles  ≥ 1; the proxy has about this many triangles (a few more on a mesh with refused
-///            faces), or is F itself (copied) when F has no more than that.
-/// @return #F' by 3 indices into V, orientation as in the input.
-/// Cost: that of decimateMesh() plus O(#F log #F) (about 0.7 s for the 100k dragon on 2 loaded cores).
-Eigen::MatrixXi proxyTriangles(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int targetTriangles);
 
 }  // namespace sc::model

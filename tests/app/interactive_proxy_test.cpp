@@ -4,7 +4,7 @@
 
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_viewport.h"
-#include "model/mesh_decimation.h"
+#include "model/mesh_proxy.h"
 
 #include "app_test_support.h"
 #include "test_meshes.h"
@@ -13,6 +13,9 @@
 
 #include <QSignalSpy>
 #include <QTest>
+
+#include <algorithm>
+#include <vector>
 
 namespace {
 
@@ -53,9 +56,14 @@ TEST_F(InteractiveProxyTest, InteractiveFramesDrawTheProxyAndTheIdleFrameTheMesh
   ASSERT_GT(viewport.proxyTriangleCount(), 1500);
   ASSERT_LT(viewport.proxyTriangleCount(), 2500);
   QImage interactive;
-  for (int i = 0; i < 3; ++i) interactive = viewport.grabFramebuffer();  // right after each other
+  for (int i = 0; i < 3; ++i) {  // frames of a moving shape, right after each other
+    viewport.setPositions(sphere.V);
+    interactive = viewport.grabFramebuffer();
+  }
   EXPECT_EQ(viewport.frameTimes().triangles, viewport.proxyTriangleCount());
   EXPECT_EQ(viewport.frameTimes().renderScale, 1.0);
+  viewport.grabFramebuffer();  // right after, but nothing moved (e.g. a brush hovering): the mesh itself
+  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
 
   const int painted = viewport.paintCount();
   QTest::qWait(MeshViewport::kIdleRestoreMs * 3);
@@ -80,17 +88,45 @@ TEST_F(InteractiveProxyTest, InteractiveFramesDrawTheProxyAndTheIdleFrameTheMesh
   EXPECT_LT(static_cast<double>(disagree), 0.03 * static_cast<double>(covered)) << "the proxy has the mesh's outline";
 }
 
-TEST_F(InteractiveProxyTest, WithoutAdaptiveResolutionEveryFrameDrawsTheMesh) {
+/// Triangles drawn by a frame of a moving shape right after another one.
+int trianglesOfAMovingFrame(MeshViewport& viewport, const Eigen::MatrixXd& V) {
+  for (int i = 0; i < 2; ++i) {
+    viewport.setPositions(V);
+    viewport.grabFramebuffer();
+  }
+  return viewport.frameTimes().triangles;
+}
+
+TEST_F(InteractiveProxyTest, TheMeshItselfWithoutAdaptiveResolutionInWireframeOrWhenASelectionWouldVanish) {
   const auto sphere = sc::testing::icosphere(4);
   MeshViewport viewport;
   viewport.resize(200, 150);
   viewport.setMesh(sphere.V, sphere.F);
-  viewport.setAdaptiveResolution(false);
-  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 500));
+  viewport.setAdaptiveResolution(true);
+  const Eigen::MatrixXi proxy = sc::model::proxyTriangles(sphere.V, sphere.F, 500);
+  viewport.setInteractiveProxy(proxy);
   viewport.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
-  for (int i = 0; i < 3; ++i) viewport.grabFramebuffer();
-  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
+  const auto full = static_cast<int>(sphere.F.rows());
+  ASSERT_EQ(trianglesOfAMovingFrame(viewport, sphere.V), viewport.proxyTriangleCount());
+
+  viewport.setWireframe(true);
+  EXPECT_EQ(trianglesOfAMovingFrame(viewport, sphere.V), full) << "wireframe shows the real edges";
+  viewport.setWireframe(false);
+
+  // A one-vertex handle the proxy does not use would vanish: the mesh is drawn; one it uses shows: the proxy.
+  std::vector<bool> used(static_cast<std::size_t>(sphere.V.rows()), false);
+  for (Eigen::Index i = 0; i < proxy.size(); ++i) used[static_cast<std::size_t>(proxy(i))] = true;
+  const auto notUsed = static_cast<int>(std::find(used.begin(), used.end(), false) - used.begin());
+  const auto usedVertex = static_cast<int>(std::find(used.begin(), used.end(), true) - used.begin());
+  ASSERT_LT(notUsed, sphere.V.rows());
+  viewport.setSelection({notUsed}, {});
+  EXPECT_EQ(trianglesOfAMovingFrame(viewport, sphere.V), full);
+  viewport.setSelection({notUsed, usedVertex}, {});
+  EXPECT_EQ(trianglesOfAMovingFrame(viewport, sphere.V), viewport.proxyTriangleCount());
+
+  viewport.setAdaptiveResolution(false);
+  EXPECT_EQ(trianglesOfAMovingFrame(viewport, sphere.V), full);
 }
 
 TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
@@ -106,12 +142,20 @@ TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
   EXPECT_EQ(viewport.proxyTriangleCount(), 0);
 }
 
+class InteractiveProxyBuilderTest : public InteractiveProxyTest {
+ protected:
+  void SetUp() override {
+    InteractiveProxyTest::SetUp();
+    viewport.setAdaptiveResolution(true);
+  }
+  const sc::testing::GeneratedMesh dense = sc::testing::torus(300, 125);  // 75,000 triangles
+  MeshViewport viewport;
+};
+
 // The builder works for dense meshes only, off the GUI thread, and a proxy built for a mesh that was replaced
 // in the meantime is thrown away.
-TEST_F(InteractiveProxyTest, BuilderAppliesTheProxyOfTheCurrentDenseMeshOnly) {
-  const auto dense = sc::testing::torus(300, 125);  // 75,000 triangles
+TEST_F(InteractiveProxyBuilderTest, AppliesTheProxyOfTheCurrentDenseMeshOnly) {
   ASSERT_GT(dense.F.rows(), InteractiveProxyBuilder::kMinTriangles);
-  MeshViewport viewport;
   InteractiveProxyBuilder builder(&viewport);
   QSignalSpy applied(&builder, &InteractiveProxyBuilder::proxyApplied);
 
@@ -125,15 +169,54 @@ TEST_F(InteractiveProxyTest, BuilderAppliesTheProxyOfTheCurrentDenseMeshOnly) {
   EXPECT_EQ(applied.front().front().toInt(), viewport.proxyTriangleCount());
   EXPECT_FALSE(builder.busy());
 
-  // Replaced while building: the stale proxy is not applied.
+  // The same faces again (a host showing its mesh again): the proxy comes back at once.
   viewport.setMesh(dense.V, dense.F);
+  ASSERT_EQ(viewport.proxyTriangleCount(), 0);
   builder.build(dense.V, dense.F);
+  EXPECT_FALSE(builder.busy());
+  EXPECT_EQ(applied.size(), 2);
+  EXPECT_GT(viewport.proxyTriangleCount(), 0);
+
+  // Replaced while building: the stale proxy is not applied.
+  const auto other = sc::testing::torus(310, 125);
+  viewport.setMesh(other.V, other.F);
+  builder.build(other.V, other.F);
   const auto small = sc::testing::icosphere(3);
   viewport.setMesh(small.V, small.F);
-  builder.build(small.V, small.F);  // small: no proxy wanted
+  builder.build(small.V, small.F);  // small: no proxy wanted, and the waiting build (if any) is dropped
   QTRY_VERIFY_WITH_TIMEOUT(!builder.busy(), 30000);
   QTest::qWait(50);
+  EXPECT_EQ(applied.size(), 2);
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+}
+
+// A mesh replaced while its proxy is being built: the waiting build of the new mesh runs next and is applied.
+TEST_F(InteractiveProxyBuilderTest, AWaitingBuildRunsAfterTheStaleOne) {
+  InteractiveProxyBuilder builder(&viewport);
+  QSignalSpy applied(&builder, &InteractiveProxyBuilder::proxyApplied);
+  viewport.setMesh(dense.V, dense.F);
+  builder.build(dense.V, dense.F);
+  const auto other = sc::testing::torus(200, 190);  // 76,000 triangles, fewer vertices
+  viewport.setMesh(other.V, other.F);
+  builder.build(other.V, other.F);  // waits for the first, which is stale now
+  ASSERT_TRUE(applied.wait(60000));
+  QTRY_VERIFY_WITH_TIMEOUT(!builder.busy(), 30000);
   EXPECT_EQ(applied.size(), 1);
+  EXPECT_GT(viewport.proxyTriangleCount(), 0);
+}
+
+TEST_F(InteractiveProxyBuilderTest, NothingIsBuiltWithoutAdaptiveResolutionAndDestroyingMidBuildIsSafe) {
+  viewport.setMesh(dense.V, dense.F);
+  {
+    InteractiveProxyBuilder builder(&viewport);
+    viewport.setAdaptiveResolution(false);
+    builder.build(dense.V, dense.F);
+    EXPECT_FALSE(builder.busy()) << "the proxy would never be drawn";
+    viewport.setAdaptiveResolution(true);
+    builder.build(dense.V, dense.F);
+    EXPECT_TRUE(builder.busy());
+  }  // waits for the worker; its result is dropped with the builder
+  QTest::qWait(50);
   EXPECT_EQ(viewport.proxyTriangleCount(), 0);
 }
 

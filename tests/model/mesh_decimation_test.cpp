@@ -43,7 +43,7 @@ TEST(MeshDecimation, LevelTargetsAreFractionsOfTheVertexCount) {
 TEST(MeshDecimation, SphereHitsTheTargetAndKeepsItsShape) {
   const auto sphere = testing::icosphere(4);
   const DecimatedMesh low = decimateMesh(sphere.V, sphere.F, 500);
-  EXPECT_EQ(low.droppedFaces, 0);
+  EXPECT_EQ(low.refusedFaces, 0);
   expectGoodLevel(sphere, low, 0.01);
 }
 
@@ -64,17 +64,29 @@ TEST(MeshDecimation, OpenGridKeepsItsBoundary) {
   expectGoodLevel(grid, decimateMesh(grid.V, grid.F, 200), 0.01);
 }
 
-TEST(MeshDecimation, NonManifoldFacesAreDroppedAndTheRestDecimated) {
+/// The icosphere(3) with a fin: a third face on the edge (F(0,0), F(0,1)) through a new vertex (the last one)
+/// makes that edge non-manifold, so the halfedge mesh refuses it.
+testing::GeneratedMesh sphereWithFin() {
   auto sphere = testing::icosphere(3);
-  // A fin: a third face on the edge (F(0,0), F(0,1)) through a new vertex makes that edge non-manifold.
   sphere.V.conservativeResize(sphere.V.rows() + 1, 3);
   sphere.V.row(sphere.V.rows() - 1) << 0, 0, 2;
   sphere.F.conservativeResize(sphere.F.rows() + 1, 3);
   sphere.F.row(sphere.F.rows() - 1) << sphere.F(0, 0), sphere.F(0, 1), static_cast<int>(sphere.V.rows() - 1);
+  return sphere;
+}
+
+TEST(MeshDecimation, NonManifoldFacesAreRefusedAndCarriedThroughTheCollapses) {
+  const auto sphere = sphereWithFin();
+  const int fin = static_cast<int>(sphere.V.rows() - 1);
   const DecimatedMesh low = decimateMesh(sphere.V, sphere.F, 200);
-  EXPECT_EQ(low.droppedFaces, 1);
-  testing::GeneratedMesh manifold{sphere.V.topRows(sphere.V.rows() - 1), sphere.F.topRows(sphere.F.rows() - 1)};
-  expectGoodLevel(manifold, low, 0.02);
+  EXPECT_EQ(low.refusedFaces, 1);
+  // The fin is kept until its own edge collapses (then its triangle degenerates: measured below 200 vertices).
+  EXPECT_TRUE((low.sourceVertices.array() == fin).any()) << "the refused face is still there";
+  expectGoodLevel(sphere, low, 0.02);
+  const testing::GeneratedMesh manifold{sphere.V.topRows(fin), sphere.F.topRows(sphere.F.rows() - 1)};
+  const DecimatedMesh coarse = decimateMesh(sphere.V, sphere.F, 60);
+  EXPECT_FALSE((coarse.sourceVertices.array() == fin).any()) << "its edge collapsed: the fin went with it";
+  expectGoodLevel(manifold, coarse, 0.1);
 }
 
 TEST(MeshDecimation, TargetAboveTheVertexCountReturnsTheInput) {
@@ -93,34 +105,6 @@ TEST(MeshDecimation, LargeMeshesUseMultipleChoiceAndGiveTheSameLevelEveryRun) {
   expectGoodLevel(torus, a, 0.01);
 }
 
-TEST(MeshDecimation, ProxyTrianglesIndexTheInputVerticesAndKeepTheShape) {
-  const auto torus = testing::torus(120, 50);  // 12,000 triangles
-  const Eigen::MatrixXi proxy = proxyTriangles(torus.V, torus.F, 3000);
-  EXPECT_NEAR(static_cast<double>(proxy.rows()), 3000.0, 60.0);
-  ASSERT_GE(proxy.minCoeff(), 0);
-  ASSERT_LT(proxy.maxCoeff(), torus.V.rows());
-  const double diagonal = spectral::boundingBoxDiagonal(torus.V);
-  EXPECT_LT(spectral::symmetricSurfaceDistance(torus.V, proxy, torus.V, torus.F, diagonal).maxRelative, 0.01);
-  // The proxy follows a deformation of the input's vertices: moved vertices, moved proxy.
-  const Eigen::MatrixXd moved = torus.V * 2.0;
-  EXPECT_LT(spectral::symmetricSurfaceDistance(moved, proxy, moved, torus.F, 2.0 * diagonal).maxRelative, 0.01);
-  EXPECT_EQ(proxyTriangles(torus.V, torus.F, 20000), torus.F) << "a mesh already small enough is its own proxy";
-}
-
-TEST(MeshDecimation, ProxyTrianglesKeepTheFacesTheHalfedgeMeshRefuses) {
-  auto sphere = testing::icosphere(3);  // 1,280 triangles
-  // A fin as in NonManifoldFacesAreDroppedAndTheRestDecimated: refused by the halfedge mesh, kept by the proxy.
-  const int fin = static_cast<int>(sphere.V.rows());
-  sphere.V.conservativeResize(fin + 1, 3);
-  sphere.V.row(fin) << 0, 0, 2;
-  sphere.F.conservativeResize(sphere.F.rows() + 1, 3);
-  sphere.F.row(sphere.F.rows() - 1) << sphere.F(0, 0), sphere.F(0, 1), fin;
-  // Drawn until its own edge collapses (then its triangle degenerates, measured: below a 400-triangle proxy).
-  const Eigen::MatrixXi proxy = proxyTriangles(sphere.V, sphere.F, 1000);
-  EXPECT_NEAR(static_cast<double>(proxy.rows()), 1000.0, 20.0);
-  EXPECT_TRUE((proxy.array() == fin).any()) << "the refused face is still drawn";
-}
-
 TEST(MeshDecimation, Dragon100kDecimatesToFivePercentAndMaps) {
   const std::filesystem::path path = std::filesystem::path(SHAPECAST_ASSETS_DIR) / "dragon_vrip_res2.ply";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is absent: run scripts/fetch-meshes.sh";
@@ -134,8 +118,8 @@ TEST(MeshDecimation, Dragon100kDecimatesToFivePercentAndMaps) {
   const spectral::BarycentricMap P = spectral::barycentricMap(mesh.V, mesh.F, low.V, &distances);
   const auto mapped = std::chrono::steady_clock::now();
   const auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
-  std::cout << "dragon " << mesh.V.rows() << " → " << low.V.rows() << " vertices (" << low.droppedFaces
-            << " non-manifold faces dropped): decimation " << seconds(start, decimated) << " s, map "
+  std::cout << "dragon " << mesh.V.rows() << " → " << low.V.rows() << " vertices (" << low.refusedFaces
+            << " non-manifold faces refused): decimation " << seconds(start, decimated) << " s, map "
             << seconds(decimated, mapped) << " s\n";
   EXPECT_EQ(P.rows(), low.V.rows());
   const double diagonal = spectral::boundingBoxDiagonal(mesh.V);

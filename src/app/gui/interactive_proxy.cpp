@@ -1,7 +1,7 @@
 #include "app/gui/interactive_proxy.h"
 
 #include "app/gui/mesh_viewport.h"
-#include "model/mesh_decimation.h"
+#include "model/mesh_proxy.h"
 
 #include <memory>
 
@@ -19,7 +19,13 @@ InteractiveProxyBuilder::~InteractiveProxyBuilder() {
 }
 
 void InteractiveProxyBuilder::build(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
-  if (F.rows() <= kMinTriangles) {
+  m_pending.reset();  // superseded, whatever it was
+  if (F.rows() <= kMinTriangles || !m_viewport || !m_viewport->adaptiveResolution()) {
+    return;
+  }
+  if (m_lastProxy.rows() > 0 && F.rows() == m_lastFaces.rows() && F == m_lastFaces) {
+    m_viewport->setInteractiveProxy(m_lastProxy);
+    emit proxyApplied(static_cast<int>(m_lastProxy.rows()));
     return;
   }
   if (m_running) {
@@ -37,21 +43,27 @@ void InteractiveProxyBuilder::start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsign
   m_running = true;
   m_worker = std::thread([this, V = std::move(V), F = std::move(F), generation] {
     auto proxy = std::make_shared<Eigen::MatrixXi>(model::proxyTriangles(V, F, kProxyTriangles));
+    auto faces = std::make_shared<Eigen::MatrixXi>(F);
     QMetaObject::invokeMethod(
-        this, [this, generation, proxy] { finish(generation, *proxy); }, Qt::QueuedConnection);
+        this, [this, generation, faces, proxy] { finish(generation, *faces, *proxy); }, Qt::QueuedConnection);
   });
 }
 
-void InteractiveProxyBuilder::finish(unsigned generation, const Eigen::MatrixXi& proxy) {
+void InteractiveProxyBuilder::finish(unsigned generation, const Eigen::MatrixXi& faces, const Eigen::MatrixXi& proxy) {
   m_running = false;
-  if (generation == m_generation && m_viewport) {
-    m_viewport->setInteractiveProxy(proxy);
-    emit proxyApplied(static_cast<int>(proxy.rows()));
-  }
-  if (m_pending) {
+  m_lastFaces = faces;
+  m_lastProxy = proxy;
+  // A waiting build starts first (unless its mesh was replaced since), so that a slot of proxyApplied() that
+  // calls build() only queues behind it.
+  if (m_pending && m_pendingGeneration == m_generation) {
     auto [V, F] = std::move(*m_pending);
     m_pending.reset();
     start(std::move(V), std::move(F), m_pendingGeneration);
+  }
+  m_pending.reset();
+  if (generation == m_generation && m_viewport) {
+    m_viewport->setInteractiveProxy(proxy);
+    emit proxyApplied(static_cast<int>(proxy.rows()));
   }
 }
 

@@ -4,12 +4,11 @@
 
 #include "app/gui/main_window.h"
 
-#include "app/gui/interactive_proxy.h"
-
 #include "ui_main_window.h"
 
 #include "app/gui/drag_commands.h"
 #include "app/gui/host_dialog.h"
+#include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_snapshot.h"

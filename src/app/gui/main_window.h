@@ -2,6 +2,7 @@
 // MainWindow: the application window. Wiring only: menus → mesh loading (sc::model) → MeshViewport and status bar;
 // Session menu, lock toolbar and resolution selector → SessionController (which owns the session).
 
+#include "app/gui/mesh_viewport.h"
 #include "app/gui/session_controller.h"
 
 #include <QElapsedTimer>
@@ -131,6 +132,7 @@ class MainWindow : public QMainWindow {
   QElapsedTimer m_redrawClock;
   bool m_redrawPending = false;
   double m_redrawMs = 0.0;
+  FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
   DragHistory* m_dragHistory = nullptr;

@@ -1,13 +1,13 @@
 // MainWindow: the session wiring. Session menu, tool actions, lock toolbar and resolution selector, status bar
 // fields, viewport intents to the SessionController, the docks; and the controller's signals back to the window.
 
-#include "app/gui/interactive_proxy.h"
 #include "app/gui/main_window.h"
 
 #include "ui_main_window.h"
 
 #include "app/gui/drag_commands.h"
 #include "app/gui/host_dialog.h"
+#include "app/gui/interactive_proxy.h"
 #include "app/gui/join_dialog.h"
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
@@ -130,9 +130,13 @@ void MainWindow::connectViewportToSession() {
     m_dragHistory->dragFinished();
   });
   connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
-    if (!m_redrawPending) return;
-    m_redrawPending = false;
-    m_redrawMs = ui->viewport->frameTimes().totalMs();  // normals, paint, composition: as shapecast-bench-viewport
+    const FrameTimes& frame = ui->viewport->frameTimes();
+    if (m_redrawPending) {
+      m_redrawPending = false;
+      m_redrawMs = frame.totalMs();  // normals, paint, composition: as shapecast-bench-viewport
+    } else if (frame.triangles == m_labelFrame.triangles && frame.renderScale == m_labelFrame.renderScale) {
+      return;  // e.g. the idle full redraw after a moving frame changes the label's "moving" part
+    }
     updateTimingLabel();
   });
 }
@@ -297,10 +301,18 @@ void MainWindow::updateTimingLabel() {
     return;
   }
   const double reconstruction = m_session->reconstructionMs();
-  m_timingLabel->setText(tr("reconstruction + redraw: %1 ms (%2 + %3)")
-                             .arg(reconstruction + m_redrawMs, 0, 'f', 1)
-                             .arg(reconstruction, 0, 'f', 2)
-                             .arg(m_redrawMs, 0, 'f', 1));
+  QString text = tr("reconstruction + redraw: %1 ms (%2 + %3)")
+                     .arg(reconstruction + m_redrawMs, 0, 'f', 1)
+                     .arg(reconstruction, 0, 'f', 2)
+                     .arg(m_redrawMs, 0, 'f', 1);
+  // How the frame was lightened while the shape moves (MeshViewport's adaptive resolution and proxy).
+  m_labelFrame = ui->viewport->frameTimes();
+  const bool proxy = m_labelFrame.triangles > 0 && m_labelFrame.triangles < ui->viewport->triangleCount();
+  const int percent = qRound(100.0 * m_labelFrame.renderScale);
+  if (proxy)
+    text += tr(" · moving: %L1 of %L2 triangles").arg(m_labelFrame.triangles).arg(ui->viewport->triangleCount());
+  if (percent < 100) text += proxy ? tr(" at %1% scale").arg(percent) : tr(" · moving at %1% scale").arg(percent);
+  m_timingLabel->setText(text);
 }
 
 void MainWindow::onSessionFailed(const QString& message) {

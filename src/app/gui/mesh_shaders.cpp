@@ -93,8 +93,7 @@ vec3 toSrgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
 // Diffuse plus Blinn specular for one directional light (all vectors unit, view space).
 vec3 shade(vec3 n, vec3 v, vec3 l, vec3 lightColor, vec3 albedo, float specular, float shininess) {
   float diffuse = max(dot(n, l), 0.0);
-  float c = max(dot(n, normalize(l + v)), 0.0);
-  float highlight = diffuse > 0.0 ? c / (shininess - shininess * c + c) : 0.0;
+  float highlight = diffuse > 0.0 ? pow(max(dot(n, normalize(l + v)), 0.0), shininess) : 0.0;
   return lightColor * (albedo * diffuse + vec3(specular * highlight));
 }
 

@@ -72,6 +72,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   m_origin = 0.5 * (lo + hi);
   m_vertexCount = static_cast<int>(V.rows());
   m_proxyIndices.clear();
+  m_inProxy.clear();
   m_indices.resize(static_cast<std::size_t>(F.size()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -132,7 +133,7 @@ void MeshViewport::positionsChanged() {
   updateBounds();
   m_frameTimes.boundsMs = lapMs(timer);
   m_vertexDataDirty = true;
-  update();
+  markMoved();
 }
 
 // The camera's scene bounds from m_positions (exact), or on the GPU path from the rest bounds widened by
@@ -162,6 +163,7 @@ void MeshViewport::clearMesh() {
   m_normals.clear();
   m_indices.clear();
   m_proxyIndices.clear();
+  m_inProxy.clear();
   m_handles.clear();
   m_anchors.clear();
   m_vertexCount = 0;
@@ -180,12 +182,28 @@ void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
     return;
   }
   m_proxyIndices.resize(static_cast<std::size_t>(triangles.size()));
+  m_inProxy.assign(triangles.size() > 0 ? static_cast<std::size_t>(m_vertexCount) : 0, 0);
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
       m_proxyIndices[static_cast<std::size_t>(3 * f + c)] = static_cast<std::uint32_t>(triangles(f, c));
+      m_inProxy[static_cast<std::size_t>(triangles(f, c))] = 1;
     }
   }
   m_indicesDirty = true;
+  updateProxySelection();
+  update();
+}
+
+void MeshViewport::updateProxySelection() {
+  const auto shown = [this](const std::vector<int>& group) {
+    return group.empty() || std::any_of(group.begin(), group.end(),
+                                        [this](int v) { return m_inProxy[static_cast<std::size_t>(v)] != 0; });
+  };
+  m_proxyShowsSelection = m_inProxy.empty() || (shown(m_handles) && shown(m_anchors));
+}
+
+void MeshViewport::markMoved() {
+  m_moved = true;
   update();
 }
 
@@ -209,6 +227,7 @@ void MeshViewport::rebuildTints() {
     }
   }
   m_tintsDirty = true;
+  updateProxySelection();
 }
 
 void MeshViewport::setWireframe(bool on) {

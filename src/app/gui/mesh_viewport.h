@@ -160,15 +160,20 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   /// Removes the mesh (background only). Emits meshChanged().
   void clearMesh();
 
-  /// A coarse triangulation of the current mesh's own vertices (model::proxyTriangles()) that interactive frames
-  /// draw instead of the mesh's triangles while adaptive resolution is on. On a software rasteriser a dense
-  /// mesh's frame costs per triangle, at any pixel scale (vertex and setup work, and a fragment block per tiny
-  /// triangle), so a moving dense mesh is drawn as its proxy, with the same vertex buffer (it follows every
-  /// deformation), and in full once idle (kIdleRestoreMs). Normals, picking and idle frames use the full mesh.
+  /// A coarse triangulation of the current mesh's own vertices (model::proxyTriangles()) that frames draw instead
+  /// of the mesh's triangles while the shape or the camera moves, with adaptive resolution on. On a software
+  /// rasteriser a dense mesh's frame costs per triangle at any pixel scale (vertex and setup work, and a fragment
+  /// block per tiny triangle), so a moving dense mesh is drawn as its proxy, with the same vertex buffer (it follows
+  /// every deformation), and in full once idle (kIdleRestoreMs). A frame uses the proxy only when it is interactive
+  /// (see setAdaptiveResolution()), the positions or the camera changed since the previous frame, no wireframe is
+  /// shown, no brush stroke is in progress, and the proxy keeps at least one vertex of each non-empty selection
+  /// group (handles, anchors; so that a small selection never vanishes). Normals, picking and idle frames use the
+  /// full mesh.
   /// @param[in] triangles  #P by 3 indices into the current mesh's vertices; empty removes the proxy.
-  /// setMesh() and clearMesh() remove it. An index out of range is a programming error (asserted; the proxy is
-  /// ignored in release builds).
+  /// setMesh() and clearMesh() remove it. An index out of range is a programming error (asserted; in release builds
+  /// the call is ignored and the previous proxy stays).
   void setInteractiveProxy(const Eigen::MatrixXi& triangles);
+  /// Triangles of the interactive proxy (0: none).
   [[nodiscard]] int proxyTriangleCount() const { return static_cast<int>(m_proxyIndices.size() / 3); }
 
   /// Sets the reduced basis of the current mesh for setCoefficients(): X' = rest + K·Z.
@@ -224,12 +229,17 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   /// AdaptiveResolution::scale() times the widget's pixel size and stretch it onto the widget (linear filter);
   /// the scale follows the measured paint time (glFinish() at the end of each paint) against kPaintBudgetMs.
   /// Once nothing has been painted for kIdleRestoreMs the view repaints itself at full resolution. Needs a
-  /// single-sampled widget framebuffer; with multisampling frames are always full resolution.
+  /// single-sampled widget framebuffer; with multisampling frames are always full resolution. Adaptive resolution
+  /// also enables the interactive proxy (setInteractiveProxy()); the scale is tracked separately for frames of the
+  /// mesh and of its proxy.
   void setAdaptiveResolution(bool on);
   [[nodiscard]] bool adaptiveResolution() const { return m_adaptive; }
   /// Replaces kPaintBudgetMs for this viewport (ms > 0; e.g. tests, or a client that must leave time for other
   /// work) and starts again from full resolution.
-  void setPaintBudget(double ms) { m_resolution = AdaptiveResolution(ms); }
+  void setPaintBudget(double ms) {
+    m_resolution = AdaptiveResolution(ms);
+    m_proxyResolution = AdaptiveResolution(ms);
+  }
   /// The default of setAdaptiveResolution() for new viewports (probed once per process, see defaultSampleCount()).
   static bool defaultAdaptiveResolution();
 
@@ -330,7 +340,10 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void rebuildTints();
   void uploadIfDirty();
   void drawBackground();
-  void drawMesh(bool wireframe, bool proxy);
+  int drawMesh(bool wireframe, bool proxy);
+  [[nodiscard]] bool proxyAllowed() const;
+  void markMoved();
+  void updateProxySelection();
   void drawScene(double scale, bool proxy, bool finish);
   void drawOverlay();
   [[nodiscard]] DepthImage renderDepth();
@@ -378,7 +391,11 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   FrameTimes m_frameTimes;
   bool m_profiling = false;
   bool m_adaptive = false;
-  AdaptiveResolution m_resolution{kPaintBudgetMs};
+  AdaptiveResolution m_resolution{kPaintBudgetMs};       // frames of the full mesh
+  AdaptiveResolution m_proxyResolution{kPaintBudgetMs};  // frames of the interactive proxy
+  bool m_moved = false;                                  // positions or camera changed since the last paint
+  std::vector<char> m_inProxy;                           // per vertex: used by the proxy
+  bool m_proxyShowsSelection = true;                     // each non-empty selection group has a proxy vertex
   QElapsedTimer m_sinceLastPaint;
   QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
 

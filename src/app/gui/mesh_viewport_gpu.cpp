@@ -109,7 +109,7 @@ void MeshViewport::applyCoefficients() {
   m_frameTimes.reconstructMs = 0.0;
   m_frameTimes.normalsMs = 0.0;
   m_frameTimes.boundsMs = lapMs(timer);
-  update();
+  markMoved();
 }
 
 void MeshViewport::ensureHostPositions() {

@@ -165,7 +165,7 @@ void MeshViewport::mouseMoveEvent(QMouseEvent* event) {
   } else {
     return;
   }
-  update();
+  markMoved();
 }
 
 void MeshViewport::mouseReleaseEvent(QMouseEvent* event) {
@@ -178,7 +178,7 @@ void MeshViewport::mouseDoubleClickEvent(QMouseEvent* /*event*/) { resetView(); 
 
 void MeshViewport::wheelEvent(QWheelEvent* event) {
   m_camera.zoom(static_cast<float>(event->angleDelta().y()) / 120.0f);
-  update();
+  markMoved();
   event->accept();
 }
 

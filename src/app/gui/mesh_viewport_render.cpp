@@ -97,6 +97,7 @@ bool MeshViewport::defaultAdaptiveResolution() {
 void MeshViewport::setAdaptiveResolution(bool on) {
   m_adaptive = on;
   m_resolution.reset();
+  m_proxyResolution.reset();
   update();
 }
 
@@ -201,13 +202,15 @@ void MeshViewport::paintGL() {
   // Interactive (a paint shortly after the previous one) frames may be drawn at a reduced resolution.
   const bool interactive = m_sinceLastPaint.isValid() && m_sinceLastPaint.elapsed() < kIdleRestoreMs;
   const bool scalable = m_adaptive && m_gl33 != nullptr && format().samples() <= 0;
-  const double scale = interactive && scalable ? m_resolution.scale() : 1.0;
-  const bool proxy = interactive && scalable && !m_proxyIndices.empty();
+  const bool proxy = interactive && scalable && proxyAllowed();
+  AdaptiveResolution& resolution = proxy ? m_proxyResolution : m_resolution;
+  const double scale = interactive && scalable ? resolution.scale() : 1.0;
+  m_moved = false;
   QElapsedTimer paint;
   paint.start();
   drawScene(scale, proxy, scalable);  // finished when scalable: the rasteriser's time belongs to the measurement
   if (scalable) {
-    m_resolution.record(scale, static_cast<double>(paint.nsecsElapsed()) * 1e-6);
+    resolution.record(scale, static_cast<double>(paint.nsecsElapsed()) * 1e-6);
   }
   if (scale < 1.0 || proxy) {
     m_restoreTimer.start();
@@ -221,6 +224,11 @@ void MeshViewport::paintGL() {
   m_frameTimes.overlayMs = lapMs(overlay);
   m_frameTimes.renderScale = scale;
   m_sinceLastPaint.start();  // from the end of this paint: a slow frame does not make the next one idle
+}
+
+// Whether this frame may draw the interactive proxy (see setInteractiveProxy(); the caller checks interactivity).
+bool MeshViewport::proxyAllowed() const {
+  return !m_proxyIndices.empty() && m_moved && !m_wireframe && m_gesture != Gesture::Paint && m_proxyShowsSelection;
 }
 
 // Upload, background and mesh passes into the widget's framebuffer, or at `scale` < 1 into m_sceneFbo that is
@@ -255,10 +263,7 @@ void MeshViewport::drawScene(double scale, bool proxy, bool finish) {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   drawBackground();
   stage(m_frameTimes.backgroundMs);
-  m_frameTimes.triangles = 0;
-  if (m_meshProgram) {
-    drawMesh(m_wireframe, proxy);
-  }
+  m_frameTimes.triangles = m_meshProgram ? drawMesh(m_wireframe, proxy) : 0;
   if (offscreen) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
     m_gl33->glBlitFramebuffer(0, 0, reduced.width(), reduced.height(), 0, 0, full.width(), full.height(),
@@ -325,9 +330,10 @@ void MeshViewport::drawBackground() {
 }
 
 // Draws the mesh's triangles, or with `proxy` those of the interactive proxy (after them in m_indexBuffer).
-void MeshViewport::drawMesh(bool wireframe, bool proxy) {
+// Returns the number of triangles drawn.
+int MeshViewport::drawMesh(bool wireframe, bool proxy) {
   if (m_indices.empty()) {
-    return;
+    return 0;
   }
   proxy = proxy && !m_proxyIndices.empty();
   wireframe = wireframe && m_gl33 != nullptr;
@@ -349,7 +355,6 @@ void MeshViewport::drawMesh(bool wireframe, bool proxy) {
   QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : &m_meshVao);
   const auto count = static_cast<GLsizei>(proxy ? m_proxyIndices.size() : m_indices.size());
   const auto* first = reinterpret_cast<const void*>(proxy ? m_indices.size() * sizeof(std::uint32_t) : 0);
-  m_frameTimes.triangles = count / 3;
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (wireframe) {
     glEnable(GL_POLYGON_OFFSET_FILL);
@@ -368,6 +373,7 @@ void MeshViewport::drawMesh(bool wireframe, bool proxy) {
     glBindTexture(GL_TEXTURE_BUFFER, 0);
   }
   program->release();
+  return count / 3;
 }
 
 // Renders the mesh's depth into an offscreen, single-sampled framebuffer of the widget's device-pixel size and
