@@ -36,8 +36,11 @@
 #include <QSurfaceFormat>
 #include <QTimer>
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
+#include <span>
+#include <string_view>
 
 namespace {
 
@@ -108,6 +111,13 @@ bool parseLevel(const QString& text, sc::app::JoinSettings& settings) {
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  // --help and --version print and exit inside QApplication's parser: they must work without a display too.
+  const std::span<char*> arguments(argv, static_cast<std::size_t>(argc));
+  const bool onlyPrints = std::any_of(arguments.begin() + 1, arguments.end(), [](const char* a) {
+    const std::string_view arg(a);
+    return arg == "--help" || arg == "-h" || arg == "-?" || arg == "--help-all" || arg == "--version" || arg == "-v";
+  });
+  if (onlyPrints) qputenv("QT_QPA_PLATFORM", "offscreen");
   QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
   QApplication app(argc, argv);
   QApplication::setOrganizationName(QStringLiteral("ShapeCast"));
@@ -115,7 +125,9 @@ int main(int argc, char* argv[]) {
   QApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
 
   QCommandLineParser parser;
-  parser.setApplicationDescription(QStringLiteral("ShapeCast: view triangle meshes (OFF, OBJ, PLY, STL)."));
+  parser.setApplicationDescription(
+      QStringLiteral("ShapeCast: deform a triangle mesh (OFF, OBJ, PLY, STL) together with others, live, over the "
+                     "network: host a session, join one, or open MESH on its own."));
   parser.addHelpOption();
   parser.addVersionOption();
   parser.addPositionalArgument(QStringLiteral("mesh"), QStringLiteral("Mesh file to open."), QStringLiteral("[MESH]"));
