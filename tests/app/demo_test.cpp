@@ -16,6 +16,7 @@
 #include "app_test_support.h"
 #include "session/client_datagram_channel.h"
 #include "session/session_client.h"
+#include "session_windows.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -177,12 +178,7 @@ TEST_F(DemoTest, ScreenshotDirWritesFourImagesAfterAScriptedDrag) {
 TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
   MainWindow hostWindow;
   hostWindow.setErrorDialogsEnabled(false);
-  HostSettings settings;
-  settings.meshPath = m_meshPath;
-  settings.port = 0;
-  settings.m = 20;
-  settings.useBasisCache = false;
-  hostWindow.hostSession(settings);
+  hostWindow.hostSession(sc::testing::loopbackHostSettings(m_meshPath, 20));
   NetworkConditionsDock* hostDock = hostWindow.networkConditionsDock();
   ASSERT_NE(hostDock, nullptr);
   EXPECT_EQ(hostDock->objectName(), QStringLiteral("networkConditionsDock"));
@@ -194,10 +190,8 @@ TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
 
   MainWindow clientWindow;
   clientWindow.setErrorDialogsEnabled(false);
-  JoinSettings join;
-  join.port = hostWindow.session()->tcpPort();
-  join.name = QStringLiteral("bob");
-  clientWindow.joinSession(join);
+  clientWindow.joinSession(sc::testing::loopbackJoinSettings(hostWindow.session()->tcpPort(),
+                                                             m_dir.filePath(QStringLiteral("known_hosts.ini"))));
   ASSERT_TRUE(waitLive(&clientWindow)) << clientWindow.session()->errorText().toStdString();
   NetworkConditionsDock* dock = clientWindow.networkConditionsDock();
   auto* loss = dock->widget()->findChild<QDoubleSpinBox*>(QStringLiteral("lossSpinBox"));

@@ -11,6 +11,7 @@
 #include "app_test_support.h"
 #include "session/tls_identity.h"
 #include "session/tls_known_hosts.h"
+#include "session_windows.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -31,7 +32,6 @@ namespace sc::app {
 namespace {
 
 using State = SessionController::State;
-constexpr int kLiveTimeoutMs = 60000;
 
 /// Closes the next fingerprint error box (objectName "fingerprintRefusedBox") once it is shown, keeping its texts.
 class RefusalBoxCatcher {
@@ -65,37 +65,21 @@ class SessionFingerprintTest : public ::testing::Test {
     ASSERT_TRUE(sc::testing::writeOff(m_meshPath, mesh.V, mesh.F));
     m_knownHosts = m_dir.filePath(QStringLiteral("known_hosts.ini"));
     m_hostWindow.setErrorDialogsEnabled(false);
-    HostSettings settings;
-    settings.meshPath = m_meshPath;
-    settings.port = 0;
-    settings.m = 12;
-    settings.name = QStringLiteral("alice");
-    settings.useBasisCache = false;
-    m_hostWindow.hostSession(settings);
-    m_hosting = m_hostWindow.session();
-    ASSERT_TRUE(QTest::qWaitFor([this] { return m_hosting->state() != State::Preparing; }, kLiveTimeoutMs));
+    m_hosting = sc::testing::hostAndWait(m_hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 12));
     ASSERT_EQ(m_hosting->state(), State::Live) << m_hosting->errorText().toStdString();
     m_fingerprint = m_hosting->hostFingerprint();
     ASSERT_EQ(m_fingerprint.size(), session::kFingerprintSize);
   }
 
   JoinSettings joinSettings(const QByteArray& pinned = {}) const {
-    JoinSettings settings;
-    settings.host = QStringLiteral("127.0.0.1");
-    settings.port = m_hosting->tcpPort();
-    settings.name = QStringLiteral("bob");
+    JoinSettings settings = sc::testing::loopbackJoinSettings(m_hosting->tcpPort(), m_knownHosts);
     settings.fingerprint = pinned;
-    settings.knownHostsFile = m_knownHosts;
     return settings;
   }
 
-  /// Joins in `window` and waits until live or failed; returns the final state.
+  /// Joins in `window` and waits until live or failed; returns the state reached.
   static State joinAndWait(MainWindow& window, const JoinSettings& settings) {
-    window.joinSession(settings);
-    SessionController* joined = window.session();
-    const bool ended = QTest::qWaitFor(
-        [joined] { return joined->state() == State::Live || joined->state() == State::Failed; }, kLiveTimeoutMs);
-    return ended ? joined->state() : State::Connecting;
+    return sc::testing::joinAndWait(window, settings)->state();
   }
 
   [[nodiscard]] std::optional<QByteArray> remembered() const {

@@ -13,6 +13,7 @@
 #include "app/gui/vertex_picking.h"
 #include "app_test_support.h"
 #include "model/session_file.h"
+#include "session_windows.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -36,35 +37,23 @@ namespace {
 
 using sc::testing::maxDifference;
 using State = SessionController::State;
-constexpr int kLiveTimeoutMs = 60000;
 
 std::vector<float> copy(std::span<const float> xyz) { return {xyz.begin(), xyz.end()}; }
 
-class SessionSaveTest : public ::testing::Test {
+class SessionSaveTest : public sc::testing::TorusSessionTest {
  protected:
   void SetUp() override {
-    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
-    ASSERT_TRUE(m_dir.isValid());
-    const sc::testing::GeneratedMesh mesh = sc::testing::torus(48, 24);
-    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
-    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, mesh.V, mesh.F));
-    m_diagonal = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+    sc::testing::TorusSessionTest::SetUp();
+    if (IsSkipped() || HasFatalFailure()) return;
+    m_diagonal = (m_mesh.V.colwise().maxCoeff() - m_mesh.V.colwise().minCoeff()).norm();
   }
 
   /// A shown window hosting `path` (mesh or session file) on any free port; Live (or failed) on return.
   std::unique_ptr<MainWindow> host(const QString& path) {
     auto window = std::make_unique<MainWindow>();
-    window->setErrorDialogsEnabled(false);
-    window->resize(800, 600);
-    window->show();
-    HostSettings settings;
-    settings.meshPath = path;
-    settings.port = 0;
-    settings.m = 20;
-    settings.useBasisCache = false;
-    window->hostSession(settings);
-    SessionController* session = window->session();
-    EXPECT_TRUE(QTest::qWaitFor([session] { return session->state() != State::Preparing; }, kLiveTimeoutMs));
+    sc::testing::showSessionWindow(*window, QSize(800, 600));
+    const SessionController* session = sc::testing::hostAndWait(*window, sc::testing::loopbackHostSettings(path, 20));
+    EXPECT_NE(session->state(), State::Preparing);
     return window;
   }
 
@@ -85,8 +74,6 @@ class SessionSaveTest : public ::testing::Test {
     return QTest::qWaitFor([&] { return maxDifference(window.session()->positions(), expected) <= tolerance; }, 10000);
   }
 
-  QTemporaryDir m_dir;
-  QString m_meshPath;
   double m_diagonal = 0.0;
 };
 

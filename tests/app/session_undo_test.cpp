@@ -12,7 +12,7 @@
 #include "app_test_support.h"
 #include "model/mesh_loader.h"
 #include "session/session_host.h"
-#include "test_meshes.h"
+#include "session_windows.h"
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,6 @@
 #include <QFile>
 #include <QImage>
 #include <QMouseEvent>
-#include <QTemporaryDir>
 #include <QTest>
 #include <QUndoStack>
 
@@ -39,7 +38,6 @@ using sc::testing::maxDifference;
 using sc::testing::pixelStdDev;
 
 using State = SessionController::State;
-constexpr int kLiveTimeoutMs = 60000;
 
 std::vector<float> copy(std::span<const float> xyz) { return {xyz.begin(), xyz.end()}; }
 
@@ -60,16 +58,8 @@ void stroke(QWidget* widget, QPoint from, QPoint to) {
   QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, to);
 }
 
-class SessionUndoTest : public ::testing::Test {
+class SessionUndoTest : public sc::testing::TorusSessionTest {
  protected:
-  void SetUp() override {
-    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
-    ASSERT_TRUE(m_dir.isValid());
-    m_mesh = sc::testing::torus(48, 24);
-    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
-    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, m_mesh.V, m_mesh.F));
-  }
-
   /// Screen position (widget pixels) of vertex `v` of interleaved `xyz` in `window`'s viewport (the viewport
   /// stores positions relative to the rest mesh's bounding-box centre), and whether it is in front of the camera.
   static QPoint screenOf(MainWindow& window, std::span<const float> xyz, const Eigen::RowVector3d& origin, int v) {
@@ -97,40 +87,20 @@ class SessionUndoTest : public ::testing::Test {
     }
     return best;
   }
-
-  QTemporaryDir m_dir;
-  sc::testing::GeneratedMesh m_mesh;
-  QString m_meshPath;
 };
 
 TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   MainWindow hostWindow;
-  hostWindow.setErrorDialogsEnabled(false);
-  hostWindow.resize(900, 700);
-  hostWindow.show();
+  sc::testing::showSessionWindow(hostWindow, QSize(900, 700));
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&hostWindow));
-  HostSettings settings;
-  settings.meshPath = m_meshPath;
-  settings.port = 0;
-  settings.m = 20;
-  settings.name = QStringLiteral("alice");
-  settings.useBasisCache = false;
-  hostWindow.hostSession(settings);
-  SessionController* hosting = hostWindow.session();
-  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->state() != State::Preparing; }, kLiveTimeoutMs));
+  SessionController* hosting = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
   ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
 
   MainWindow clientWindow;
-  clientWindow.setErrorDialogsEnabled(false);
-  clientWindow.resize(900, 700);
-  clientWindow.show();
-  JoinSettings join;
-  join.port = hosting->tcpPort();
-  join.name = QStringLiteral("bob");
-  clientWindow.joinSession(join);
-  SessionController* joined = clientWindow.session();
-  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->state() == State::Live; }, kLiveTimeoutMs))
-      << joined->errorText().toStdString();
+  sc::testing::showSessionWindow(clientWindow, QSize(900, 700));
+  SessionController* joined =
+      sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(hosting->tcpPort(), knownHostsFile()));
+  ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
   const std::vector<float> rest = copy(joined->positions());
   ASSERT_EQ(rest.size(), static_cast<std::size_t>(3 * m_mesh.V.rows()));
 

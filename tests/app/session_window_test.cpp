@@ -16,6 +16,7 @@
 #include "session/client_datagram_channel.h"
 #include "session/session_client.h"
 #include "session/session_host.h"
+#include "session_windows.h"
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/resolution_level.h"
 #include "test_meshes.h"
@@ -41,7 +42,6 @@ using sc::testing::maxDifference;
 using sc::testing::pixelStdDev;
 
 using State = SessionController::State;
-constexpr int kLiveTimeoutMs = 60000;
 
 std::vector<float> interleaved(const Eigen::MatrixXd& V) {
   std::vector<float> out;
@@ -50,54 +50,27 @@ std::vector<float> interleaved(const Eigen::MatrixXd& V) {
   return out;
 }
 
-class SessionWindowTest : public ::testing::Test {
+class SessionWindowTest : public sc::testing::TorusSessionTest {
  protected:
-  void SetUp() override {
-    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
-    ASSERT_TRUE(m_dir.isValid());
-    m_mesh = sc::testing::torus(48, 24);
-    m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
-    ASSERT_TRUE(sc::testing::writeOff(m_meshPath, m_mesh.V, m_mesh.F));
-  }
-
-  /// Starts hosting the torus in `window` (m = 20, any port, password "secret") and waits until it is live.
+  /// Shows `window` and hosts the torus in it (m = 20, any port, password "secret"); waits until it is live.
   SessionController* host(MainWindow& window) {
-    HostSettings settings;
-    settings.meshPath = m_meshPath;
-    settings.port = 0;
+    sc::testing::showSessionWindow(window, QSize(640, 480));
+    HostSettings settings = sc::testing::loopbackHostSettings(m_meshPath, 20);
     settings.password = QStringLiteral("secret");
-    settings.m = 20;
-    settings.name = QStringLiteral("alice");
-    settings.useBasisCache = false;
-    window.hostSession(settings);
-    SessionController* session = window.session();
-    EXPECT_TRUE(QTest::qWaitFor([session] { return session->state() != State::Preparing; }, kLiveTimeoutMs));
-    EXPECT_EQ(session->state(), State::Live) << session->errorText().toStdString();
-    return session;
+    return sc::testing::hostAndWait(window, settings);
   }
 
   JoinSettings joinSettings(quint16 port, const QString& password) const {
-    JoinSettings settings;
-    settings.host = QStringLiteral("127.0.0.1");
-    settings.port = port;
+    JoinSettings settings = sc::testing::loopbackJoinSettings(port, knownHostsFile());
     settings.password = password;
-    settings.name = QStringLiteral("bob");
-    settings.knownHostsFile = m_dir.filePath(QStringLiteral("known_hosts.ini"));  // not the user's settings
     return settings;
   }
-
-  QTemporaryDir m_dir;
-  sc::testing::GeneratedMesh m_mesh;
-  QString m_meshPath;
 };
 
 TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   MainWindow hostWindow;
-  hostWindow.setErrorDialogsEnabled(false);
-  hostWindow.resize(640, 480);
-  hostWindow.show();
   SessionController* hosting = host(hostWindow);
-  ASSERT_EQ(hosting->state(), State::Live);
+  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
   EXPECT_EQ(hosting->role(), SessionController::Role::Host);
   const quint16 port = hosting->tcpPort();
   ASSERT_NE(port, 0);
@@ -117,13 +90,9 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   }
 
   MainWindow clientWindow;
-  clientWindow.setErrorDialogsEnabled(false);
-  clientWindow.resize(640, 480);
-  clientWindow.show();
-  clientWindow.joinSession(joinSettings(port, QStringLiteral("secret")));
-  SessionController* joined = clientWindow.session();
-  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->state() == State::Live; }, kLiveTimeoutMs))
-      << joined->errorText().toStdString();
+  sc::testing::showSessionWindow(clientWindow, QSize(640, 480));
+  SessionController* joined = sc::testing::joinAndWait(clientWindow, joinSettings(port, QStringLiteral("secret")));
+  ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
   EXPECT_EQ(joined->role(), SessionController::Role::Client);
   EXPECT_EQ(clientWindow.viewport()->vertexCount(), n);  // the client shows the mesh
   const std::vector<float> rest = interleaved(joined->displayRestPositions());

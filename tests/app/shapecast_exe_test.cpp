@@ -1,5 +1,6 @@
 // Tests for src/app/gui/main.cpp: the shapecast executable's --screenshot mode, run as a child process.
 
+#include "address_sanitizer.h"
 #include "app_test_support.h"
 #include "test_meshes.h"
 
@@ -8,6 +9,7 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QProcess>
+#include <QProcessEnvironment>
 #include <QTemporaryDir>
 
 namespace {
@@ -21,6 +23,17 @@ struct RunResult {
 
 RunResult runShapecast(const QStringList& arguments) {
   QProcess process;
+  if (sc::testing::kAddressSanitizer) {
+    // The child exits with Mesa's GL driver already unloaded (see keep_libraries_mapped.h), so LeakSanitizer would
+    // report the driver's blocks as leaks of `<unknown module>`; app_tests keeps the libraries mapped and checks
+    // the GUI library for leaks, but the child's main is not a test's to change: no leak check in the child (ASan
+    // and UBSan stay on). Known gap: main.cpp itself is not leak-checked.
+    QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+    const QString options = environment.value(QStringLiteral("ASAN_OPTIONS"));
+    environment.insert(QStringLiteral("ASAN_OPTIONS"), options.isEmpty() ? QStringLiteral("detect_leaks=0")
+                                                                         : options + QStringLiteral(":detect_leaks=0"));
+    process.setProcessEnvironment(environment);
+  }
   process.start(QStringLiteral(SHAPECAST_EXE), arguments);
   if (!process.waitForFinished(kTimeoutMs) || process.exitStatus() != QProcess::NormalExit) {
     process.kill();

@@ -1,6 +1,8 @@
 // Entry point of app_tests: one QApplication for every test, created after GoogleTest has parsed its flags.
 
+#include "address_sanitizer.h"
 #include "app/gui/mesh_viewport.h"
+#include "keep_libraries_mapped.h"
 
 #include <gtest/gtest.h>
 
@@ -27,5 +29,10 @@ int main(int argc, char** argv) {
   }
   QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
   QApplication app(argc, argv);
-  return RUN_ALL_TESTS();
+  const int result = RUN_ALL_TESTS();
+  // Before the QApplication closes the display and with it the GL driver: see keep_libraries_mapped.h.
+  if (sc::testing::kAddressSanitizer) {
+    sc::testing::keepLoadedLibrariesMapped();
+  }
+  return result;
 }

@@ -14,6 +14,7 @@
 #include <QtCore/QtEndian>
 #include <QtTest/QTest>
 
+#include "address_sanitizer.h"
 #include "harmonic_host_model.h"
 #include "raw_control_peer.h"
 #include "session/handle_transforms.h"
@@ -303,8 +304,14 @@ TEST_F(SessionFaults, ThousandJoinLeaveCyclesLeaveNoPeersAndFlatMemory) {
   // Bound: 1 MiB over 900 cycles, i.e. < 1.2 KiB per cycle. One leaked client object graph (socket, channel,
   // timers, level: tens of KiB) or one leaked peer entry with its encoder per cycle would exceed it many times,
   // while allocator noise (heap fragmentation, Qt's lazily grown pools) stays well inside it.
-  EXPECT_LT(rssAt1000 - rssAt100, 1024) << "RSS after cycle 100: " << rssAt100 << " KiB, after " << kCycles << ": "
-                                        << rssAt1000 << " KiB";
+  // Under ASan the RSS grows without any leak (freed blocks wait in ASan's quarantine, up to 256 MiB, and their
+  // shadow memory stays mapped), so only the bound is skipped there: the cycles and the checks above still run,
+  // and LeakSanitizer at exit reports any block the cycles left unreachable (memory that stays reachable but grows
+  // is caught by this bound in the normal job, which keeps it).
+  if (!sc::testing::kAddressSanitizer) {
+    EXPECT_LT(rssAt1000 - rssAt100, 1024)
+        << "RSS after cycle 100: " << rssAt100 << " KiB, after " << kCycles << ": " << rssAt1000 << " KiB";
+  }
   std::printf("[ memory   ] RSS after cycle 100: %lld KiB, after cycle %d: %lld KiB\n",
               static_cast<long long>(rssAt100), kCycles, static_cast<long long>(rssAt1000));
 }

@@ -1,0 +1,64 @@
+#include "session_windows.h"
+
+#include "app_test_support.h"
+
+#include <QTest>
+
+namespace sc::testing {
+
+using State = app::SessionController::State;
+
+void showSessionWindow(app::MainWindow& window, QSize size) {
+  window.setErrorDialogsEnabled(false);
+  window.resize(size);
+  window.show();
+}
+
+app::HostSettings loopbackHostSettings(const QString& meshPath, int m) {
+  app::HostSettings settings;
+  settings.meshPath = meshPath;
+  settings.port = 0;
+  settings.m = m;
+  settings.name = QStringLiteral("alice");
+  settings.useBasisCache = false;
+  return settings;
+}
+
+app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFile) {
+  app::JoinSettings settings;
+  settings.host = QStringLiteral("127.0.0.1");
+  settings.port = port;
+  settings.name = QStringLiteral("bob");
+  settings.knownHostsFile = knownHostsFile;
+  return settings;
+}
+
+app::SessionController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings) {
+  window.hostSession(settings);
+  app::SessionController* session = window.session();
+  // The caller checks the state reached: a timeout leaves it Preparing.
+  static_cast<void>(QTest::qWaitFor([session] { return session->state() != State::Preparing; }, kSessionLiveTimeoutMs));
+  return session;
+}
+
+app::SessionController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings) {
+  window.joinSession(settings);
+  app::SessionController* session = window.session();
+  // The caller checks the state reached: a timeout leaves it Connecting (or Transferring).
+  static_cast<void>(
+      QTest::qWaitFor([session] { return session->state() == State::Live || session->state() == State::Failed; },
+                      kSessionLiveTimeoutMs));
+  return session;
+}
+
+void TorusSessionTest::SetUp() {
+  if (!openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
+  ASSERT_TRUE(m_dir.isValid());
+  m_mesh = torus(48, 24);
+  m_meshPath = m_dir.filePath(QStringLiteral("torus.off"));
+  ASSERT_TRUE(writeOff(m_meshPath, m_mesh.V, m_mesh.F));
+}
+
+QString TorusSessionTest::knownHostsFile() const { return m_dir.filePath(QStringLiteral("known_hosts.ini")); }
+
+}  // namespace sc::testing

@@ -1,0 +1,56 @@
+#pragma once
+// The loopback session set-up the app's session tests share: a MainWindow made ready for a test, a mesh hosted by it
+// on any free port of 127.0.0.1, another MainWindow joining it, each step waiting until the session is live; and a
+// fixture holding a generated torus written as an OFF file in a temporary folder.
+
+#include "app/gui/main_window.h"
+#include "app/gui/session_controller.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QSize>
+#include <QString>
+#include <QTemporaryDir>
+
+namespace sc::testing {
+
+/// How long hosting (the basis of a small mesh) or joining (handshake, level transfer) may take in a test.
+inline constexpr int kSessionLiveTimeoutMs = 60000;
+
+/// Turns `window`'s error dialogs off (a failure must not block a test on a modal box), resizes it to `size` and
+/// shows it. Does not wait for it to be exposed. Cost: one show.
+void showSessionWindow(app::MainWindow& window, QSize size);
+
+/// Settings that host `meshPath` (mesh or session file) on any free port with `m` frequencies, as "alice", without
+/// the basis cache (a test neither reads nor writes the user's cache) and without a password.
+app::HostSettings loopbackHostSettings(const QString& meshPath, int m);
+
+/// Settings that join 127.0.0.1:`port` as "bob" with no password, trusting on first use with the known hosts kept
+/// in `knownHostsFile` (a temporary INI file, never the user's settings).
+app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFile);
+
+/// Hosts with `settings` in `window` and processes events until the preparation has ended, at most
+/// kSessionLiveTimeoutMs. Returns window.session() (never null): Live when hosting worked, Failed (errorText() says
+/// why) when it did not, still Preparing after the timeout. Asserts nothing: the caller checks the state.
+app::SessionController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings);
+
+/// Joins with `settings` in `window` and processes events until the session is Live or Failed, at most
+/// kSessionLiveTimeoutMs. Returns window.session() (never null) in the state it reached. Asserts nothing.
+app::SessionController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings);
+
+/// Fixture of the two-window session tests: a 48 × 24 torus (m_mesh) written to m_meshPath in a temporary folder
+/// (m_dir). Skips the test without an OpenGL 3.3 context (the windows' viewports need one).
+class TorusSessionTest : public ::testing::Test {
+ protected:
+  void SetUp() override;
+
+  /// A known-hosts INI file in the temporary folder (for loopbackJoinSettings).
+  [[nodiscard]] QString knownHostsFile() const;
+
+  QTemporaryDir m_dir;
+  GeneratedMesh m_mesh;
+  QString m_meshPath;
+};
+
+}  // namespace sc::testing
