@@ -1,11 +1,10 @@
 // Tests for src/app/gui/mesh_viewport{,_input}.cpp: the interaction tools (brush, drag, hint), wireframe and
-// selection tint, and the per-frame positions path with its timing (needs an X server with GL; skipped otherwise).
+// selection tint, and the per-frame positions path (needs an X server with GL; skipped otherwise).
 
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/vertex_picking.h"
 
 #include "app_test_support.h"
-#include "model/mesh_loader.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -13,19 +12,13 @@
 
 #include <QApplication>
 #include <QColor>
-#include <QElapsedTimer>
 #include <QMouseEvent>
-#include <QOpenGLContext>
-#include <QOpenGLFunctions>
 #include <QTest>
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <iostream>
 #include <numbers>
 #include <numeric>
-#include <variant>
 
 namespace {
 
@@ -265,83 +258,4 @@ TEST_F(MeshViewportToolsTest, InterleavedPositionsRenderLikeEigenPositions) {
   m_viewport.setPositions(m_sphere.V);
   m_viewport.setPositionsInterleaved(xyz);
   EXPECT_EQ(m_viewport.grabFramebuffer(), eigen);
-}
-
-// Not a pass/fail bound: prints the per-frame cost (positions + normals, then one synchronous repaint finished
-// with glFinish; medians of 20 frames) at 960 × 720 for the 23k and 100k Stanford dragons, with this renderer's
-// default multisampling and with 4× multisampling, and the cost of an empty repaint; skips the meshes that were
-// not fetched.
-TEST(MeshViewportTiming, PositionsPlusRepaint) {
-  if (!sc::testing::openGlAvailable()) {
-    GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
-  }
-  const auto median = [](std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    return values[values.size() / 2];
-  };
-  // Qt 6 turns a repaint() within one display frame of the previous composition into an update(): wait out the
-  // frame first (not timed), and check that paintGL() really ran.
-  const auto settle = [] {
-    QCoreApplication::processEvents();
-    QTest::qSleep(20);
-  };
-  const auto finish = [](MeshViewport& viewport) {
-    const int painted = viewport.paintCount();
-    viewport.repaint();
-    EXPECT_EQ(viewport.paintCount(), painted + 1) << "a synchronous repaint";
-    viewport.makeCurrent();
-    viewport.context()->functions()->glFinish();
-    viewport.doneCurrent();
-  };
-  std::cout << "[ timing ] renderer " << MeshViewport::rendererName().toStdString() << "\n";
-  for (const char* name : {"dragon_vrip_res3.ply", "dragon_vrip_res2.ply"}) {
-    const std::filesystem::path path = std::filesystem::path(SHAPECAST_ASSETS_DIR) / name;
-    const auto loaded = sc::model::loadMesh(path);
-    if (!std::holds_alternative<sc::model::LoadedMesh>(loaded)) {
-      std::cout << "[ timing ] " << name << ": not available, skipped\n";
-      continue;
-    }
-    const auto& mesh = std::get<sc::model::LoadedMesh>(loaded);
-    for (const int samples : {MeshViewport::defaultSampleCount(), 4}) {
-      MeshViewport viewport;
-      viewport.setSampleCount(samples);
-      viewport.resize(960, 720);
-      viewport.setMesh(mesh.V, mesh.F);
-      viewport.show();
-      ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
-      std::vector<float> xyz(static_cast<std::size_t>(3 * mesh.V.rows()));
-      constexpr int kFrames = 20;
-      std::vector<double> positionsMs;
-      std::vector<double> frameMs;
-      for (int frame = 0; frame < kFrames; ++frame) {
-        const double s = 1.0 + 0.01 * frame;
-        for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
-          for (int k = 0; k < 3; ++k) {
-            xyz[static_cast<std::size_t>(3 * i + k)] = static_cast<float>(s * mesh.V(i, k));
-          }
-        }
-        settle();
-        QElapsedTimer timer;
-        timer.start();
-        viewport.setPositionsInterleaved(xyz);
-        positionsMs.push_back(static_cast<double>(timer.nsecsElapsed()) * 1e-6);
-        finish(viewport);
-        frameMs.push_back(static_cast<double>(timer.nsecsElapsed()) * 1e-6);
-      }
-      // The fixed cost of a repaint at this size (background only: clear, gradient, resolve and composition).
-      viewport.clearMesh();
-      std::vector<double> emptyMs;
-      for (int frame = 0; frame < kFrames; ++frame) {
-        settle();
-        QElapsedTimer timer;
-        timer.start();
-        finish(viewport);
-        emptyMs.push_back(static_cast<double>(timer.nsecsElapsed()) * 1e-6);
-      }
-      std::cout << "[ timing ] " << name << " (" << mesh.V.rows() << " vertices, 960x720, " << samples
-                << " samples): setPositionsInterleaved " << median(positionsMs) << " ms, + repaint " << median(frameMs)
-                << " ms per frame; an empty repaint " << median(emptyMs) << " ms (medians of " << kFrames << ")\n";
-      EXPECT_GT(median(frameMs), 0.0);
-    }
-  }
 }
