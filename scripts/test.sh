@@ -2,8 +2,8 @@
 # CI: two jobs, one after the other, each printing its wall time.
 #   1. normal: installs what is missing, builds build/ with warnings as errors, runs every test (ctest), including
 #      the fuzz corpus replays (FuzzReplay.*).
-#   2. sanitisers: builds build-asan/ with ASan + UBSan (SHAPECAST_SANITIZE, -O1, no benchmarks) and runs the whole
-#      suite again. Leaks fail a test (detect_leaks=1); the only suppressions are third-party leaks named in
+#   2. sanitisers: builds build-asan/ with Clang, ASan + UBSan (SHAPECAST_SANITIZE, -O1, no benchmarks) and runs
+#      the whole suite again. Leaks fail a test (detect_leaks=1); the only suppressions are third-party leaks named in
 #      cmake/lsan.supp. The GUI tests keep Mesa's GL driver mapped for LSan (tests/app/keep_libraries_mapped.h);
 #      docs/fuzzing.md, "Sanitiser job", has the details and the cost.
 #      SHAPECAST_SANITIZE_JOB=0 skips this job (a quick local run); CI always runs it.
@@ -28,12 +28,14 @@ echo "normal job (build + tests): $((SECONDS - start)) s"
 
 if [[ "${SHAPECAST_SANITIZE_JOB:-1}" == 1 ]]; then
   start=$SECONDS
-  # -O1 instead of Release's -O3: the instrumented build compiles faster (docs/fuzzing.md) while the tests still
-  # run in about two minutes; no -g (ASan's reports name functions from the symbol table). No
-  # -march=native: at -O1 GCC 12 reports its own AVX-512 intrinsics as -Wuninitialized (GCC bug 105593, see
-  # cmake/Warnings.cmake), and the sanitisers check our code, not the CPU-specific Eigen kernels.
-  cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-    -DSHAPECAST_NATIVE=OFF -DSHAPECAST_WERROR=ON -DSHAPECAST_SANITIZE=ON -DSHAPECAST_BUILD_BENCH=OFF
+  # Clang, not GCC: the instrumented build compiles 35-45% faster with Clang (measured per file: 8.4 s vs 12.9 s for
+  # a session test, 20.7 s vs 36.7 s for the basis solver), and a second compiler's warnings are checked too. -O1
+  # instead of Release's -O3: faster to compile while the tests still run in about three minutes; no -g (ASan's
+  # reports name functions from the symbol table); generic x86-64 (the sanitisers check our code, not the
+  # CPU-specific Eigen kernels).
+  cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" -DSHAPECAST_NATIVE=OFF -DSHAPECAST_WERROR=ON -DSHAPECAST_SANITIZE=ON \
+    -DSHAPECAST_BUILD_BENCH=OFF
   cmake --build "$root/build-asan" -j"$(nproc)"
   # abort_on_error: a report kills the test (ctest shows the report). UBSan aborts by itself (no recover).
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:check_initialization_order=1

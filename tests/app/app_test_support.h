@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <limits>
 #include <span>
+#include <vector>
 
 namespace sc::testing {
 
@@ -96,5 +97,8 @@ inline float maxDifference(std::span<const float> a, std::span<const float> b) {
   for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
   return worst;
 }
+
+/// A copy of a float buffer (e.g. a session's positions at one moment, to compare with later ones).
+inline std::vector<float> copyOf(std::span<const float> values) { return {values.begin(), values.end()}; }
 
 }  // namespace sc::testing

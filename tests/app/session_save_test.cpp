@@ -35,10 +35,9 @@
 namespace sc::app {
 namespace {
 
+using sc::testing::copyOf;
 using sc::testing::maxDifference;
 using State = SessionController::State;
-
-std::vector<float> copy(std::span<const float> xyz) { return {xyz.begin(), xyz.end()}; }
 
 class SessionSaveTest : public sc::testing::TorusSessionTest {
  protected:
@@ -90,7 +89,7 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     ASSERT_NE(saveAction, nullptr);
     EXPECT_TRUE(saveAction->isEnabled());
     ASSERT_NE(window->findChild<QAction*>(QStringLiteral("actionOpenSession")), nullptr);
-    rest = copy(session->positions());
+    rest = copyOf(session->positions());
 
     ASSERT_TRUE(session->requestLock());
     ASSERT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
@@ -103,11 +102,11 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     drag(*window, Eigen::Vector3d(0.1, 0.1, 0.05), 15.0);
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), rest) > 0.05f; }, 10000));
     QTest::qWait(50);
-    second = copy(session->positions());
+    second = copyOf(session->positions());
     drag(*window, Eigen::Vector3d(-0.2, 0.0, 0.1), -10.0);
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), second) > 0.02f; }, 10000));
     QTest::qWait(50);
-    third = copy(session->positions());
+    third = copyOf(session->positions());
     DragHistory* history = window->dragHistory();
     ASSERT_EQ(history->stack()->count(), 3);
     ASSERT_TRUE(history->undo());

@@ -34,12 +34,11 @@
 namespace sc::app {
 namespace {
 
+using sc::testing::copyOf;
 using sc::testing::maxDifference;
 using sc::testing::pixelStdDev;
 
 using State = SessionController::State;
-
-std::vector<float> copy(std::span<const float> xyz) { return {xyz.begin(), xyz.end()}; }
 
 /// A left-button move with the button held (QTest::mouseMove carries no button state for widgets).
 void moveTo(QWidget* widget, QPoint pos) {
@@ -101,7 +100,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   SessionController* joined =
       sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(hosting->tcpPort(), knownHostsFile()));
   ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
-  const std::vector<float> rest = copy(joined->positions());
+  const std::vector<float> rest = copyOf(joined->positions());
   ASSERT_EQ(rest.size(), static_cast<std::size_t>(3 * m_mesh.V.rows()));
 
   // Undo/redo live in the Edit menu and are off until there is something to undo.
@@ -161,7 +160,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
       << hosting->handle().size() << " anchors " << hosting->anchors().size() << " at " << handleAt.x() << ","
       << handleAt.y() << " in " << view->width() << "x" << view->height();
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
-  const std::vector<float> afterFirst = copy(joined->positions());
+  const std::vector<float> afterFirst = copyOf(joined->positions());
   EXPECT_EQ(history->stack()->count(), 1);
   EXPECT_TRUE(undoAction->isEnabled());
   EXPECT_FALSE(redoAction->isEnabled());
@@ -175,7 +174,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   ASSERT_EQ(history->stack()->count(), 2);
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) > 0.05f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
-  const std::vector<float> afterSecond = copy(joined->positions());
+  const std::vector<float> afterSecond = copyOf(joined->positions());
 
   // Undo (the Edit action) brings everyone back to the previous shape, twice to the rest shape; redo forward.
   undoAction->trigger();

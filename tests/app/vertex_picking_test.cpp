@@ -14,11 +14,11 @@
 namespace {
 
 // A camera at (0, 0, 5) looking at the origin, 30° vertical field of view, on a 100 × 100 framebuffer.
-struct Camera {
+struct PickingCamera {
   QMatrix4x4 view;
   QMatrix4x4 projection;
   QSize size{100, 100};
-  Camera() {
+  PickingCamera() {
     view.lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
     projection.perspective(30.0f, 1.0f, 1.0f, 10.0f);
   }
@@ -32,7 +32,7 @@ struct Camera {
 }  // namespace
 
 TEST(VertexPicking, EyeDistanceInvertsTheProjection) {
-  const Camera camera;
+  const PickingCamera camera;
   for (const float e : {1.5f, 5.0f, 9.0f}) {
     EXPECT_NEAR(sc::app::eyeDistanceFromWindowDepth(camera.projection, camera.windowDepth(e)), e, 1e-3f * e);
   }
@@ -40,7 +40,7 @@ TEST(VertexPicking, EyeDistanceInvertsTheProjection) {
 }
 
 TEST(VertexPicking, ProjectsToPixelsWithTheOriginTopLeft) {
-  const Camera camera;
+  const PickingCamera camera;
   const std::vector<float> xyz = {0, 0, 0, /**/ 0.5f, 0.5f, 0, /**/ 0, 0, 6 /* behind the eye */};
   const auto points = sc::app::projectToScreen(xyz, camera.view, camera.projection, camera.size, nullptr, 0.0f);
   ASSERT_EQ(points.size(), 3u);
@@ -53,7 +53,7 @@ TEST(VertexPicking, ProjectsToPixelsWithTheOriginTopLeft) {
 }
 
 TEST(VertexPicking, DepthImageHidesPointsBehindTheSurface) {
-  const Camera camera;
+  const PickingCamera camera;
   // A wall at eye distance 5 (z = 0) covering the whole framebuffer.
   sc::app::DepthImage wall{100, 100, std::vector<float>(100 * 100, camera.windowDepth(5.0f))};
   const std::vector<float> xyz = {0, 0, 0 /* on the wall */, 0, 0, -1 /* behind */, 0, 0, 1 /* in front */};

@@ -9,15 +9,15 @@ namespace {
 
 using namespace sc::session;
 
-const QByteArray kKey = QByteArrayLiteral("assembler-key");
-constexpr std::uint16_t kPeer = 3;
-constexpr int kM = 100;
+const QByteArray kAssemblerKey = QByteArrayLiteral("assembler-key");
+constexpr std::uint16_t kAssemblerPeer = 3;
+constexpr int kAssemblerM = 100;
 
 Eigen::MatrixXd frameZ(unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  Eigen::MatrixXd Z(kM, 3);
-  for (int k = 0; k < kM; ++k)
+  Eigen::MatrixXd Z(kAssemblerM, 3);
+  for (int k = 0; k < kAssemblerM; ++k)
     for (int c = 0; c < 3; ++c) Z(k, c) = uniform(rng) / (1.0 + k);
   return Z;
 }
@@ -29,7 +29,7 @@ bool inPart(int k, int j, int parts, int protectedRows) {
 
 /// The exact dequantised frame as a lossless receiver sees it.
 Eigen::MatrixXd losslessView(const std::vector<QByteArray>& parts) {
-  FrameAssembler reference(kKey, kPeer, kM);
+  FrameAssembler reference(kAssemblerKey, kAssemblerPeer, kAssemblerM);
   for (const QByteArray& p : parts) EXPECT_EQ(reference.receive(p), DecodeError::None);
   return reference.z();
 }
@@ -46,8 +46,8 @@ TEST_P(FrameAssemblerLoss, LosingAnyOneDatagramConcealsOnlyItsRows) {
   CodecOptions options;
   options.partsPerFrame = parts;
   for (int lost = 0; lost < parts; ++lost) {
-    CoefficientEncoder encoder(kKey, kPeer, options);
-    FrameAssembler assembler(kKey, kPeer, kM, concealment);
+    CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer, options);
+    FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM, concealment);
     const auto first = encoder.encodeFrame(1, frameZ(1));
     const auto second = encoder.encodeFrame(2, frameZ(2));
     ASSERT_EQ(static_cast<int>(second.size()), parts);
@@ -59,7 +59,7 @@ TEST_P(FrameAssemblerLoss, LosingAnyOneDatagramConcealsOnlyItsRows) {
 
     const Eigen::MatrixXd before = losslessView(first), now = losslessView(second);
     int concealedRows = 0;
-    for (int k = 0; k < kM; ++k) {
+    for (int k = 0; k < kAssemblerM; ++k) {
       const bool concealed = inPart(k, lost, parts, options.protectedRows);
       concealedRows += concealed;
       Eigen::RowVector3d expected = now.row(k);
@@ -70,7 +70,7 @@ TEST_P(FrameAssemblerLoss, LosingAnyOneDatagramConcealsOnlyItsRows) {
     }
     EXPECT_EQ(assembler.counts().frame, 2u);
     EXPECT_EQ(assembler.counts().rowsConcealed, concealedRows);
-    EXPECT_EQ(assembler.counts().rowsReceived, kM - concealedRows);
+    EXPECT_EQ(assembler.counts().rowsReceived, kAssemblerM - concealedRows);
   }
 }
 
@@ -79,21 +79,21 @@ INSTANTIATE_TEST_SUITE_P(PartsAndConcealment, FrameAssemblerLoss,
                                            LossCase{2, Concealment::ZeroFill}, LossCase{4, Concealment::ZeroFill}));
 
 TEST(FrameAssembler, StartsAtRestAndAppliesWholeFrames) {
-  CoefficientEncoder encoder(kKey, kPeer);
-  FrameAssembler assembler(kKey, kPeer, kM);
+  CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer);
+  FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM);
   EXPECT_FALSE(assembler.hasFrame());
   EXPECT_TRUE(assembler.z().isZero());
-  EXPECT_EQ(assembler.counts().rowsConcealed, kM);
+  EXPECT_EQ(assembler.counts().rowsConcealed, kAssemblerM);
   const Eigen::MatrixXd Z = frameZ(9);
   for (const QByteArray& p : encoder.encodeFrame(5, Z)) EXPECT_EQ(assembler.receive(p), DecodeError::None);
   EXPECT_LE((assembler.z() - Z).cwiseAbs().maxCoeff(), 1e-4);
-  EXPECT_EQ(assembler.counts().rowsReceived, kM);
+  EXPECT_EQ(assembler.counts().rowsReceived, kAssemblerM);
   EXPECT_EQ(assembler.accepted(), 2u);
 }
 
 TEST(FrameAssembler, LateFrameIsDroppedNotMixedIn) {
-  CoefficientEncoder encoder(kKey, kPeer);
-  FrameAssembler assembler(kKey, kPeer, kM);
+  CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer);
+  FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM);
   const auto old = encoder.encodeFrame(1, frameZ(1));
   const auto current = encoder.encodeFrame(2, frameZ(2));
   for (const QByteArray& p : current) EXPECT_EQ(assembler.receive(p), DecodeError::None);
@@ -104,20 +104,20 @@ TEST(FrameAssembler, LateFrameIsDroppedNotMixedIn) {
 }
 
 TEST(FrameAssembler, FrameNumberWrapsAt32Bits) {
-  CoefficientEncoder encoder(kKey, kPeer);
-  FrameAssembler assembler(kKey, kPeer, kM);
+  CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer);
+  FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM);
   for (const QByteArray& p : encoder.encodeFrame(0xffffffffu, frameZ(1)))
     EXPECT_EQ(assembler.receive(p), DecodeError::None);
   for (const QByteArray& p : encoder.encodeFrame(0u, frameZ(2))) EXPECT_EQ(assembler.receive(p), DecodeError::None);
   EXPECT_EQ(assembler.counts().frame, 0u);
-  EXPECT_EQ(assembler.counts().rowsReceived, kM);
+  EXPECT_EQ(assembler.counts().rowsReceived, kAssemblerM);
 }
 
 TEST(FrameAssembler, CountsDropsByReason) {
-  CoefficientEncoder encoder(kKey, kPeer);
-  CoefficientEncoder stranger(QByteArrayLiteral("someone-else"), kPeer);
-  CoefficientEncoder wrongM(kKey, kPeer);
-  FrameAssembler assembler(kKey, kPeer, kM);
+  CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer);
+  CoefficientEncoder stranger(QByteArrayLiteral("someone-else"), kAssemblerPeer);
+  CoefficientEncoder wrongM(kAssemblerKey, kAssemblerPeer);
+  FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM);
   const auto parts = encoder.encodeFrame(1, frameZ(1));
   EXPECT_EQ(assembler.receive(parts[0]), DecodeError::None);
   EXPECT_EQ(assembler.receive(parts[0]), DecodeError::Replayed);
@@ -134,14 +134,14 @@ TEST(FrameAssembler, CountsDropsByReason) {
 }
 
 TEST(FrameAssembler, SeedIsExactAndMakesOlderFramesLate) {
-  CoefficientEncoder encoder(kKey, kPeer);
-  FrameAssembler assembler(kKey, kPeer, kM);
-  EXPECT_FALSE(assembler.seed(5, Eigen::MatrixXd::Ones(kM - 1, 3)));  // wrong shape
+  CoefficientEncoder encoder(kAssemblerKey, kAssemblerPeer);
+  FrameAssembler assembler(kAssemblerKey, kAssemblerPeer, kAssemblerM);
+  EXPECT_FALSE(assembler.seed(5, Eigen::MatrixXd::Ones(kAssemblerM - 1, 3)));  // wrong shape
   ASSERT_TRUE(assembler.seed(5, frameZ(5)));
   EXPECT_TRUE(assembler.hasFrame());
   EXPECT_EQ(assembler.frame(), 5u);
   EXPECT_EQ(assembler.z(), frameZ(5));
-  EXPECT_EQ(assembler.counts().rowsReceived, kM);
+  EXPECT_EQ(assembler.counts().rowsReceived, kAssemblerM);
   EXPECT_FALSE(assembler.seed(4, frameZ(4)));  // older than the seed
   for (const QByteArray& p : encoder.encodeFrame(5, frameZ(6))) EXPECT_EQ(assembler.receive(p), DecodeError::Stale);
   EXPECT_EQ(assembler.assemblyDrops(AssemblyDrop::Late), 2u);

@@ -12,15 +12,15 @@ namespace {
 using namespace sc::session;
 using namespace std::chrono_literals;
 
-const QByteArray kKey = QByteArrayLiteral("predictor-key");
-constexpr std::uint16_t kPeer = 4;
-constexpr int kM = 40;
+const QByteArray kPredictorKey = QByteArrayLiteral("predictor-key");
+constexpr std::uint16_t kPredictorPeer = 4;
+constexpr int kPredictorM = 40;
 constexpr Micros kT = 33'000us;  ///< inter-frame interval of the tests
 
 /// Z of frame f on a straight line: A + f·B (a handle moving at constant velocity), one row scale per band.
 Eigen::MatrixXd linearZ(double f) {
-  Eigen::MatrixXd Z(kM, 3);
-  for (int k = 0; k < kM; ++k)
+  Eigen::MatrixXd Z(kPredictorM, 3);
+  for (int k = 0; k < kPredictorM; ++k)
     for (int c = 0; c < 3; ++c) Z(k, c) = (0.3 * (c + 1) + 0.01 * f * (c - 1.5)) / (1.0 + k);
   return Z;
 }
@@ -28,12 +28,12 @@ Eigen::MatrixXd linearZ(double f) {
 /// Drives one FrameAssembler and one FramePredictor from encoded frames, and keeps what a lossless receiver
 /// saw per frame (the dequantised Z) to compare with.
 struct Receiver {
-  explicit Receiver(PredictorSettings settings = {}) : predictor(kM, settings) {}
+  explicit Receiver(PredictorSettings settings = {}) : predictor(kPredictorM, settings) {}
 
   /// Frame f (Z) arrives at `at`; `lostPart` ≥ 0 drops that datagram of the frame.
   void receive(std::uint32_t f, const Eigen::MatrixXd& Z, Micros at, int lostPart = -1) {
     const std::vector<QByteArray> parts = encoder.encodeFrame(f, Z);
-    FrameAssembler exact(kKey, kPeer, kM);
+    FrameAssembler exact(kPredictorKey, kPredictorPeer, kPredictorM);
     for (const QByteArray& p : parts) EXPECT_EQ(exact.receive(p), DecodeError::None);
     views.push_back(exact.z());
     for (int j = 0; j < static_cast<int>(parts.size()); ++j) {
@@ -43,8 +43,8 @@ struct Receiver {
     }
   }
 
-  CoefficientEncoder encoder{kKey, kPeer};
-  FrameAssembler assembler{kKey, kPeer, kM, Concealment::Extrapolate};
+  CoefficientEncoder encoder{kPredictorKey, kPredictorPeer};
+  FrameAssembler assembler{kPredictorKey, kPredictorPeer, kPredictorM, Concealment::Extrapolate};
   FramePredictor predictor;
   std::vector<Eigen::MatrixXd> views;  ///< views[i]: the dequantised Z of the i-th frame sent
 };
@@ -118,7 +118,7 @@ TEST(FramePredictor, RowsAFrameDidNotDeliverAreExtrapolated) {
   r.receive(2, linearZ(2), kT);
   r.receive(3, linearZ(3), 2 * kT, /*lostPart=*/1);
   int extrapolated = 0;
-  for (int k = 0; k < kM; ++k) {
+  for (int k = 0; k < kPredictorM; ++k) {
     const bool delivered = r.assembler.rowFrame(k) == 3u;
     const Eigen::RowVector3d expected = delivered ? Eigen::RowVector3d(r.views[2].row(k))
                                                   : Eigen::RowVector3d(2.0 * r.views[1].row(k) - r.views[0].row(k));
@@ -164,7 +164,7 @@ TEST(FramePredictor, AStillFrameMissingADatagramHoldsEveryRow) {
   for (std::uint32_t f = 1; f <= 3; ++f) r.receive(f, linearZ(f), (f - 1) * kT);
   r.receive(4, linearZ(3), 3 * kT, /*lostPart=*/1);
   int undelivered = 0;
-  for (int k = 0; k < kM; ++k) undelivered += r.assembler.rowFrame(k) == 4u ? 0 : 1;
+  for (int k = 0; k < kPredictorM; ++k) undelivered += r.assembler.rowFrame(k) == 4u ? 0 : 1;
   ASSERT_GT(undelivered, 0);
   // Z is linear in the poses: the delivered rows did not move, so neither did the others. Held, not predicted.
   EXPECT_TRUE(r.predictor.still());

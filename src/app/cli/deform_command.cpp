@@ -171,7 +171,7 @@ QJsonObject report(const SubcommandParser& command, const DeformArguments& args,
           {QStringLiteral("out"), args.out}};
 }
 
-void printText(const QJsonObject& r) {
+void printDeformText(const QJsonObject& r) {
   QTextStream out(stdout);
   const auto line = [&out](const char* key, const QString& value) {
     out << qSetFieldWidth(22) << Qt::left << key << qSetFieldWidth(0) << value << '\n';
@@ -243,7 +243,7 @@ int runDeformCommand(const QStringList& arguments) {
     const QJsonObject levelReport = level->report(run->X, spectral::boundingBoxDiagonal(mesh->V));
     for (auto it = levelReport.begin(); it != levelReport.end(); ++it) r.insert(it.key(), it.value());
   }
-  printReport(command, r, printText);
+  printReport(command, r, printDeformText);
   return kExitOk;
 }
 

@@ -31,10 +31,6 @@
 
 namespace sc::app {
 
-namespace {
-constexpr int kCleaningMessageMs = 10000;  ///< status bar messages (the same in main_window_session.cpp)
-}  // namespace
-
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWindow) {
   ui->setupUi(this);
   m_proxyBuilder = new InteractiveProxyBuilder(ui->viewport, this);
@@ -97,9 +93,9 @@ void MainWindow::chooseAndSaveSession() {
   QString error;
   if (saveSession(path, &error)) {
     m_lastDirectory = QFileInfo(path).absolutePath();
-    statusBar()->showMessage(tr("Saved the session to %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+    statusBar()->showMessage(tr("Saved the session to %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
   } else {
-    statusBar()->showMessage(error, kCleaningMessageMs);
+    statusBar()->showMessage(error, kStatusMessageMs);
     if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Save Session"), error);
   }
 }
@@ -199,9 +195,9 @@ void MainWindow::chooseAndExportMesh() {
   }
   QString error;
   if (exportDeformedMesh(path, &error)) {
-    statusBar()->showMessage(tr("Exported %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+    statusBar()->showMessage(tr("Exported %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
   } else {
-    statusBar()->showMessage(error, kCleaningMessageMs);
+    statusBar()->showMessage(error, kStatusMessageMs);
     if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Export"), error);
   }
 }
@@ -212,9 +208,9 @@ void MainWindow::chooseAndSaveScreenshot() {
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
   QString error;
   if (saveScreenshot(path, &error)) {
-    statusBar()->showMessage(tr("Saved %1").arg(QDir::toNativeSeparators(path)), kCleaningMessageMs);
+    statusBar()->showMessage(tr("Saved %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
   } else {
-    statusBar()->showMessage(error, kCleaningMessageMs);
+    statusBar()->showMessage(error, kStatusMessageMs);
     if (m_errorDialogsEnabled) QMessageBox::warning(this, tr("Screenshot"), error);
   }
 }
@@ -252,7 +248,7 @@ bool MainWindow::openMesh(const QString& path) {
   const int vertexCount = static_cast<int>(mesh.V.rows());
   const int triangleCount = static_cast<int>(mesh.F.rows());
   m_meshSizeLabel->setText(meshSizeText(vertexCount, triangleCount));
-  statusBar()->showMessage(cleaningSummary(mesh.cleaning), kCleaningMessageMs);
+  statusBar()->showMessage(cleaningSummary(mesh.cleaning), kStatusMessageMs);
   const QFileInfo info(path);
   m_lastDirectory = info.absolutePath();
   setWindowTitle(info.fileName() + QStringLiteral(" — ShapeCast"));

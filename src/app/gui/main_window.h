@@ -102,6 +102,8 @@ class MainWindow : public QMainWindow {
   void chooseAndOpenSession();
 
  private:
+  static constexpr int kStatusMessageMs = 10000;  ///< how long transient status bar messages stay
+
   SessionController* newSession();
   void setUpEditAndExport();
   void setUpSessionFileActions();

@@ -28,10 +28,6 @@
 
 namespace sc::app {
 
-namespace {
-constexpr int kCleaningMessageMs = 10000;  ///< status bar messages (the same in main_window.cpp)
-}  // namespace
-
 // Session menu, tools, lock toolbar, resolution selector.
 void MainWindow::setUpSessionControls() {
   connect(ui->actionHostSession, &QAction::triggered, this, &MainWindow::showHostDialog);
@@ -44,7 +40,7 @@ void MainWindow::setUpSessionControls() {
                                                            {ui->actionToolDrag, ViewportTool::Drag}};
   for (const auto& [action, tool] : toolActions) {
     tools->addAction(action);
-    connect(action, &QAction::triggered, ui->viewport, [this, tool] { ui->viewport->setTool(tool); });
+    connect(action, &QAction::triggered, ui->viewport, [this, chosen = tool] { ui->viewport->setTool(chosen); });
   }
   m_lockLabel = new QLabel(this);
   m_lockLabel->setObjectName(QStringLiteral("lockLabel"));
@@ -190,7 +186,7 @@ SessionController* MainWindow::newSession() {
   connect(m_session, &SessionController::hostingStarted, this, [this](quint16 port) {
     statusBar()->showMessage(
         tr("Hosting on TCP port %1: others join with this computer's address and that port.").arg(port),
-        kCleaningMessageMs);
+        kStatusMessageMs);
   });
   emit sessionStarted(m_session);
   return m_session;
@@ -213,7 +209,7 @@ void MainWindow::joinSession(const JoinSettings& settings) {
 void MainWindow::leaveSession() {
   if (m_session == nullptr) return;
   m_session->leave();
-  statusBar()->showMessage(tr("Left the session."), kCleaningMessageMs);
+  statusBar()->showMessage(tr("Left the session."), kStatusMessageMs);
   updateSessionActions();
   updateLockControls();
 }
@@ -231,7 +227,7 @@ void MainWindow::onSessionMesh() {
     ui->viewport->setReconstructionBasis(level->K, spectral::interleavedPositions(V));
   showSessionPositions();
   m_meshSizeLabel->setText(meshSizeText(static_cast<int>(V.rows()), static_cast<int>(F.rows())));
-  statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kCleaningMessageMs);
+  statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kStatusMessageMs);
   updateLevelCombo();
   updateLockControls();
 }
@@ -318,7 +314,7 @@ void MainWindow::updateTimingLabel() {
 void MainWindow::onSessionFailed(const QString& message) {
   updateSessionActions();
   updateLockControls();
-  statusBar()->showMessage(message, kCleaningMessageMs);
+  statusBar()->showMessage(message, kStatusMessageMs);
   emit sessionFailed(message);
   if (!m_errorDialogsEnabled) return;
   if (m_session != nullptr && m_session->fingerprintRefused()) {
