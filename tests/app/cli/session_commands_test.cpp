@@ -68,8 +68,10 @@ TEST_F(SessionCommandsTest, HostJoinAndDriveInSeparateProcesses) {
   const QJsonObject s = QJsonDocument::fromJson(file.readAll()).object();
   for (const char* key : {"frames_applied", "loss_fraction", "hd_max_pct", "hd_mean_pct", "kbps_in", "latency_p99_ms"})
     EXPECT_TRUE(s.contains(QLatin1String(key))) << key;
-  EXPECT_GE(s[QStringLiteral("frames_applied")].toInteger(), 80);  // the drag's 91 frames and slow refreshes
-  EXPECT_EQ(s[QStringLiteral("loss_fraction")].toDouble(), 0.0);   // loopback, no simulated loss
+  // The drag's 91 frames and slow refreshes; on a busy machine the host merges drags that arrive less than 8 ms
+  // apart (see LossExperimentPrintsRowsAndAPlot), so half the drag is the bound.
+  EXPECT_GE(s[QStringLiteral("frames_applied")].toInteger(), 45);
+  EXPECT_EQ(s[QStringLiteral("loss_fraction")].toDouble(), 0.0);  // loopback, no simulated loss
   EXPECT_GT(s[QStringLiteral("hd_samples")].toInteger(), 0);
   EXPECT_LT(s[QStringLiteral("hd_max_pct")].toDouble(), 0.05);  // quantisation only
   EXPECT_GT(s[QStringLiteral("latency_p99_ms")].toDouble(), 0.0);
