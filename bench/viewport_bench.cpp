@@ -7,8 +7,9 @@
 // "compose" = frame − host stages − paintGL stages (the QOpenGLWidget composition into the window and the swap,
 // i.e. the Xvfb blit). Baselines: "empty" (no mesh: background only) and "static" (mesh, no new positions).
 //
-// Usage: shapecast-bench-viewport [--frames 30] [--size 1024x768] [--m 100] [--profile] [MESH ...]
+// Usage: shapecast-bench-viewport [--frames 30] [--size 1024x768] [--m 100] [--profile] [--proxy-only] [MESH ...]
 //   --profile  glFinish() after each GL stage (attributes the rasteriser's work to its stage; slower overall).
+//   --proxy-only  only the frames with the interactive proxy (a client's frames of a dense mesh in the app).
 //   MESH       default: assets/meshes/dragon_vrip_res3.ply (23k) and dragon_vrip_res2.ply (100k).
 
 #include "app/gui/interactive_proxy.h"
@@ -148,7 +149,7 @@ bool waitForFirstPaint(MeshViewport& viewport) {
   return viewport.paintCount() > 0;
 }
 
-void benchMesh(const QString& file, QSize size, int m, int frames, bool profile) {
+void benchMesh(const QString& file, QSize size, int m, int frames, bool profile, bool proxyOnly) {
   const auto loaded = sc::model::loadMesh(file.toStdString());
   if (!std::holds_alternative<sc::model::LoadedMesh>(loaded)) {
     std::printf("%s: cannot load, skipped\n", qPrintable(file));
@@ -167,9 +168,13 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile)
               qPrintable(QFileInfo(file).fileName()), static_cast<long long>(mesh.V.rows()),
               static_cast<long long>(mesh.F.rows()), m, size.width(), size.height(), viewport.devicePixelRatioF(),
               viewport.sampleCount());
-  runFrames(viewport, frames, [](int) {}).print("empty");
+  if (!proxyOnly) {
+    runFrames(viewport, frames, [](int) {}).print("empty");
+  }
   viewport.setMesh(mesh.V, mesh.F);
-  runFrames(viewport, frames, [](int) {}).print("static");
+  if (!proxyOnly) {
+    runFrames(viewport, frames, [](int) {}).print("static");
+  }
   const std::vector<float> rest = sc::spectral::interleavedPositions(mesh.V);
   viewport.setReconstructionBasis(syntheticBasis(mesh.V, m, 0.004f), rest);
   std::mt19937 rng(3);
@@ -181,6 +186,7 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile)
   const bool dense = mesh.F.rows() > InteractiveProxyBuilder::kMinTriangles;
   for (const bool proxy : {false, true}) {
     if (proxy && !dense) break;
+    if (!proxy && proxyOnly) continue;
     if (proxy) {
       QElapsedTimer timer;
       timer.start();
@@ -214,13 +220,16 @@ int main(int argc, char** argv) {
                     QStringLiteral("1024x768")});
   parser.addOption({QStringLiteral("m"), QStringLiteral("Basis size."), QStringLiteral("m"), QStringLiteral("100")});
   parser.addOption({QStringLiteral("profile"), QStringLiteral("glFinish() after each GL stage.")});
+  parser.addOption({QStringLiteral("proxy-only"), QStringLiteral("Only the frames with the interactive proxy.")});
   parser.addPositionalArgument(QStringLiteral("meshes"), QStringLiteral("Mesh files."), QStringLiteral("[MESH...]"));
   parser.process(app);
   const QStringList size = parser.value(QStringLiteral("size")).split(QLatin1Char('x'));
   const int frames = parser.value(QStringLiteral("frames")).toInt();
   const int m = parser.value(QStringLiteral("m")).toInt();
   if (size.size() != 2 || size[0].toInt() <= 0 || size[1].toInt() <= 0 || frames <= 0 || m <= 0) {
-    std::fprintf(stderr, "usage: shapecast-bench-viewport [--frames N] [--size WxH] [--m M] [--profile] [MESH...]\n");
+    std::fprintf(stderr,
+                 "usage: shapecast-bench-viewport [--frames N] [--size WxH] [--m M] [--profile] [--proxy-only] "
+                 "[MESH...]\n");
     return 2;
   }
   QStringList meshes = parser.positionalArguments();
@@ -239,7 +248,8 @@ int main(int argc, char** argv) {
   std::printf("per stage: median/p90 ms; frame = setCoefficients + repaint + glFinish%s\n",
               parser.isSet(QStringLiteral("profile")) ? " (profiling: glFinish after each GL stage)" : "");
   for (const QString& mesh : meshes) {
-    benchMesh(mesh, QSize(size[0].toInt(), size[1].toInt()), m, frames, parser.isSet(QStringLiteral("profile")));
+    benchMesh(mesh, QSize(size[0].toInt(), size[1].toInt()), m, frames, parser.isSet(QStringLiteral("profile")),
+              parser.isSet(QStringLiteral("proxy-only")));
   }
   return 0;
 }

@@ -62,7 +62,7 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
   });
   connect(m_channel, &ClientDatagramChannel::frameUpdated, this, &SessionClient::onFrameUpdated);
   connect(m_recomputeTimer, &QTimer::timeout, this, [this] {
-    if (m_positionsDirty) recomputePositions();
+    if (m_positionsDirty) updatePositions();
   });
   connect(m_secondTimer, &QTimer::timeout, this, &SessionClient::everySecond);
   connect(m_renewTimer, &QTimer::timeout, this, &SessionClient::renewTick);

@@ -30,10 +30,12 @@
 //     the held epoch.
 //   - Heartbeat every second; a StatsReport every second from the channel's report() and the distortion figures
 //     set with setDistortion(); a host silent for options.hostTimeout fails the session.
-//   - positions() = X̂' + K·Z (float32, interleaved xyz), recomputed at once when a level is installed and, when Z
-//     changes (frameUpdated of the channel, once per applied datagram or seed), coalesced: Z changes only mark the
-//     positions dirty and arm a zero-timeout single-shot timer, so every datagram already pending is decoded first
-//     and one recompute (one positionsUpdated(frame)) serves them all.
+//   - positions() = X̂' + K·Z (float32, interleaved xyz) for positionsCoefficients(), the Z of positionsFrame(),
+//     updated at once when a level is installed and, when Z changes (frameUpdated of the channel, once per applied
+//     datagram or seed), coalesced: Z changes only mark the positions dirty and arm a zero-timeout single-shot
+//     timer, so every datagram already pending is decoded first and one update (one positionsUpdated(frame)) serves
+//     them all. The O(n'·m) reconstruction itself runs on the first positions() call after an update, so a view that
+//     reconstructs from K and positionsCoefficients() itself (MeshViewport) does not pay for it twice.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
 #include "session/client_datagram_channel.h"
@@ -135,12 +137,16 @@ class SessionClient final : public QObject {
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
   /// True while a completed transfer is being checked and decoded off-thread (the previous level is still shown).
   [[nodiscard]] bool levelDecoding() const { return m_decoding; }
-  /// X̂' + K·Z, 3·n' floats (empty before a level).
-  [[nodiscard]] const std::vector<float>& positions() const { return m_positions; }
-  /// Frame number of the Z that positions() reflects (the channel's current frame at the last recompute).
+  /// X̂' + K·Z for Z = positionsCoefficients(), 3·n' floats (empty before a level). Reconstructed here on the first
+  /// call after an update (O(n'·m), spectral::reconstructInterleaved), then cached.
+  [[nodiscard]] const std::vector<float>& positions() const;
+  /// The m by 3 Z (float32) that positions() reflects: the channel's coefficients at the last update (zero before
+  /// the first frame); empty before a level.
+  [[nodiscard]] const Eigen::MatrixXf& positionsCoefficients() const { return m_positionsZ; }
+  /// Frame number of the Z that positions() reflects (the channel's current frame at the last update).
   [[nodiscard]] std::uint32_t positionsFrame() const { return m_positionsFrame; }
-  /// How many times positions() was recomputed (one per level installed, plus at most one per event-loop pass in
-  /// which Z changed, however many datagrams changed it); each recompute emits positionsUpdated() once.
+  /// How many times positions() was updated (one per level installed, plus at most one per event-loop pass in
+  /// which Z changed, however many datagrams changed it); each update emits positionsUpdated() once.
   [[nodiscard]] std::uint64_t positionUpdates() const { return m_positionUpdates; }
   [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
   [[nodiscard]] ClientDatagramChannel& channel() { return *m_channel; }
@@ -180,7 +186,7 @@ class SessionClient final : public QObject {
   void installLevel(DecodedLevel& decoded);
   void onKeyframe(const Keyframe& keyframe);
   void onFrameUpdated();
-  void recomputePositions();
+  void updatePositions();
   void everySecond();
   void renewTick();
   [[nodiscard]] bool live() const { return m_state == State::Loading || m_state == State::Ready; }
@@ -204,8 +210,10 @@ class SessionClient final : public QObject {
   std::optional<spectral::ResolutionLevel> m_level;
   QByteArray m_levelPayload;
   QString m_levelError;
-  std::vector<float> m_rest;  ///< X̂' interleaved
-  std::vector<float> m_positions;
+  std::vector<float> m_rest;               ///< X̂' interleaved
+  mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_positionsZ once m_positionsStale is false
+  mutable bool m_positionsStale = false;
+  Eigen::MatrixXf m_positionsZ;
   std::uint32_t m_positionsFrame = 0;
   bool m_positionsDirty = false;
   std::uint64_t m_positionUpdates = 0;

@@ -111,13 +111,21 @@ void SessionClient::finishDecode(const std::shared_ptr<DecodedLevel>& result) {
   installLevel(*result);
 }
 
+const std::vector<float>& SessionClient::positions() const {
+  if (m_positionsStale && m_level) {
+    spectral::reconstructInterleaved(m_level->K, m_rest, m_positionsZ, m_positions);
+    m_positionsStale = false;
+  }
+  return m_positions;
+}
+
 void SessionClient::installLevel(DecodedLevel& decoded) {
   m_level = std::move(decoded.level);
   m_levelPayload = std::move(decoded.payload);
   m_levelError.clear();
   m_rest = std::move(decoded.rest);
   m_positions.assign(m_rest.size(), 0.0f);
-  recomputePositions();
+  updatePositions();
   changeState(State::Ready);
   emit levelReady(levelVertexCount());
 }
@@ -144,14 +152,14 @@ void SessionClient::onFrameUpdated() {
   if (!m_recomputeTimer->isActive()) m_recomputeTimer->start();  // after the datagrams already pending
 }
 
-void SessionClient::recomputePositions() {
+void SessionClient::updatePositions() {
   m_positionsDirty = false;
   if (!m_level) return;
   const Eigen::MatrixXd& Z = m_channel->coefficients();
   const Eigen::Index m = m_level->K.cols();
-  const Eigen::MatrixXf Zf =
+  m_positionsZ =
       Z.rows() == m && Z.cols() == 3 ? Eigen::MatrixXf(Z.cast<float>()) : Eigen::MatrixXf(Eigen::MatrixXf::Zero(m, 3));
-  spectral::reconstructInterleaved(m_level->K, m_rest, Zf, m_positions);
+  m_positionsStale = true;  // reconstructed by the next positions()
   m_positionsFrame = m_channel->currentFrame();
   ++m_positionUpdates;
   emit positionsUpdated(m_positionsFrame);

@@ -5,6 +5,7 @@
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_viewport.h"
 #include "model/mesh_proxy.h"
+#include "spectral/reconstruction_kernel.h"
 
 #include "app_test_support.h"
 #include "test_meshes.h"
@@ -15,6 +16,7 @@
 #include <QTest>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace {
@@ -140,6 +142,63 @@ TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
   viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 500));
   viewport.clearMesh();
   EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+}
+
+// A client's frames on the CPU path (setCoefficients()): interactive frames draw the proxy, the mesh's positions
+// follow when asked for (hostPositions()), and the idle frame draws the mesh at the latest coefficients: the
+// same picture as a viewport that never had a proxy.
+TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMeshAtTheLatestCoefficients) {
+  const auto sphere = sc::testing::icosphere(5);
+  constexpr int m = 8;
+  sc::spectral::RowMatrixXf K(sphere.V.rows(), m);
+  for (Eigen::Index i = 0; i < K.rows(); ++i)
+    for (Eigen::Index k = 0; k < m; ++k)
+      K(i, k) = 0.08f * std::sin(static_cast<float>(k + 1) * static_cast<float>(sphere.V(i, k % 3)));
+  Eigen::MatrixXf Z = Eigen::MatrixXf::Zero(m, 3);
+  Z(0, 0) = 1.0f;
+  Z(1, 1) = -1.0f;
+  Z(2, 2) = 0.7f;
+  Z(5, 0) = 0.9f;
+  const std::vector<float> rest = sc::spectral::interleavedPositions(sphere.V);
+  std::vector<float> expected(rest.size());
+  sc::spectral::reconstructInterleaved(K, rest, Z, expected);
+  const auto prepare = [&](MeshViewport& view) {
+    view.resize(320, 240);
+    view.setMesh(sphere.V, sphere.F);
+    view.setAdaptiveResolution(true);
+    view.setPaintBudget(1e6);  // full pixel resolution: only the triangles change
+    view.setReconstructionPath(sc::app::ReconstructionPath::Cpu);
+    view.setReconstructionBasis(K, rest);
+    view.show();
+    return QTest::qWaitForWindowExposed(&view);
+  };
+  MeshViewport reference;
+  ASSERT_TRUE(prepare(reference));
+  reference.setCoefficients(Z);
+  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  const QImage expectedImage = reference.grabFramebuffer();
+
+  MeshViewport viewport;
+  ASSERT_TRUE(prepare(viewport));
+  viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 2000));
+  viewport.grabFramebuffer();
+  for (int i = 1; i <= 3; ++i) {  // frames of a moving shape, right after each other
+    viewport.setCoefficients(Z * static_cast<float>(i) / 3.0f);
+    viewport.grabFramebuffer();
+    EXPECT_EQ(viewport.frameTimes().triangles, viewport.proxyTriangleCount()) << "frame " << i;
+  }
+  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  const QImage idle = viewport.grabFramebuffer();
+  EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
+  ASSERT_EQ(idle.size(), expectedImage.size());
+  int differ = 0;
+  for (int y = 0; y < idle.height(); ++y)
+    for (int x = 0; x < idle.width(); ++x) differ += idle.pixel(x, y) != expectedImage.pixel(x, y) ? 1 : 0;
+  EXPECT_LT(differ, idle.width() * idle.height() / 200) << "the idle frame shows the mesh at the latest Z";
+
+  const std::vector<float> host = viewport.hostPositions();
+  ASSERT_EQ(host.size(), expected.size());
+  for (std::size_t i = 0; i < host.size(); ++i) ASSERT_NEAR(host[i], expected[i], 1e-5f) << "coordinate " << i;
 }
 
 class InteractiveProxyBuilderTest : public InteractiveProxyTest {

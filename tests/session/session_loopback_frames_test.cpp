@@ -102,7 +102,7 @@ TEST_F(SessionLoopback, DragByTheHolderProducesFramesAtTheOtherClients) {
   EXPECT_EQ(host->stats(viewer->peerId())->vertexCount, viewer->levelVertexCount());
 }
 
-TEST_F(SessionLoopback, ZChangesWithinOneEventLoopPassAreReconstructedOnce) {
+TEST_F(SessionLoopback, ZChangesWithinOneEventLoopPassAreReconstructedOnceAndWhenRead) {
   SessionHostOptions options = hostOptions();
   options.idleRefresh = std::chrono::milliseconds(60000);  // no datagram frames: the seeds below stay applicable
   auto host = startHost(options);
@@ -129,6 +129,10 @@ TEST_F(SessionLoopback, ZChangesWithinOneEventLoopPassAreReconstructedOnce) {
   EXPECT_EQ(client->positionUpdates(), before + 1);
   EXPECT_EQ(emitted, (std::vector<std::uint32_t>{3}));
   EXPECT_EQ(client->positionsFrame(), 3u);
+  EXPECT_EQ(client->positionsCoefficients(), Eigen::MatrixXf::Constant(m, 3, 0.03f));
+  // positions() is reconstructed when first read, from the Z of positionsFrame(): a newer Z that arrived in the
+  // meantime (its update not run yet) does not leak into it.
+  client->channel().seed(4, Eigen::MatrixXd::Constant(m, 3, 0.5));
   const spectral::ResolutionLevel& level = *client->level();
   const Eigen::MatrixXd Z = Eigen::MatrixXd::Constant(m, 3, 0.03);
   for (const Eigen::Index i : {Eigen::Index{0}, level.restV.rows() / 2, level.restV.rows() - 1}) {

@@ -5,7 +5,6 @@
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_controller.h"
 
-#include <QElapsedTimer>
 #include <QMainWindow>
 #include <QString>
 
@@ -63,7 +62,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] SessionDocks* docks() const { return m_docks; }
   /// The client's Network conditions dock (objectName "networkConditionsDock", bound to session()).
   [[nodiscard]] NetworkConditionsDock* networkConditionsDock() const { return m_networkDock; }
-  /// Time of the last reconstruction and of the last redraw (MeshViewport::FrameTimes::totalMs()), milliseconds.
+  /// Time of the last frame's reconstruction (the viewport's own when it reconstructs from K and Z, as on a client;
+  /// otherwise the session's) and of the rest of its redraw (normals, paint, composition: FrameTimes), ms.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
   /// Undo/redo of the host user's committed drags (Edit menu; see drag_commands.h).
@@ -131,8 +131,9 @@ class MainWindow : public QMainWindow {
   SessionController* m_session = nullptr;
   SessionDocks* m_docks = nullptr;
   NetworkConditionsDock* m_networkDock = nullptr;
-  QElapsedTimer m_redrawClock;
   bool m_redrawPending = false;
+  bool m_viewReconstructs = false;  // the last frame was reconstructed by the viewport (setCoefficients)
+  double m_viewReconstructMs = 0.0;
   double m_redrawMs = 0.0;
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes
   QString m_lastDirectory;

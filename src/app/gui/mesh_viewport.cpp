@@ -72,7 +72,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   m_origin = 0.5 * (lo + hi);
   m_vertexCount = static_cast<int>(V.rows());
   m_proxyIndices.clear();
-  m_inProxy.clear();
+  m_proxy = CompactProxy();
   m_indices.resize(static_cast<std::size_t>(F.size()));
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -123,12 +123,15 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
   positionsChanged();
 }
 
-// m_positions changed: recompute the normals and the scene bounds, mark the upload and repaint.
+// m_positions changed: recompute the normals (the mesh's and the proxy's) and the scene bounds, mark the upload and
+// repaint.
 void MeshViewport::positionsChanged() {
   QElapsedTimer timer;
   timer.start();
   m_normals.resize(m_positions.size());
   vertexNormals(m_positions, m_indices, m_normals);
+  m_normalsStale = false;
+  refreshProxyPositions();
   m_frameTimes.normalsMs = lapMs(timer);
   updateBounds();
   m_frameTimes.boundsMs = lapMs(timer);
@@ -136,7 +139,8 @@ void MeshViewport::positionsChanged() {
   markMoved();
 }
 
-// The camera's scene bounds from m_positions (exact), or on the GPU path from the rest bounds widened by
+// The camera's scene bounds from m_positions (exact), or while they lag the coefficients (GPU path, proxy-only
+// frames) from the rest bounds widened by
 // max_i ‖K_i‖·‖Z_c‖ ≥ |(K·Z)_ic| per coordinate (Cauchy–Schwarz), which needs no reconstruction.
 void MeshViewport::updateBounds() {
   if (m_showingCoefficients && m_hostPositionsStale) {
@@ -163,7 +167,7 @@ void MeshViewport::clearMesh() {
   m_normals.clear();
   m_indices.clear();
   m_proxyIndices.clear();
-  m_inProxy.clear();
+  m_proxy = CompactProxy();
   m_handles.clear();
   m_anchors.clear();
   m_vertexCount = 0;
@@ -182,24 +186,46 @@ void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
     return;
   }
   m_proxyIndices.resize(static_cast<std::size_t>(triangles.size()));
-  m_inProxy.assign(triangles.size() > 0 ? static_cast<std::size_t>(m_vertexCount) : 0, 0);
   for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
     for (Eigen::Index c = 0; c < 3; ++c) {
       m_proxyIndices[static_cast<std::size_t>(3 * f + c)] = static_cast<std::uint32_t>(triangles(f, c));
-      m_inProxy[static_cast<std::size_t>(triangles(f, c))] = 1;
     }
   }
+  m_proxy = triangles.size() > 0 ? CompactProxy(triangles, m_vertexCount) : CompactProxy();
+  if (!m_proxy.empty()) {
+    if (hasReconstructionBasis()) {
+      m_proxy.setBasis(m_basis, m_rest);
+    }
+    refreshProxyPositions();
+    m_proxy.gatherTints(m_tints);
+  }
   m_indicesDirty = true;
+  m_proxyIndicesDirty = true;
+  m_proxyTintsDirty = true;
   updateProxySelection();
   update();
 }
 
+// The proxy's positions and normals for the current picture: reconstructed from its rows of K while the picture is
+// rest + K·Z with the mesh's positions lagging (m_positions may be stale), else gathered from m_positions.
+void MeshViewport::refreshProxyPositions() {
+  if (m_proxy.empty()) {
+    return;
+  }
+  if (m_showingCoefficients && m_hostPositionsStale && m_proxy.hasBasis()) {
+    m_proxy.reconstruct(m_coefficients);
+  } else {
+    m_proxy.gatherPositions(m_positions);
+  }
+  m_proxy.updateNormals();
+  m_proxyDataDirty = true;
+}
+
 void MeshViewport::updateProxySelection() {
   const auto shown = [this](const std::vector<int>& group) {
-    return group.empty() || std::any_of(group.begin(), group.end(),
-                                        [this](int v) { return m_inProxy[static_cast<std::size_t>(v)] != 0; });
+    return group.empty() || std::any_of(group.begin(), group.end(), [this](int v) { return m_proxy.uses(v); });
   };
-  m_proxyShowsSelection = m_inProxy.empty() || (shown(m_handles) && shown(m_anchors));
+  m_proxyShowsSelection = m_proxy.empty() || (shown(m_handles) && shown(m_anchors));
 }
 
 void MeshViewport::markMoved() {
@@ -227,6 +253,10 @@ void MeshViewport::rebuildTints() {
     }
   }
   m_tintsDirty = true;
+  if (!m_proxy.empty()) {
+    m_proxy.gatherTints(m_tints);
+    m_proxyTintsDirty = true;
+  }
   updateProxySelection();
 }
 

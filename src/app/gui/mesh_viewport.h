@@ -4,6 +4,7 @@
 // vertex_picking.h and the drag pose in DragGesture; this class owns the GL objects and the host-side buffers and
 // turns mouse gestures into intent signals (handlePainted, dragMoved, …) that a controller maps to session calls.
 
+#include "app/gui/compact_proxy.h"
 #include "app/gui/mesh_viewport_resolution.h"
 #include "app/gui/mesh_viewport_types.h"
 #include "app/gui/orbit_camera.h"
@@ -119,12 +120,15 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   /// A coarse triangulation of the current mesh's own vertices (model::proxyTriangles()) that frames draw instead
   /// of the mesh's triangles while the shape or the camera moves, with adaptive resolution on. On a software
   /// rasteriser a dense mesh's frame costs per triangle at any pixel scale (vertex and setup work, and a fragment
-  /// block per tiny triangle), so a moving dense mesh is drawn as its proxy, with the same vertex buffer (it follows
-  /// every deformation), and in full once idle (kIdleRestoreMs). A frame uses the proxy only when it is interactive
-  /// (see setAdaptiveResolution()), the positions or the camera changed since the previous frame, no wireframe is
-  /// shown, no brush stroke is in progress, and the proxy keeps at least one vertex of each non-empty selection
-  /// group (handles, anchors; so that a small selection never vanishes). Normals, picking and idle frames use the
-  /// full mesh.
+  /// block per tiny triangle), so a moving dense mesh is drawn as its proxy, and in full once idle
+  /// (kIdleRestoreMs). A frame uses the proxy only when it is interactive (see setAdaptiveResolution()), the
+  /// positions or the camera changed since the previous frame, no wireframe is shown, no brush stroke is in
+  /// progress, and the proxy keeps at least one vertex of each non-empty selection group (handles, anchors; so that
+  /// a small selection never vanishes). The proxy has its own compact vertex buffer (CompactProxy) and is shaded with
+  /// normals over its own triangles. It follows every deformation: explicit positions are gathered from the mesh's;
+  /// on the CPU path, while proxy frames are possible, setCoefficients() reconstructs only the proxy's vertices
+  /// (a tenth of the work for the 100k dragon) and the mesh's positions and normals follow lazily, when a frame of the
+  /// full mesh, picking or a caller (hostPositions()) needs them. Picking and idle frames use the full mesh.
   /// @param[in] triangles  #P by 3 indices into the current mesh's vertices; empty removes the proxy.
   /// setMesh() and clearMesh() remove it. An index out of range is a programming error (asserted; in release builds
   /// the call is ignored and the previous proxy stays).
@@ -142,8 +146,10 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
 
   /// Shows the frame rest + K·Z on the current path (the per-frame call of a client).
   /// @param[in] Z  m by 3 coefficients (m = K's columns). Needs setReconstructionBasis(); ignored otherwise.
-  /// CPU path: reconstructs, recomputes normals and bounds now (O(#V·m + #F)), uploads in paintGL(). GPU path:
-  /// O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex shader does the rest.
+  /// CPU path: reconstructs, recomputes normals and bounds now (O(#V·m + #F)), uploads in paintGL(); while a frame
+  /// may draw the interactive proxy, only the proxy's vertices (O(#P·m + #T)), the mesh's following when needed
+  /// (see setInteractiveProxy()). GPU path: O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex
+  /// shader does the rest.
   void setCoefficients(const Eigen::MatrixXf& Z);
 
   /// The path a new viewport starts with: $SHAPECAST_RECONSTRUCTION ("cpu" or "gpu") when set, otherwise Cpu on a
@@ -288,8 +294,10 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void dropBasis();
   void applyCoefficients();
   void ensureHostPositions();
+  void ensureFullVertexData();
+  void refreshProxyPositions();
   [[nodiscard]] bool gpuDrawing() const;
-  void createMeshVao();
+  void createMeshVaos();
   void createGpuObjects();
   void destroyGpuObjects();
   void setGpuUniforms();
@@ -297,6 +305,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void uploadIfDirty();
   void drawBackground();
   int drawMesh(bool wireframe, bool proxy);
+  [[nodiscard]] bool proxyMayDraw() const;
   [[nodiscard]] bool proxyAllowed() const;
   void markMoved();
   void updateProxySelection();
@@ -321,11 +330,17 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   std::vector<float> m_normals;               // 3·#V
   std::vector<std::uint8_t> m_tints;          // 4·#V, RGBA (A = tint strength)
   std::vector<std::uint32_t> m_indices;       // 3·#F
-  std::vector<std::uint32_t> m_proxyIndices;  // 3·#P (interactive proxy), after m_indices in m_indexBuffer
+  std::vector<std::uint32_t> m_proxyIndices;  // 3·#P (interactive proxy, mesh vertices) after m_indices in
+                                              // m_indexBuffer, for the GPU path
+  CompactProxy m_proxy;                       // the proxy's own vertices, for the CPU path
   int m_vertexCount = 0;
   bool m_vertexDataDirty = false;
   bool m_tintsDirty = false;
   bool m_indicesDirty = false;
+  bool m_normalsStale = false;  // m_normals lag m_positions (left behind by proxy-only frames or the GPU path)
+  bool m_proxyDataDirty = false;
+  bool m_proxyTintsDirty = false;
+  bool m_proxyIndicesDirty = false;
   std::vector<int> m_handles;
   std::vector<int> m_anchors;
   bool m_wireframe = false;
@@ -350,7 +365,6 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   AdaptiveResolution m_resolution{kPaintBudgetMs};       // frames of the full mesh
   AdaptiveResolution m_proxyResolution{kPaintBudgetMs};  // frames of the interactive proxy
   bool m_moved = false;                                  // positions or camera changed since the last paint
-  std::vector<char> m_inProxy;                           // per vertex: used by the proxy
   bool m_proxyShowsSelection = true;                     // each non-empty selection group has a proxy vertex
   QElapsedTimer m_sinceLastPaint;
   QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
@@ -380,6 +394,11 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   QOpenGLBuffer m_normalBuffer{QOpenGLBuffer::VertexBuffer};
   QOpenGLBuffer m_tintBuffer{QOpenGLBuffer::VertexBuffer};
   QOpenGLBuffer m_indexBuffer{QOpenGLBuffer::IndexBuffer};
+  QOpenGLVertexArrayObject m_proxyVao;  // CompactProxy's buffers, drawn with m_meshProgram
+  QOpenGLBuffer m_proxyPositionBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyNormalBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyTintBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyIndexBuffer{QOpenGLBuffer::IndexBuffer};
   // GPU reconstruction: its own program and VAO (rest positions at location 0, tints at 2, the same indices).
   std::unique_ptr<QOpenGLShaderProgram> m_reconstructProgram;
   QOpenGLVertexArrayObject m_gpuVao;

@@ -3,6 +3,7 @@
 
 #include "app/gui/mesh_shaders.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/vertex_normals.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <QCoreApplication>
@@ -43,6 +44,7 @@ void MeshViewport::dropBasis() {
   m_coefficients.resize(0, 0);
   m_basisColumns = 0;
   m_basisMaxRowNorm = 0.0f;
+  m_proxy.clearBasis();
   m_showingCoefficients = false;
   m_hostPositionsStale = false;
   m_basisDirty = false;
@@ -74,6 +76,9 @@ void MeshViewport::setReconstructionBasis(const spectral::RowMatrixXf& K, std::s
   m_restLo = R.colwise().minCoeff().transpose();
   m_restHi = R.colwise().maxCoeff().transpose();
   m_coefficients = Eigen::MatrixXf::Zero(padded, 3);
+  if (!m_proxy.empty()) {
+    m_proxy.setBasis(m_basis, m_rest);
+  }
   m_basisDirty = true;
   m_restDirty = true;
   if (m_path == ReconstructionPath::Gpu && m_glReady && !gpuReconstructionAvailable()) {
@@ -91,11 +96,25 @@ void MeshViewport::setCoefficients(const Eigen::MatrixXf& Z) {
   applyCoefficients();
 }
 
-// Shows rest + K·Z on the current path: the CPU path reconstructs (and computes normals) now, the GPU path only
+// Shows rest + K·Z on the current path: the CPU path reconstructs (and computes normals) now, only the proxy's
+// vertices while the next frame may draw the proxy (the mesh's follow in ensureFullVertexData()); the GPU path only
 // widens the camera bounds and repaints.
 void MeshViewport::applyCoefficients() {
   QElapsedTimer timer;
   timer.start();
+  if (m_path == ReconstructionPath::Cpu && m_proxy.hasBasis() && proxyMayDraw()) {
+    m_hostPositionsStale = true;
+    m_normalsStale = true;
+    m_proxy.reconstruct(m_coefficients);
+    m_frameTimes.reconstructMs = lapMs(timer);
+    m_proxy.updateNormals();
+    m_proxyDataDirty = true;
+    m_frameTimes.normalsMs = lapMs(timer);
+    updateBounds();
+    m_frameTimes.boundsMs = lapMs(timer);
+    markMoved();
+    return;
+  }
   if (m_path == ReconstructionPath::Cpu) {
     m_positions.resize(m_rest.size());
     spectral::reconstructInterleaved(m_basis, m_rest, m_coefficients, m_positions);
@@ -119,7 +138,28 @@ void MeshViewport::ensureHostPositions() {
   m_positions.resize(m_rest.size());
   spectral::reconstructInterleaved(m_basis, m_rest, m_coefficients, m_positions);
   m_hostPositionsStale = false;
-  // The normals are not needed on the GPU path; recompute them if the CPU path takes over (setReconstructionPath).
+  // The normals are not needed on the GPU path (the CPU path recomputes them: applyCoefficients() when it takes
+  // over, ensureFullVertexData() before a frame of the mesh).
+  m_normalsStale = true;
+}
+
+// Before drawing the full mesh from the mesh VAO: the positions and normals that proxy-only frames left behind,
+// reconstructed and marked for upload (their times are this frame's reconstruct and normals stages).
+void MeshViewport::ensureFullVertexData() {
+  if (gpuDrawing() || (!m_hostPositionsStale && !m_normalsStale)) {
+    return;
+  }
+  QElapsedTimer timer;
+  timer.start();
+  if (m_hostPositionsStale) {
+    ensureHostPositions();
+    m_frameTimes.reconstructMs = lapMs(timer);
+  }
+  m_normals.resize(m_positions.size());
+  vertexNormals(m_positions, m_indices, m_normals);
+  m_normalsStale = false;
+  m_frameTimes.normalsMs = lapMs(timer);
+  m_vertexDataDirty = true;
 }
 
 std::vector<float> MeshViewport::hostPositions() {

@@ -116,10 +116,13 @@ void MeshViewport::cleanup() {
   destroyGpuObjects();
   m_pickFbo.reset();
   m_sceneFbo.reset();
-  for (QOpenGLBuffer* buffer : {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer}) {
+  for (QOpenGLBuffer* buffer :
+       {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer, &m_proxyPositionBuffer, &m_proxyNormalBuffer,
+        &m_proxyTintBuffer, &m_proxyIndexBuffer}) {
     buffer->destroy();
   }
   m_meshVao.destroy();
+  m_proxyVao.destroy();
   m_backgroundVao.destroy();
   m_meshProgram.reset();
   m_backgroundProgram.reset();
@@ -140,54 +143,68 @@ void MeshViewport::initializeGL() {
   m_backgroundProgram = shaders::makeProgram(shaders::kBackgroundVertex, shaders::kBackgroundFragment);
   m_meshProgram = shaders::makeProgram(shaders::kMeshVertex, shaders::kMeshFragment);
   m_backgroundVao.create();
-  m_meshVao.create();
   if (!m_meshProgram) {
     return;
   }
 
-  createMeshVao();
+  createMeshVaos();
   createGpuObjects();
 
   // A new context has empty buffers: upload whatever the host side holds.
   m_vertexDataDirty = true;
   m_tintsDirty = true;
   m_indicesDirty = true;
+  m_proxyDataDirty = true;
+  m_proxyTintsDirty = true;
+  m_proxyIndicesDirty = true;
   m_glReady = true;
   if (m_path == ReconstructionPath::Gpu && hasReconstructionBasis() && !gpuReconstructionAvailable()) {
     setReconstructionPath(ReconstructionPath::Cpu);
   }
 }
 
-// The mesh VAO records one buffer per attribute (positions change per frame, tints per selection) and the index
-// buffer binding. Needs m_meshProgram and the current context.
-void MeshViewport::createMeshVao() {
-  QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
-  m_meshProgram->bind();
+namespace {
+
+struct VertexBuffers {
+  QOpenGLBuffer* positions;
+  QOpenGLBuffer* normals;
+  QOpenGLBuffer* tints;
+  QOpenGLBuffer* indices;
+};
+
+// Records in `vao` one buffer per attribute of the mesh program (positions and normals change per frame, tints
+// per selection) and the index buffer binding. Needs the current context.
+void recordVertexArray(QOpenGLFunctions& gl, QOpenGLVertexArrayObject& vao, const VertexBuffers& buffers) {
+  vao.create();
+  QOpenGLVertexArrayObject::Binder vaoBinder(&vao);
   struct Attribute {
     QOpenGLBuffer* buffer;
     GLenum type;
     int size;
   };
   const Attribute attributes[] = {
-      {&m_positionBuffer, GL_FLOAT, 3}, {&m_normalBuffer, GL_FLOAT, 3}, {&m_tintBuffer, GL_UNSIGNED_BYTE, 4}};
-  for (int location = 0; location < 3; ++location) {
+      {buffers.positions, GL_FLOAT, 3}, {buffers.normals, GL_FLOAT, 3}, {buffers.tints, GL_UNSIGNED_BYTE, 4}};
+  for (GLuint location = 0; location < 3; ++location) {
     const Attribute& a = attributes[location];
     a.buffer->create();
     a.buffer->setUsagePattern(location == 2 ? QOpenGLBuffer::StaticDraw : QOpenGLBuffer::DynamicDraw);
     a.buffer->bind();
-    m_meshProgram->enableAttributeArray(location);
-    if (a.type == GL_UNSIGNED_BYTE) {
-      glVertexAttribPointer(static_cast<GLuint>(location), a.size, a.type, GL_TRUE, 0, nullptr);
-    } else {
-      m_meshProgram->setAttributeBuffer(location, a.type, 0, a.size, 0);
-    }
+    gl.glEnableVertexAttribArray(location);
+    gl.glVertexAttribPointer(location, a.size, a.type, a.type == GL_UNSIGNED_BYTE ? GL_TRUE : GL_FALSE, 0, nullptr);
     a.buffer->release();
   }
-  m_indexBuffer.create();
-  m_indexBuffer.setUsagePattern(QOpenGLBuffer::StaticDraw);
-  m_indexBuffer.bind();
-  m_meshProgram->release();
-  vaoBinder.release();
+  buffers.indices->create();
+  buffers.indices->setUsagePattern(QOpenGLBuffer::StaticDraw);
+  buffers.indices->bind();  // VAO state
+}
+
+}  // namespace
+
+// The mesh's VAO and the compact proxy's, both for m_meshProgram (attribute locations 0, 1, 2).
+void MeshViewport::createMeshVaos() {
+  recordVertexArray(*this, m_meshVao, {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer});
+  recordVertexArray(*this, m_proxyVao,
+                    {&m_proxyPositionBuffer, &m_proxyNormalBuffer, &m_proxyTintBuffer, &m_proxyIndexBuffer});
 }
 
 void MeshViewport::resizeGL(int width, int height) { m_camera.setViewportSize(width, height); }
@@ -203,6 +220,9 @@ void MeshViewport::paintGL() {
   const bool interactive = m_sinceLastPaint.isValid() && m_sinceLastPaint.elapsed() < kIdleRestoreMs;
   const bool scalable = m_adaptive && m_gl33 != nullptr && format().samples() <= 0;
   const bool proxy = interactive && scalable && proxyAllowed();
+  if (!proxy) {
+    ensureFullVertexData();
+  }
   AdaptiveResolution& resolution = proxy ? m_proxyResolution : m_resolution;
   const double scale = interactive && scalable ? resolution.scale() : 1.0;
   m_moved = false;
@@ -226,10 +246,14 @@ void MeshViewport::paintGL() {
   m_sinceLastPaint.start();  // from the end of this paint: a slow frame does not make the next one idle
 }
 
-// Whether this frame may draw the interactive proxy (see setInteractiveProxy(); the caller checks interactivity).
-bool MeshViewport::proxyAllowed() const {
-  return !m_proxyIndices.empty() && m_moved && !m_wireframe && m_gesture != Gesture::Paint && m_proxyShowsSelection;
+// Whether an interactive frame of a moving shape may draw the interactive proxy (see setInteractiveProxy()).
+bool MeshViewport::proxyMayDraw() const {
+  return m_adaptive && format().samples() <= 0 && !m_proxyIndices.empty() && !m_wireframe &&
+         m_gesture != Gesture::Paint && m_proxyShowsSelection;
 }
+
+// Whether this frame may draw the interactive proxy (the caller checks interactivity).
+bool MeshViewport::proxyAllowed() const { return m_moved && proxyMayDraw(); }
 
 // Upload, background and mesh passes into the widget's framebuffer, or at `scale` < 1 into m_sceneFbo that is
 // then stretched onto it (the mesh pass's time includes that blit). Fills the GL stages of m_frameTimes. `proxy`:
@@ -292,6 +316,21 @@ void MeshViewport::uploadIfDirty() {
     upload(m_tintBuffer, m_tints);
     m_tintsDirty = false;
   }
+  if (m_proxyDataDirty) {
+    upload(m_proxyPositionBuffer, m_proxy.positions());
+    upload(m_proxyNormalBuffer, m_proxy.normals());
+    m_proxyDataDirty = false;
+  }
+  if (m_proxyTintsDirty) {
+    upload(m_proxyTintBuffer, m_proxy.tints());
+    m_proxyTintsDirty = false;
+  }
+  if (m_proxyIndicesDirty) {
+    QOpenGLVertexArrayObject::Binder vaoBinder(&m_proxyVao);
+    m_proxyIndexBuffer.bind();  // stays bound: VAO state
+    m_proxyIndexBuffer.allocate(m_proxy.indices().data(), static_cast<int>(m_proxy.indices().size() * 4));
+    m_proxyIndicesDirty = false;
+  }
   if (m_indicesDirty) {
     QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
     m_indexBuffer.bind();  // stays bound: the element array binding is VAO state
@@ -329,8 +368,8 @@ void MeshViewport::drawBackground() {
   glDepthMask(GL_TRUE);
 }
 
-// Draws the mesh's triangles, or with `proxy` those of the interactive proxy (after them in m_indexBuffer).
-// Returns the number of triangles drawn.
+// Draws the mesh's triangles, or with `proxy` those of the interactive proxy (on the GPU path after them in
+// m_indexBuffer, otherwise from the compact proxy's VAO). Returns the number of triangles drawn.
 int MeshViewport::drawMesh(bool wireframe, bool proxy) {
   if (m_indices.empty()) {
     return 0;
@@ -352,9 +391,10 @@ int MeshViewport::drawMesh(bool wireframe, bool proxy) {
   } else {
     program->setUniformValue("uNormalMatrix", modelView.normalMatrix());
   }
-  QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : &m_meshVao);
+  const bool compact = proxy && !gpu;
+  QOpenGLVertexArrayObject::Binder vaoBinder(gpu ? &m_gpuVao : compact ? &m_proxyVao : &m_meshVao);
   const auto count = static_cast<GLsizei>(proxy ? m_proxyIndices.size() : m_indices.size());
-  const auto* first = reinterpret_cast<const void*>(proxy ? m_indices.size() * sizeof(std::uint32_t) : 0);
+  const auto* first = reinterpret_cast<const void*>(proxy && gpu ? m_indices.size() * sizeof(std::uint32_t) : 0);
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (wireframe) {
     glEnable(GL_POLYGON_OFFSET_FILL);
@@ -392,6 +432,7 @@ DepthImage MeshViewport::renderDepth() {
   glViewport(0, 0, size.width(), size.height());
   glClearDepthf(1.0f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  ensureFullVertexData();
   uploadIfDirty();
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   drawMesh(false, false);

@@ -133,7 +133,13 @@ const Eigen::MatrixXi& SessionController::displayFaces() const {
 }
 
 std::span<const float> SessionController::positions() const {
-  if (m_host != nullptr) return m_hostPositions;
+  if (m_host != nullptr) {
+    if (m_hostPositionsStale && m_fullLevel) {
+      m_reconstructionMs = timedReconstruction(*m_fullLevel, m_rest, m_lastZ, m_hostPositions);
+      m_hostPositionsStale = false;
+    }
+    return m_hostPositions;
+  }
   if (m_client != nullptr) return m_client->positions();
   return {};
 }
@@ -141,6 +147,14 @@ std::span<const float> SessionController::positions() const {
 Eigen::MatrixXd SessionController::coefficients() const {
   if (m_host != nullptr) return m_host->coefficients();
   if (m_client != nullptr && m_client->channel().hasFrame()) return m_client->channel().coefficients();
+  return {};
+}
+
+Eigen::MatrixXf SessionController::positionsCoefficients() const {
+  if (m_host != nullptr && m_fullLevel && m_lastZ.rows() == m_fullLevel->K.cols() && m_lastZ.cols() == 3) {
+    return m_lastZ.cast<float>();
+  }
+  if (m_client != nullptr) return m_client->positionsCoefficients();
   return {};
 }
 

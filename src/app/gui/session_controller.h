@@ -211,15 +211,21 @@ class SessionController final : public QObject {
   /// The current level's rest mesh: #V' by 3 positions X̂' and #F' by 3 faces (empty before the first level).
   [[nodiscard]] const Eigen::MatrixXd& displayRestPositions() const;
   [[nodiscard]] const Eigen::MatrixXi& displayFaces() const;
-  /// Current display positions, 3·#V' floats interleaved xyz: X̂' + K·Z (client: SessionClient::positions();
-  /// host: X̂ + H·Z of the full level). Empty before the first level.
+  /// Current display positions, 3·#V' floats interleaved xyz: X̂' + K·Z for Z = positionsCoefficients() (client:
+  /// SessionClient::positions(); host: X̂ + H·Z of the full level). Empty before the first level. Reconstructed on
+  /// the first call after positionsChanged() (O(#V'·m)), so a view that reconstructs from level()->K and
+  /// positionsCoefficients() itself (MeshViewport::setCoefficients) does not pay for it twice.
   [[nodiscard]] std::span<const float> positions() const;
   /// Current coefficients Z (m by 3): the host's latest frame, or the client's current frame (empty before).
   [[nodiscard]] Eigen::MatrixXd coefficients() const;
+  /// The Z (m by 3, float32) of positions(): what a view reconstructing with level()->K shows; empty before the
+  /// first level.
+  [[nodiscard]] Eigen::MatrixXf positionsCoefficients() const;
   /// The displayed level (full level on a host), nullptr before the first.
   [[nodiscard]] const spectral::ResolutionLevel* level() const;
-  /// Time of the latest reconstruction of positions() in milliseconds (client: measured once a second on the same
-  /// K and Z, since SessionClient reconstructs internally).
+  /// Time of the latest reconstruction of positions() in milliseconds (host: the last positions() that
+  /// reconstructed; client: measured once a second on the same K and Z, since SessionClient reconstructs
+  /// internally).
   [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
 
   // --- levels
@@ -311,7 +317,8 @@ class SessionController final : public QObject {
   std::shared_ptr<const session::HostModel> m_model;
   std::unique_ptr<spectral::ResolutionLevel> m_fullLevel;  ///< host display: K = float(H)
   std::vector<float> m_rest;                               ///< host: X̂ interleaved
-  std::vector<float> m_hostPositions;
+  mutable std::vector<float> m_hostPositions;  ///< a cache: X̂ + H·m_lastZ once m_hostPositionsStale is false
+  mutable bool m_hostPositionsStale = false;
   Eigen::MatrixXd m_lastZ;
   HostSettings m_hostSettings;
   std::optional<double> m_joinFraction;
@@ -338,7 +345,7 @@ class SessionController final : public QObject {
   Eigen::Matrix3d m_lastRotation = Eigen::Matrix3d::Identity();  ///< the last pose sent
   Eigen::Vector3d m_lastTranslation = Eigen::Vector3d::Zero();
   std::uint32_t m_levelTarget = 0;
-  double m_reconstructionMs = 0.0;
+  mutable double m_reconstructionMs = 0.0;
   QTimer* m_secondTimer = nullptr;
 };
 

@@ -44,6 +44,7 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
   m_fullLevel = std::move(prepared->full);
   m_rest = spectral::interleavedPositions(m_model->V);
   m_hostPositions = m_rest;
+  m_hostPositionsStale = false;
 
   session::SessionHostOptions options;
   options.tcpPort = m_hostSettings.port;
@@ -108,7 +109,7 @@ void SessionController::onHostFrame() {
   if (Z.rows() != m_fullLevel->K.cols() || Z.cols() != 3) return;
   if (m_lastZ.rows() == Z.rows() && m_lastZ.cols() == Z.cols() && m_lastZ == Z) return;  // idle refresh
   m_lastZ = Z;
-  m_reconstructionMs = timedReconstruction(*m_fullLevel, m_rest, Z, m_hostPositions);
+  m_hostPositionsStale = true;  // reconstructed by positions(), if anyone asks
   emit positionsChanged();
 }
 
