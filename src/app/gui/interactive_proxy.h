@@ -29,11 +29,13 @@ class InteractiveProxyBuilder : public QObject {
   Q_DISABLE_COPY_MOVE(InteractiveProxyBuilder)
 
  public:
-  /// Meshes with more triangles get a proxy: below it llvmpipe draws a frame within the interactive budget
-  /// (shapecast-bench-viewport: the 47k-triangle dragon needs no proxy).
-  static constexpr int kMinTriangles = 60000;
-  /// Triangles of a proxy: shapecast-bench-viewport on the 201k-triangle dragon measured a frame at 26 ms median
-  /// with 20k (34 ms with 30k; 64–71 ms with the mesh itself), see docs/benchmarks.md.
+  /// Meshes with more triangles get a proxy. shapecast-bench-viewport (llvmpipe, 2 cores, docs/benchmarks.md): a
+  /// client frame of the 47k-triangle dragon takes 32.5 ms median, p90 38 ms, drawn in full and 24.3–24.8 ms, p90
+  /// 28–29 ms, with a 20k proxy.
+  static constexpr int kMinTriangles = 40000;
+  /// Triangles of a proxy: on the 201k-triangle dragon a client frame measured 25–28 ms median, p90 28–32 ms, with
+  /// 20k (the proxy's own vertex buffer; 60–75 ms with the mesh itself); a 12k proxy was no faster (the frame's
+  /// fixed costs dominate: composition and swap, the stretch of the reduced frame).
   static constexpr int kProxyTriangles = 20000;
 
   /// Observes `viewport` (not owned; the builder may be its child).
