@@ -123,6 +123,19 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.1f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   EXPECT_GT(maxDifference(hosting->positions(), rest), 0.1f);
+  // The client's viewport reconstructs what it shows from K and Z itself (MeshViewport::setCoefficients): its
+  // positions are the session's, and the status bar reports that reconstruction with the redraw.
+  MeshViewport* clientViewport = clientWindow.viewport();
+  EXPECT_TRUE(clientViewport->hasReconstructionBasis());
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return maxDifference(clientViewport->hostPositions(), joined->positions()) < 1e-5f; }, 5000));
+  const auto* timing = clientWindow.findChild<QLabel*>(QStringLiteral("frameTimeLabel"));
+  ASSERT_NE(timing, nullptr);
+  ASSERT_TRUE(QTest::qWaitFor(
+      [timing] { return timing->text().startsWith(QStringLiteral("reconstruction + redraw: ")); }, 5000))
+      << timing->text().toStdString();
+  EXPECT_GE(clientWindow.reconstructionMs(), 0.0);
+  EXPECT_GT(clientWindow.redrawMs(), 0.0);
   // The join dialog's client extrapolates by default; after the drag stopped (the host's still frame) it shows a
   // received frame, not a prediction past it.
   const session::ClientDatagramChannel& joinedChannel = joined->sessionClient()->channel();
