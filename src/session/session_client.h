@@ -143,6 +143,8 @@ class SessionClient final : public QObject {
   /// The m by 3 Z (float32) that positions() reflects: the channel's coefficients at the last update (zero before
   /// the first frame); empty before a level.
   [[nodiscard]] const Eigen::MatrixXf& positionsCoefficients() const { return m_positionsZ; }
+  /// Wall time of the last reconstruction positions() ran, milliseconds (0 before the first).
+  [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
   /// Frame number of the Z that positions() reflects (the channel's current frame at the last update).
   [[nodiscard]] std::uint32_t positionsFrame() const { return m_positionsFrame; }
   /// How many times positions() was updated (one per level installed, plus at most one per event-loop pass in
@@ -213,6 +215,7 @@ class SessionClient final : public QObject {
   std::vector<float> m_rest;               ///< X̂' interleaved
   mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_positionsZ once m_positionsStale is false
   mutable bool m_positionsStale = false;
+  mutable double m_reconstructionMs = 0.0;
   Eigen::MatrixXf m_positionsZ;
   std::uint32_t m_positionsFrame = 0;
   bool m_positionsDirty = false;

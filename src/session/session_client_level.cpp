@@ -8,6 +8,7 @@
 #include <QtCore/QMetaObject>
 #include <QtCore/QTimer>
 
+#include <chrono>
 #include <exception>
 #include <span>
 
@@ -113,7 +114,9 @@ void SessionClient::finishDecode(const std::shared_ptr<DecodedLevel>& result) {
 
 const std::vector<float>& SessionClient::positions() const {
   if (m_positionsStale && m_level) {
+    const auto start = std::chrono::steady_clock::now();
     spectral::reconstructInterleaved(m_level->K, m_rest, m_positionsZ, m_positions);
+    m_reconstructionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     m_positionsStale = false;
   }
   return m_positions;

@@ -1,7 +1,8 @@
 // MeshViewport, the data side: host buffers (positions, normals, indices), scene bounds, the selection with its
-// vertex tints and the QPainter overlay (brush outline, drag hint). The GL side (context resources, upload, the
-// shaded/wireframe passes, depth read-back for picking) is in mesh_viewport_render.cpp, the GPU reconstruction in
-// mesh_viewport_gpu.cpp, the mouse side in mesh_viewport_input.cpp.
+// vertex tints and the QPainter overlay (brush outline, drag hint). The GL side (context resources, the
+// shaded/wireframe passes, depth read-back for picking) is in mesh_viewport_render.cpp, the vertex arrays and buffer
+// uploads in mesh_viewport_buffers.cpp, the GPU reconstruction in mesh_viewport_gpu.cpp, the mouse side in
+// mesh_viewport_input.cpp.
 
 #include "app/gui/mesh_viewport.h"
 

@@ -46,7 +46,7 @@ QString toString(SessionController::State state) {
 SessionController::SessionController(QObject* parent) : QObject(parent) {
   m_secondTimer = new QTimer(this);
   m_secondTimer->setInterval(1000);
-  connect(m_secondTimer, &QTimer::timeout, this, &SessionController::everySecond);
+  connect(m_secondTimer, &QTimer::timeout, this, &SessionController::statsChanged);
 }
 
 SessionController::~SessionController() {
@@ -148,6 +148,11 @@ Eigen::MatrixXd SessionController::coefficients() const {
   if (m_host != nullptr) return m_host->coefficients();
   if (m_client != nullptr && m_client->channel().hasFrame()) return m_client->channel().coefficients();
   return {};
+}
+
+double SessionController::reconstructionMs() const {
+  if (m_client != nullptr) return m_client->reconstructionMs();
+  return m_reconstructionMs;
 }
 
 Eigen::MatrixXf SessionController::positionsCoefficients() const {

@@ -223,10 +223,9 @@ class SessionController final : public QObject {
   [[nodiscard]] Eigen::MatrixXf positionsCoefficients() const;
   /// The displayed level (full level on a host), nullptr before the first.
   [[nodiscard]] const spectral::ResolutionLevel* level() const;
-  /// Time of the latest reconstruction of positions() in milliseconds (host: the last positions() that
-  /// reconstructed; client: measured once a second on the same K and Z, since SessionClient reconstructs
-  /// internally).
-  [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
+  /// Time of the latest reconstruction of positions() in milliseconds: the last positions() call that reconstructed
+  /// (client: SessionClient::reconstructionMs()); 0 before the first.
+  [[nodiscard]] double reconstructionMs() const;
 
   // --- levels
   /// The resolution choices: full, then, once the host's LevelList is complete, its levels with their exact
@@ -300,7 +299,6 @@ class SessionController final : public QObject {
   void onClientLevel();
   void onLockChanged();
   bool sendConstraints();
-  void everySecond();
   [[nodiscard]] std::vector<int> toFullIds(const std::vector<int>& displayed) const;
   [[nodiscard]] const spectral::ResolutionLevel* clientLevel() const;
   /// out = X̂' + K·Z of `level` from the interleaved `rest`; returns the time taken in milliseconds.
@@ -330,7 +328,6 @@ class SessionController final : public QObject {
   session::SessionClient* m_client = nullptr;
   session::DistortionMeter* m_meter = nullptr;
   Eigen::MatrixXd m_clientRestV;  ///< X̂' of the displayed client level (double, for the view)
-  std::vector<float> m_scratch;   ///< client: reconstruction timing sample
 
   // shared
   std::vector<int> m_handle;

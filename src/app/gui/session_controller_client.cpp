@@ -88,7 +88,7 @@ void SessionController::onClientLevel() {
     emit progress(100, tr("Joined"));
     changeState(State::Live);
   }
-  everySecond();  // a first timing sample and stats
+  emit statsChanged();
   emit meshChanged();
   emit positionsChanged();
   emit peersChanged();
@@ -183,20 +183,6 @@ std::optional<session::StatsReport> SessionController::stats(session::PeerId pee
     s.hdLastPct = figure(m_meter->summary().lastPct);
   }
   return s;
-}
-
-void SessionController::everySecond() {
-  if (m_client != nullptr) {
-    // SessionClient reconstructs internally; time the same reconstruction (same K, same Z) on a scratch buffer.
-    const spectral::ResolutionLevel* l = clientLevel();
-    if (l != nullptr && m_client->channel().hasFrame()) {
-      const Eigen::MatrixXd& Z = m_client->channel().coefficients();
-      if (Z.rows() == l->K.cols() && Z.cols() == 3) {
-        m_reconstructionMs = timedReconstruction(*l, m_client->positions(), Z, m_scratch);  // positions: size of X̂'
-      }
-    }
-  }
-  emit statsChanged();
 }
 
 }  // namespace sc::app
