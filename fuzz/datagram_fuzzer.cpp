@@ -11,9 +11,9 @@
 // names the fixed peer.
 
 #include "fuzz_support.h"
-#include "session/coefficient_codec.h"
-#include "session/frame_assembler.h"
-#include "session/path_open.h"
+#include "session/wire/coefficient_codec.h"
+#include "session/engine/frame_assembler.h"
+#include "session/wire/path_open.h"
 
 #include <QtCore/QByteArray>
 

@@ -14,8 +14,8 @@
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_controller.h"
 #include "app_test_support.h"
-#include "session/client_datagram_channel.h"
-#include "session/session_client.h"
+#include "session/net/client_datagram_channel.h"
+#include "session/net/session_client.h"
 #include "session_windows.h"
 #include "test_meshes.h"
 

@@ -9,8 +9,8 @@
 #include "app/gui/session_controller.h"
 #include "app/gui/session_identity_view.h"
 #include "app_test_support.h"
-#include "session/tls_identity.h"
-#include "session/tls_known_hosts.h"
+#include "session/net/tls_identity.h"
+#include "session/net/tls_known_hosts.h"
 #include "session_windows.h"
 #include "test_meshes.h"
 

@@ -11,7 +11,7 @@
 #include "app/gui/vertex_picking.h"
 #include "app_test_support.h"
 #include "model/mesh_loader.h"
-#include "session/session_host.h"
+#include "session/net/session_host.h"
 #include "session_windows.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-// Tests src/session/coefficient_codec.cpp, wire_format.cpp and replay_window.cpp.
-#include "session/coefficient_codec.h"
+// Tests src/session/wire/coefficient_codec.cpp, wire_format.cpp and replay_window.cpp.
+#include "session/wire/coefficient_codec.h"
 
 #include "spectral/harmonic_basis.h"
 #include "spectral/laplace_operators.h"

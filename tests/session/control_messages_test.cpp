@@ -1,6 +1,6 @@
-// Tests for the control (TCP) message codecs (src/session/control_messages.cpp), the stream frame reader
+// Tests for the control (TCP) message codecs (src/session/wire/control_messages.cpp), the stream frame reader
 // (control_frame.cpp) and the password challenge-response (password_auth.cpp). No sockets.
-#include "session/control_messages.h"
+#include "session/wire/control_messages.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <limits>
 #include <random>
 
-#include "session/control_frame.h"
-#include "session/password_auth.h"
+#include "session/wire/control_frame.h"
+#include "session/wire/password_auth.h"
 
 namespace sc::session {
 namespace {

@@ -1,10 +1,10 @@
-// Tests frame delivery by src/session/host_datagram_channel.cpp and client_datagram_channel.cpp over real UDP
+// Tests frame delivery by src/session/net/host_datagram_channel.cpp and client_datagram_channel.cpp over real UDP
 // sockets on 127.0.0.1: frames within quantisation and their byte counts, extrapolated overdue frames withdrawn,
 // seeding from a keyframe, and the client's drops by reason (also while closed). Set-up: datagram_session.h.
 #include "datagram_session.h"
 
-#include "session/coefficient_codec.h"
-#include "session/session_clock.h"
+#include "session/wire/coefficient_codec.h"
+#include "session/engine/session_clock.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // Tests the client's network impairment and timing over real UDP sockets on 127.0.0.1
-// (src/session/client_datagram_channel.cpp, network_impairment.cpp): measured Bernoulli and burst loss match the
+// (src/session/net/client_datagram_channel.cpp, network_impairment.cpp): measured Bernoulli and burst loss match the
 // setting, one-way latency on loopback is small, an impairment delay is applied by the precise timer, and impairment
 // changes live or set before open take effect. Set-up: datagram_session.h.
 #include "datagram_session.h"
 
-#include "session/session_clock.h"
+#include "session/engine/session_clock.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
-// Tests the datagram path of src/session/host_datagram_channel.cpp and client_datagram_channel.cpp over real UDP
+// Tests the datagram path of src/session/net/host_datagram_channel.cpp and client_datagram_channel.cpp over real UDP
 // sockets on 127.0.0.1: the path stays closed until a valid PathOpen, it follows the client to a new address (NAT
 // rebinding), a replayed PathOpen moves nothing, and the host drops bad PathOpens by reason. Set-up:
 // datagram_session.h.
 #include "datagram_session.h"
 
-#include "session/session_clock.h"
+#include "session/engine/session_clock.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 #include "datagram_session.h"
 
-#include "session/session_clock.h"
+#include "session/engine/session_clock.h"
 
 #include <gtest/gtest.h>
 

@@ -3,9 +3,9 @@
 // ClientDatagramChannel bound to 127.0.0.1 with one peer's key and path token, spectrum-like coefficients to send,
 // a third socket that is neither, and waiting in the event loop. Needs the QCoreApplication of socket_test_main.cpp.
 
-#include "session/client_datagram_channel.h"
-#include "session/host_datagram_channel.h"
-#include "session/path_open.h"
+#include "session/net/client_datagram_channel.h"
+#include "session/net/host_datagram_channel.h"
+#include "session/wire/path_open.h"
 
 #include <Eigen/Core>
 

@@ -1,7 +1,7 @@
-// Tests src/session/distortion_probe.cpp: which displayed Z stands for a reference frame (hold-last at frame level,
+// Tests src/session/engine/distortion_probe.cpp: which displayed Z stands for a reference frame (hold-last at frame level,
 // rest before anything, serial wrap, eviction), the Hausdorff distortion against a brute-force max-min, and the
 // summary accumulator.
-#include "session/distortion_probe.h"
+#include "session/engine/distortion_probe.h"
 
 #include "spectral/hausdorff.h"
 #include "test_meshes.h"

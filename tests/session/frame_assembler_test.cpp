@@ -1,5 +1,5 @@
-// Tests src/session/frame_assembler.cpp: latest-wins application, concealment and drop counters.
-#include "session/frame_assembler.h"
+// Tests src/session/engine/frame_assembler.cpp: latest-wins application, concealment and drop counters.
+#include "session/engine/frame_assembler.h"
 
 #include <gtest/gtest.h>
 

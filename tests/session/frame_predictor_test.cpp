@@ -1,7 +1,7 @@
-// Tests src/session/frame_predictor.cpp: dead reckoning of missing rows and of overdue whole frames, with
+// Tests src/session/engine/frame_predictor.cpp: dead reckoning of missing rows and of overdue whole frames, with
 // injected time (no sockets, no clock).
-#include "session/frame_predictor.h"
-#include "session/coefficient_codec.h"
+#include "session/engine/frame_predictor.h"
+#include "session/wire/coefficient_codec.h"
 
 #include <gtest/gtest.h>
 

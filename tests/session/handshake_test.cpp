@@ -1,13 +1,13 @@
-// Tests for the handshake state machines (src/session/handshake_host.cpp, handshake_client.cpp). Host and client
+// Tests for the handshake state machines (src/session/engine/handshake_host.cpp, handshake_client.cpp). Host and client
 // are wired in memory through the real byte path: encodeControlMessage → ControlFrameReader → decode. No sockets.
-#include "session/handshake_client.h"
-#include "session/handshake_host.h"
+#include "session/engine/handshake_client.h"
+#include "session/engine/handshake_host.h"
 
 #include <gtest/gtest.h>
 
 #include <memory>
 
-#include "session/control_frame.h"
+#include "session/wire/control_frame.h"
 
 namespace sc::session {
 namespace {

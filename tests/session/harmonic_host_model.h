@@ -2,7 +2,7 @@
 // The model a test host shares: a generated mesh with its cotangent operators and an m-function manifold harmonic
 // basis (shared by the loopback, fault and security suites).
 
-#include "session/host_model.h"
+#include "session/engine/host_model.h"
 #include "test_meshes.h"
 
 #include <memory>

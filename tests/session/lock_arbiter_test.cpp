@@ -1,5 +1,5 @@
-// Tests for src/session/lock_arbiter.cpp: the host's edit-lock state machine, without sockets.
-#include "session/lock_arbiter.h"
+// Tests for src/session/engine/lock_arbiter.cpp: the host's edit-lock state machine, without sockets.
+#include "session/engine/lock_arbiter.h"
 
 #include <gtest/gtest.h>
 

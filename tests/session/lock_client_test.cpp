@@ -1,13 +1,13 @@
-// Tests for src/session/lock_client.cpp: the peer's edit-lock state machine, alone and wired to a LockArbiter
+// Tests for src/session/engine/lock_client.cpp: the peer's edit-lock state machine, alone and wired to a LockArbiter
 // through an in-memory loop (no sockets).
-#include "session/lock_client.h"
+#include "session/engine/lock_client.h"
 
 #include <gtest/gtest.h>
 
 #include <map>
 #include <random>
 
-#include "session/lock_arbiter.h"
+#include "session/engine/lock_arbiter.h"
 
 namespace sc::session {
 namespace {

@@ -2,9 +2,9 @@
 // The steps the loopback suites share (session_loopback_tests, session_security_tests): a SessionHost started on
 // 127.0.0.1, SessionClient options for it, a started client, and waiting until a client is Ready or has ended.
 
-#include "session/host_model.h"
-#include "session/session_client.h"
-#include "session/session_host.h"
+#include "session/engine/host_model.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
 
 #include <QtCore/QString>
 

@@ -1,4 +1,4 @@
-#include "session/model_transfer.h"
+#include "session/wire/model_transfer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// Tests src/session/network_impairment.cpp: seeded loss (Bernoulli, Gilbert–Elliott), delay/jitter, reordering,
+// Tests src/session/engine/network_impairment.cpp: seeded loss (Bernoulli, Gilbert–Elliott), delay/jitter, reordering,
 // duplication, determinism. Measured figures are printed so the report can quote them.
-#include "session/network_impairment.h"
+#include "session/engine/network_impairment.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "session/path_open.h"
+#include "session/wire/path_open.h"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 #include "raw_control_peer.h"
 
-#include "session/tls_server.h"
+#include "session/net/tls_server.h"
 
-#include "session/tls_server.h"
+#include "session/net/tls_server.h"
 
 #include <QtNetwork/QSslSocket>
 

@@ -5,8 +5,8 @@
 // place, RawControlPeer's constructor (raw_control_peer.cpp), so that the fault tests follow the control channel when
 // it moves to TLS.
 
-#include "session/control_frame.h"
-#include "session/control_messages.h"
+#include "session/wire/control_frame.h"
+#include "session/wire/control_messages.h"
 
 #include <QtCore/QByteArray>
 #include <QtNetwork/QSslSocket>

@@ -1,6 +1,6 @@
-// Tests src/session/receiver_statistics.cpp: RFC 3550 extended sequence, loss fractions and jitter; rates, fps and
+// Tests src/session/engine/receiver_statistics.cpp: RFC 3550 extended sequence, loss fractions and jitter; rates, fps and
 // latency percentiles over synthetic streams with injected time.
-#include "session/receiver_statistics.h"
+#include "session/engine/receiver_statistics.h"
 
 #include <gtest/gtest.h>
 

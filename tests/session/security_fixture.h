@@ -5,9 +5,9 @@
 
 #include "harmonic_host_model.h"
 #include "loopback_session.h"
-#include "session/session_client.h"
-#include "session/session_host.h"
-#include "session/tls_identity.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
+#include "session/net/tls_identity.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>

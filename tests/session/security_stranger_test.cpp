@@ -4,8 +4,8 @@
 #include "security_fixture.h"
 
 #include "raw_control_peer.h"
-#include "session/host_datagram_channel.h"
-#include "session/path_open.h"
+#include "session/net/host_datagram_channel.h"
+#include "session/wire/path_open.h"
 
 #include <QtNetwork/QNetworkDatagram>
 #include <QtNetwork/QUdpSocket>

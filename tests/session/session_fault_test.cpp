@@ -2,8 +2,8 @@
 // vanishing under its clients, a client vanishing mid-transfer, a frozen lock holder, malformed and oversized
 // control frames, and 1000 join/leave cycles with the host's peer table and the process's memory checked after.
 // Raw peers go through RawControlPeer (raw_control_peer.h), the one place that picks the control transport.
-#include "session/session_client.h"
-#include "session/session_host.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
 
 #include <gtest/gtest.h>
 
@@ -17,8 +17,8 @@
 #include "address_sanitizer.h"
 #include "harmonic_host_model.h"
 #include "raw_control_peer.h"
-#include "session/handle_transforms.h"
-#include "session/host_datagram_channel.h"
+#include "session/wire/handle_transforms.h"
+#include "session/net/host_datagram_channel.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/laplace_operators.h"
 #include "test_meshes.h"

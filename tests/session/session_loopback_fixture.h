@@ -6,9 +6,9 @@
 #include "harmonic_host_model.h"
 #include "loopback_session.h"
 #include "raw_control_peer.h"
-#include "session/handle_transforms.h"
-#include "session/session_client.h"
-#include "session/session_host.h"
+#include "session/wire/handle_transforms.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// Loopback tests of the deformation reaching the clients (src/session/session_host.cpp, session_client.cpp and the
+// Loopback tests of the deformation reaching the clients (src/session/net/session_host.cpp, session_client.cpp and the
 // datagram channels): a late joiner gets the current Z at once in its keyframe, a holder's drag produces frames at
 // the other clients within quantisation, and Z changes within one event-loop pass are reconstructed once. Real
 // sockets on 127.0.0.1. Fixture: session_loopback_fixture.h.
 #include "session_loopback_fixture.h"
 
-#include "session/client_datagram_channel.h"
-#include "session/host_datagram_channel.h"
+#include "session/net/client_datagram_channel.h"
+#include "session/net/host_datagram_channel.h"
 #include "spectral/resolution_level.h"
 
 #include <QtTest/QTest>

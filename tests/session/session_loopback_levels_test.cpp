@@ -1,12 +1,12 @@
-// Loopback tests of the model and level transfer (src/session/level_library.cpp, model_transfer.cpp and the
+// Loopback tests of the model and level transfer (src/session/net/level_library.cpp, model_transfer.cpp and the
 // transfer paths of session_host.cpp / session_client.cpp): the host's level library, a bit-exact full model and
 // level, the level list's exact counts, switching levels on one connection, and a client destroyed while its level
 // decodes. Real sockets on 127.0.0.1. Fixture: session_loopback_fixture.h.
 #include "session_loopback_fixture.h"
 
 #include "model/mesh_decimation.h"
-#include "session/level_library.h"
-#include "session/model_transfer.h"
+#include "session/net/level_library.h"
+#include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
 
 #include <QtTest/QSignalSpy>

@@ -1,4 +1,4 @@
-// Loopback tests of the edit lock over the control channel (src/session/session_host.cpp, lock_arbiter.cpp,
+// Loopback tests of the edit lock over the control channel (src/session/net/session_host.cpp, lock_arbiter.cpp,
 // lock_client.cpp): two clients contending FIFO without a double grant, the lock freed when its holder's connection
 // vanishes, drags and constraints refused without the lock or under a stale epoch. Real sockets on 127.0.0.1; raw
 // peers (RawPeer) for what SessionClient never sends. Fixture: session_loopback_fixture.h.

@@ -1,10 +1,10 @@
-// Loopback tests of who gets into a session and who stays (src/session/session_host.cpp, session_client.cpp,
+// Loopback tests of who gets into a session and who stays (src/session/net/session_host.cpp, session_client.cpp,
 // host_peer_connection.cpp): peer lists as clients join and leave, a taken name, a wrong or missing password, a
 // protocol version mismatch, garbage on the control connection, a silent peer. Real TCP and UDP sockets on 127.0.0.1;
 // hand-written peers (RawPeer) send what SessionClient never would. Fixture: session_loopback_fixture.h.
 #include "session_loopback_fixture.h"
 
-#include "session/control_frame.h"
+#include "session/wire/control_frame.h"
 
 #include <QtCore/QtEndian>
 #include <QtTest/QTest>

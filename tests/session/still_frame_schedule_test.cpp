@@ -1,6 +1,6 @@
-// Tests src/session/still_frame_schedule.cpp: when the host's still frame is due after a moving frame (measured
+// Tests src/session/engine/still_frame_schedule.cpp: when the host's still frame is due after a moving frame (measured
 // interval, clamped), with injected time.
-#include "session/still_frame_schedule.h"
+#include "session/engine/still_frame_schedule.h"
 
 #include <gtest/gtest.h>
 

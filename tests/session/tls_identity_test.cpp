@@ -1,9 +1,9 @@
-// The host's TLS identity and the client's trust decisions (docs/security.md; src/session/tls_identity.cpp,
+// The host's TLS identity and the client's trust decisions (docs/security.md; src/session/net/tls_identity.cpp,
 // tls_known_hosts.cpp): a generated certificate and its SHA-256 fingerprint, the identity stored on first use with
 // owner-only permissions, fingerprint formatting and parsing, pinned / known / first-use verdicts, and the known-hosts
 // store per host and port. No sockets.
-#include "session/tls_identity.h"
-#include "session/tls_known_hosts.h"
+#include "session/net/tls_identity.h"
+#include "session/net/tls_known_hosts.h"
 
 #include <gtest/gtest.h>
 

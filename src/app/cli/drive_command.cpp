@@ -2,7 +2,7 @@
 
 #include "app/cli/drag_script.h"
 #include "app/cli/session_setup.h"
-#include "session/handle_transforms.h"
+#include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
 #include <QJsonObject>

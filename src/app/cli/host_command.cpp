@@ -2,8 +2,8 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
-#include "session/session_host.h"
-#include "session/tls_identity.h"
+#include "session/net/session_host.h"
+#include "session/net/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QTextStream>

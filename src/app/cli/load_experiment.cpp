@@ -3,8 +3,8 @@
 #include "app/cli/load_experiment.h"
 
 #include "app/cli/session_setup.h"
-#include "session/session_client.h"
-#include "session/session_clock.h"
+#include "session/net/session_client.h"
+#include "session/engine/session_clock.h"
 
 #include <QFile>
 #include <QJsonArray>

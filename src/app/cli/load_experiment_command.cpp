@@ -3,7 +3,7 @@
 #include "app/cli/load_experiment.h"
 #include "app/report/machine_info.h"
 #include "app/report/markdown_section.h"
-#include "session/wire_format.h"
+#include "session/wire/wire_format.h"
 
 #include <QCoreApplication>
 #include <QJsonDocument>

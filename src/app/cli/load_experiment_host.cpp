@@ -4,8 +4,8 @@
 #include "app/cli/load_experiment.h"
 #include "app/cli/loss_experiment.h"
 #include "app/cli/session_setup.h"
-#include "session/host_datagram_channel.h"
-#include "session/session_host.h"
+#include "session/net/host_datagram_channel.h"
+#include "session/net/session_host.h"
 #include "spectral/hausdorff.h"
 
 #include <QCoreApplication>

@@ -1,7 +1,7 @@
 // The load experiment's presentations (see load_experiment.h): --json and the Markdown section.
 
 #include "app/cli/load_experiment.h"
-#include "session/wire_format.h"
+#include "session/wire/wire_format.h"
 
 #include <QFileInfo>
 #include <QJsonArray>

@@ -11,7 +11,7 @@
 
 #include "app/cli/drag_script.h"
 #include "app/cli/loss_experiment_report.h"
-#include "session/host_model.h"
+#include "session/engine/host_model.h"
 
 #include <QString>
 

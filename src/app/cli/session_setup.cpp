@@ -1,6 +1,6 @@
 #include "app/cli/session_setup.h"
 
-#include "session/handle_transforms.h"
+#include "session/wire/handle_transforms.h"
 
 #include <QCoreApplication>
 #include <QDeadlineTimer>

@@ -4,8 +4,8 @@
 
 #include "app/cli/cli_common.h"
 #include "app/cli/drag_script.h"
-#include "session/host_model.h"
-#include "session/session_client.h"
+#include "session/engine/host_model.h"
+#include "session/net/session_client.h"
 
 #include <QString>
 

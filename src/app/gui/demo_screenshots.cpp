@@ -8,7 +8,7 @@
 #include "app/gui/session_controller.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/statistics_dock.h"
-#include "session/session_host.h"
+#include "session/net/session_host.h"
 
 #include <Eigen/Geometry>
 #include <QDir>

@@ -3,7 +3,7 @@
 #include "ui_host_dialog.h"
 
 #include "app/gui/recent_sessions.h"
-#include "session/wire_format.h"
+#include "session/wire/wire_format.h"
 
 #include <QDialogButtonBox>
 #include <QFileDialog>

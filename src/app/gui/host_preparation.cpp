@@ -4,8 +4,8 @@
 #include "model/cache_location.h"
 #include "model/mesh_loader.h"
 #include "model/session_file.h"
-#include "session/host_model.h"
-#include "session/wire_format.h"
+#include "session/engine/host_model.h"
+#include "session/wire/wire_format.h"
 #include "spectral/basis_pipeline.h"
 #include "spectral/resolution_level.h"
 

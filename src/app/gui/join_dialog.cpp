@@ -3,8 +3,8 @@
 #include "ui_join_dialog.h"
 
 #include "app/gui/recent_sessions.h"
-#include "session/tls_identity.h"
-#include "session/wire_format.h"
+#include "session/net/tls_identity.h"
+#include "session/wire/wire_format.h"
 
 #include <QDialogButtonBox>
 #include <QRegularExpression>

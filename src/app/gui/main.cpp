@@ -26,7 +26,7 @@
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_controller.h"
-#include "session/tls_identity.h"
+#include "session/net/tls_identity.h"
 
 #include <QApplication>
 #include <QCommandLineParser>

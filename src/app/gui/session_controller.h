@@ -20,9 +20,9 @@
 // version mismatch (the host's Refused text), host gone or silent, a host certificate that does not match the
 // pinned or remembered fingerprint: fingerprintRefused()) becomes failed(QString).
 
-#include "session/control_messages.h"
-#include "session/lock_messages.h"
-#include "session/network_impairment.h"
+#include "session/wire/control_messages.h"
+#include "session/wire/lock_messages.h"
+#include "session/engine/network_impairment.h"
 
 #include <Eigen/Core>
 #include <QObject>

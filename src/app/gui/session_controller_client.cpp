@@ -3,11 +3,11 @@
 // certificate was trusted (pinned fingerprint or trust on first use, session::KnownHosts).
 #include "app/gui/session_controller.h"
 
-#include "session/distortion_meter.h"
-#include "session/session_client.h"
-#include "session/session_clock.h"
-#include "session/session_host.h"
-#include "session/tls_known_hosts.h"
+#include "session/net/distortion_meter.h"
+#include "session/net/session_client.h"
+#include "session/engine/session_clock.h"
+#include "session/net/session_host.h"
+#include "session/net/tls_known_hosts.h"
 #include "spectral/resolution_level.h"
 
 #include <QTimer>

@@ -2,10 +2,10 @@
 // drags of the handle, the same for a host and a client.
 #include "app/gui/session_controller.h"
 
-#include "session/handle_transforms.h"
-#include "session/host_model.h"
-#include "session/session_client.h"
-#include "session/session_host.h"
+#include "session/wire/handle_transforms.h"
+#include "session/engine/host_model.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
 #include "spectral/resolution_level.h"
 #include "spectral/spectral_deformer.h"
 

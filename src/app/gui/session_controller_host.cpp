@@ -5,9 +5,9 @@
 #include "app/gui/host_preparation.h"
 #include "app/gui/session_snapshot.h"
 #include "model/session_file.h"
-#include "session/host_model.h"
-#include "session/session_client.h"
-#include "session/session_host.h"
+#include "session/engine/host_model.h"
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/resolution_level.h"
 

@@ -5,8 +5,8 @@
 #include "app/gui/statistics_dock.h"
 #include "model/peer_table_model.h"
 #include "model/statistics_model.h"
-#include "session/host_datagram_channel.h"
-#include "session/session_host.h"
+#include "session/net/host_datagram_channel.h"
+#include "session/net/session_host.h"
 
 #include <QMainWindow>
 

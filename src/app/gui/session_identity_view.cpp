@@ -1,6 +1,6 @@
 #include "app/gui/session_identity_view.h"
 
-#include "session/tls_identity.h"
+#include "session/net/tls_identity.h"
 
 #include <QClipboard>
 #include <QDialogButtonBox>

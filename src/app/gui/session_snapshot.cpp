@@ -1,7 +1,7 @@
 #include "app/gui/session_snapshot.h"
 
 #include "app/gui/drag_commands.h"
-#include "session/session_host.h"
+#include "session/net/session_host.h"
 
 #include <QCoreApplication>
 #include <QUndoStack>

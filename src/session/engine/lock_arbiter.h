@@ -1,0 +1,103 @@
+#pragma once
+// Host side of the edit-lock protocol: one lock per session, FIFO queue, lease, fencing epochs.
+// A pure state machine: no sockets, no timers. The caller feeds it peer messages, disconnects and clock ticks
+// (an injected monotonic `Millis`), and sends the returned LockEvents. Message kinds: see lock_messages.h.
+//
+// States: Free (no holder, queue empty) or Held{peer, epoch, lastHeard} with a FIFO queue of waiting peers.
+//
+// Invariants (checked by tests after every step of a random run):
+//   - at most one holder, and the holder is never also in the queue; the queue holds each peer at most once;
+//   - the queue is non-empty only while the lock is held (a release or revocation grants the head at once);
+//   - every grant gets an epoch strictly greater than every earlier one (monotonic counter, never reused);
+//   - a holder is revoked only when `now - lastHeard > lease` (strictly), checked at tick(), or at disconnect.
+//
+// Liveness: a Request, a Renew or an accepted drag from the holder refreshes lastHeard. Re-requests by the holder
+// or a queued peer change nothing and only repeat the peer's Granted / Queued notice (idempotent).
+// Out-of-order or stale messages (Renew from a non-holder, Release of an epoch not held, ...) are ignored and
+// counted in ignoredMessages(), never asserted on (style.md item 6: network input).
+//
+// Cost: O(1) per message except queue removal (O(queue length), i.e. the number of peers).
+
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "session/wire/lock_messages.h"
+
+namespace sc::session {
+
+/// Who a notice goes to.
+enum class LockAudience : std::uint8_t { AllPeers, OnePeer };
+
+/// One notification the host must send. With AllPeers, `notice` goes to every connected peer.
+struct LockEvent {
+  LockAudience audience = LockAudience::AllPeers;
+  PeerId recipient = kNoPeer;  ///< OnePeer only
+  LockNotice notice;
+  friend bool operator==(const LockEvent&, const LockEvent&) = default;
+};
+
+using LockEvents = std::vector<LockEvent>;
+
+/// Verdict on a drag command stamped with an epoch.
+enum class DragVerdict : std::uint8_t {
+  Accepted,
+  NotHolder,   ///< the sender does not hold the lock (or nobody does)
+  StaleEpoch,  ///< the sender holds the lock, but the drag carries an epoch other than the current grant's
+};
+
+class LockArbiter {
+ public:
+  explicit LockArbiter(Millis lease = kLockLease);
+
+  /// Single dispatcher for a peer's message received at `now`. @p peer must not be kNoPeer.
+  LockEvents handleMessage(PeerId peer, const LockMessage& message, Millis now);
+
+  /// The peer's control connection closed: frees the lock at once if it held it, leaves the queue otherwise.
+  LockEvents peerDisconnected(PeerId peer, Millis now);
+
+  /// Revokes the holder if it has been silent for strictly more than the lease. Call often (e.g. every 100 ms).
+  LockEvents tick(Millis now);
+
+  /// Checks a drag command; an accepted drag also counts as proof of life for the lease.
+  DragVerdict acceptDrag(PeerId peer, LockEpoch epoch, Millis now);
+
+  /// Current holder, kNoPeer when free.
+  [[nodiscard]] PeerId holder() const { return m_holder ? m_holder->peer : kNoPeer; }
+  /// Epoch of the current grant, kNoEpoch when free.
+  [[nodiscard]] LockEpoch epoch() const { return m_holder ? m_holder->epoch : kNoEpoch; }
+  /// Waiting peers, head first.
+  [[nodiscard]] const std::deque<PeerId>& queue() const { return m_queue; }
+  /// Messages dropped as out of order or stale.
+  [[nodiscard]] std::uint64_t ignoredMessages() const { return m_ignored; }
+  /// When the current lease runs out (revocation happens at the first tick strictly after it); nullopt when free.
+  [[nodiscard]] std::optional<Millis> leaseDeadline() const;
+
+ private:
+  struct Holder {
+    PeerId peer = kNoPeer;
+    LockEpoch epoch = kNoEpoch;
+    Millis lastHeard{0};
+  };
+
+  LockEvents handleRequest(PeerId peer, Millis now);
+  LockEvents handleRelease(PeerId peer, LockEpoch epoch, Millis now);
+  LockEvents handleRenew(PeerId peer, LockEpoch epoch, Millis now);
+
+  /// Ends the current tenure with @p reason and grants the queue's head, if any.
+  LockEvents endTenure(LockReleaseReason reason, Millis now);
+  /// Grants to @p peer with a fresh epoch; appends the broadcast to @p events.
+  void grant(PeerId peer, Millis now, LockEvents& events);
+  /// Removes @p peer from the queue; true if it was there.
+  bool removeFromQueue(PeerId peer);
+  [[nodiscard]] LockEvent queuedNotice(PeerId peer) const;
+  LockEvents ignore();
+
+  Millis m_lease;
+  std::optional<Holder> m_holder;
+  std::deque<PeerId> m_queue;
+  LockEpoch m_lastEpoch = kNoEpoch;
+  std::uint64_t m_ignored = 0;
+};
+
+}  // namespace sc::session
