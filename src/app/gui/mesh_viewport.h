@@ -9,6 +9,7 @@
 #include "app/gui/mesh_viewport_types.h"
 #include "app/gui/orbit_camera.h"
 #include "app/gui/vertex_picking.h"
+#include "spectral/display_level.h"
 #include "spectral/resolution_level.h"
 
 #include <Eigen/Core>
@@ -135,6 +136,13 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   void setInteractiveProxy(const Eigen::MatrixXi& triangles);
   /// Triangles of the interactive proxy (0: none).
   [[nodiscard]] int proxyTriangleCount() const { return static_cast<int>(m_proxyIndices.size() / 3); }
+
+  /// The one-way frame path (docs/architecture.md): shows `level` (its rest mesh, faces and K; held by pointer, the
+  /// viewport's reconstruction reads the shared K) and frames the camera on it, like setMesh(). nullptr: clearMesh().
+  void setDisplayLevel(spectral::SharedDisplayLevel level);
+  /// Shows one frame of the displayed level: X̂' + K·frame.Z (the rest shape for an empty Z), like setCoefficients().
+  void showFrame(const spectral::DisplayFrame& frame);
+  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_displayLevel; }
 
   /// Sets the reduced basis of the current mesh for setCoefficients(): X' = rest + K·Z.
   /// @param[in] K  #V by m basis (float32, row-major), e.g. spectral::ResolutionLevel::K; #V of the current mesh.
@@ -346,11 +354,12 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions {
   bool m_wireframe = false;
 
   // Reconstruction (mesh_viewport_gpu.cpp). K is stored padded to 4·⌈m/4⌉ columns (zeros), Z likewise (rows).
-  spectral::RowMatrixXf m_basis;   // #V by 4G
-  std::vector<float> m_rest;       // 3·#V, relative to m_origin
-  Eigen::MatrixXf m_coefficients;  // 4G by 3
-  int m_basisColumns = 0;          // m (0: no basis)
-  float m_basisMaxRowNorm = 0.0f;  // max_i ‖K_i‖, bounds |K·Z| for the camera's near/far planes
+  spectral::RowMatrixXf m_basis;                // #V by 4G
+  std::vector<float> m_rest;                    // 3·#V, relative to m_origin
+  Eigen::MatrixXf m_coefficients;               // 4G by 3
+  int m_basisColumns = 0;                       // m (0: no basis)
+  spectral::SharedDisplayLevel m_displayLevel;  // the level setDisplayLevel() shows (nullptr: a plain mesh)
+  float m_basisMaxRowNorm = 0.0f;               // max_i ‖K_i‖, bounds |K·Z| for the camera's near/far planes
   Eigen::Vector3f m_restLo = Eigen::Vector3f::Zero();
   Eigen::Vector3f m_restHi = Eigen::Vector3f::Zero();
   ReconstructionPath m_path = ReconstructionPath::Cpu;

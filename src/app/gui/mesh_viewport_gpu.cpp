@@ -17,6 +17,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace sc::app {
 
@@ -39,6 +40,7 @@ double median(std::vector<double> values) {
 }  // namespace
 
 void MeshViewport::dropBasis() {
+  m_displayLevel.reset();
   m_basis.resize(0, 0);
   m_rest.clear();
   m_coefficients.resize(0, 0);
@@ -83,6 +85,25 @@ void MeshViewport::setReconstructionBasis(const spectral::RowMatrixXf& K, std::s
   m_restDirty = true;
   if (m_path == ReconstructionPath::Gpu && m_glReady && !gpuReconstructionAvailable()) {
     m_path = ReconstructionPath::Cpu;
+  }
+}
+
+void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
+  if (!level) {
+    clearMesh();
+    return;
+  }
+  setMesh(level->level.restV, level->level.F);
+  setReconstructionBasis(level->level.K, level->rest);
+  m_displayLevel = std::move(level);
+}
+
+void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
+  if (!m_displayLevel) return;
+  if (frame.Z.size() == 0) {
+    setCoefficients(Eigen::MatrixXf::Zero(m_displayLevel->basisSize(), 3));
+  } else {
+    setCoefficients(frame.Z);
   }
 }
 

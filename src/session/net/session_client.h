@@ -38,12 +38,13 @@
 //     reconstructs from K and positionsCoefficients() itself (MeshViewport) does not pay for it twice.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
+#include "session/engine/handshake_client.h"
+#include "session/engine/lock_client.h"
 #include "session/net/client_datagram_channel.h"
 #include "session/wire/control_frame.h"
 #include "session/wire/control_messages.h"
-#include "session/engine/handshake_client.h"
-#include "session/engine/lock_client.h"
 #include "session/wire/model_transfer.h"
+#include "spectral/display_level.h"
 #include "spectral/resolution_level.h"
 
 #include <Eigen/Core>
@@ -131,7 +132,12 @@ class SessionClient final : public QObject {
   /// The lock state machine (nullptr before the Welcome).
   [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
   /// The displayed level (nullptr before the first is complete), its payload bytes as received, its vertex count.
-  [[nodiscard]] const spectral::ResolutionLevel* level() const { return m_level ? &*m_level : nullptr; }
+  [[nodiscard]] const spectral::ResolutionLevel* level() const { return m_level ? &m_level->level : nullptr; }
+  /// The displayed level, shared and immutable (nullptr before the first is complete): a view holds this pointer,
+  /// never a copy of K (one float K per process, docs/architecture.md).
+  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_level; }
+  /// The frame that positions() reflects: positionsFrame() and positionsCoefficients() as one value.
+  [[nodiscard]] spectral::DisplayFrame displayFrame() const { return {m_positionsFrame, m_positionsZ}; }
   [[nodiscard]] const QByteArray& levelPayload() const { return m_levelPayload; }
   [[nodiscard]] std::uint32_t levelVertexCount() const;
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
@@ -166,6 +172,11 @@ class SessionClient final : public QObject {
   void levelsChanged();
   void keyframeReceived(std::uint32_t frame, const Eigen::MatrixXd& Z);
   void positionsUpdated(std::uint32_t frame);
+  /// A new level is displayed (emitted before levelReady()); the frame path's level, pushed down to views.
+  void displayLevelChanged(const sc::spectral::SharedDisplayLevel& level);
+  /// The displayed frame changed (emitted just before positionsUpdated(), with the same frame): the frame path's
+  /// value, pushed down to views, so that nobody pulls Z back through the client.
+  void frameUpdated(const sc::spectral::DisplayFrame& frame);
 
  private:
   void changeState(State next);
@@ -209,10 +220,9 @@ class SessionClient final : public QObject {
   PeerList m_peers;
   LevelList m_levels;
   std::unique_ptr<LockClient> m_lock;
-  std::optional<spectral::ResolutionLevel> m_level;
+  spectral::SharedDisplayLevel m_level;  ///< the displayed level (X̂' interleaved and K inside), shared with views
   QByteArray m_levelPayload;
   QString m_levelError;
-  std::vector<float> m_rest;               ///< X̂' interleaved
   mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_positionsZ once m_positionsStale is false
   mutable bool m_positionsStale = false;
   mutable double m_reconstructionMs = 0.0;

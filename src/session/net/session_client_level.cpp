@@ -3,6 +3,7 @@
 
 #include "session/net/session_client.h"
 
+#include "spectral/display_level.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <QtCore/QMetaObject>
@@ -18,8 +19,7 @@ namespace sc::session {
 struct SessionClient::DecodedLevel {
   QByteArray payload;
   std::optional<spectral::ResolutionLevel> level;
-  std::vector<float> rest;  ///< X̂' interleaved
-  QString error;            ///< set when `level` is not
+  QString error;  ///< set when `level` is not
 };
 
 // --- level transfer and decoding
@@ -84,7 +84,6 @@ SessionClient::DecodedLevel SessionClient::decodeLevel(QByteArray payload, const
       out.error = QStringLiteral("level does not match the session (m = %1, n = %2)").arg(rowCount).arg(vertexCount);
       return out;
     }
-    out.rest = spectral::interleavedPositions(decoded.level->restV);
     out.level = std::move(decoded.level);
     out.payload = std::move(payload);
   } catch (const std::exception& e) {  // e.g. std::bad_alloc: never let it escape the worker
@@ -115,7 +114,7 @@ void SessionClient::finishDecode(const std::shared_ptr<DecodedLevel>& result) {
 const std::vector<float>& SessionClient::positions() const {
   if (m_positionsStale && m_level) {
     const auto start = std::chrono::steady_clock::now();
-    spectral::reconstructInterleaved(m_level->K, m_rest, m_positionsZ, m_positions);
+    spectral::reconstruct(*m_level, displayFrame(), m_positions);
     m_reconstructionMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     m_positionsStale = false;
   }
@@ -123,19 +122,17 @@ const std::vector<float>& SessionClient::positions() const {
 }
 
 void SessionClient::installLevel(DecodedLevel& decoded) {
-  m_level = std::move(decoded.level);
+  m_level = spectral::makeDisplayLevel(std::move(*decoded.level));
   m_levelPayload = std::move(decoded.payload);
   m_levelError.clear();
-  m_rest = std::move(decoded.rest);
-  m_positions.assign(m_rest.size(), 0.0f);
+  m_positions.assign(m_level->rest.size(), 0.0f);
+  emit displayLevelChanged(m_level);
   updatePositions();
   changeState(State::Ready);
   emit levelReady(levelVertexCount());
 }
 
-std::uint32_t SessionClient::levelVertexCount() const {
-  return m_level ? static_cast<std::uint32_t>(m_level->restV.rows()) : 0;
-}
+std::uint32_t SessionClient::levelVertexCount() const { return m_level ? m_level->vertexCount() : 0; }
 
 void SessionClient::onKeyframe(const Keyframe& keyframe) {
   const auto m = static_cast<Eigen::Index>(keyframe.z.size() / 3);
@@ -159,12 +156,13 @@ void SessionClient::updatePositions() {
   m_positionsDirty = false;
   if (!m_level) return;
   const Eigen::MatrixXd& Z = m_channel->coefficients();
-  const Eigen::Index m = m_level->K.cols();
+  const Eigen::Index m = m_level->basisSize();
   m_positionsZ =
       Z.rows() == m && Z.cols() == 3 ? Eigen::MatrixXf(Z.cast<float>()) : Eigen::MatrixXf(Eigen::MatrixXf::Zero(m, 3));
   m_positionsStale = true;  // reconstructed by the next positions()
   m_positionsFrame = m_channel->currentFrame();
   ++m_positionUpdates;
+  emit frameUpdated(displayFrame());
   emit positionsUpdated(m_positionsFrame);
 }
 

@@ -1,9 +1,9 @@
 #include "session/wire/password_auth.h"
 
+#include <openssl/evp.h>
 #include <QtCore/QCryptographicHash>
 #include <QtCore/QMessageAuthenticationCode>
 #include <QtCore/QRandomGenerator>
-#include <openssl/evp.h>
 
 #include <vector>
 
