@@ -5,10 +5,11 @@
 
 #include "harmonic_host_model.h"
 #include "loopback_session.h"
+#include "model/decimating_level_builder.h"
 #include "raw_control_peer.h"
-#include "session/wire/handle_transforms.h"
 #include "session/net/session_client.h"
 #include "session/net/session_host.h"
+#include "session/wire/handle_transforms.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -40,6 +41,7 @@ class SessionLoopback : public ::testing::Test {
   /// 127.0.0.1, any port, host name "Hostess", 1000 PBKDF2 iterations (fast tests; production keeps the default).
   static SessionHostOptions hostOptions() {
     SessionHostOptions options;
+    options.levelBuilder = model::decimatingLevelBuilder();  // the suite checks the ladder of levels
     options.address = QHostAddress::LocalHost;
     options.pbkdf2Iterations = 1000;
     options.hostName = QStringLiteral("Hostess");

@@ -2,6 +2,7 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
+#include "model/decimating_level_builder.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"
 
@@ -67,6 +68,7 @@ int runHostCommand(const QStringList& arguments) {
   if (!command.parse(arguments, exitCode)) return exitCode;
 
   session::SessionHostOptions options;
+  options.levelBuilder = model::decimatingLevelBuilder();
   bool ok = false, ok2 = false, ok3 = false;
   options.tcpPort = static_cast<quint16>(command.parser().value(port).toUInt(&ok));
   options.udpPort = static_cast<quint16>(command.parser().value(udpPort).toUInt(&ok2));

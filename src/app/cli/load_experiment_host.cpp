@@ -4,6 +4,7 @@
 #include "app/cli/load_experiment.h"
 #include "app/cli/loss_experiment.h"
 #include "app/cli/session_setup.h"
+#include "model/decimating_level_builder.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
 #include "spectral/hausdorff.h"
@@ -139,6 +140,7 @@ int runLoadHost(const QStringList& arguments) {
   if (!model) return exitCode;
 
   session::SessionHostOptions options;
+  options.levelBuilder = model::decimatingLevelBuilder();
   options.address = QHostAddress::LocalHost;
   options.maxPeers = maxPeers;
   options.hostName = QStringLiteral("load host");

@@ -1,11 +1,12 @@
 #include "app/cli/loss_experiment.h"
 
 #include "app/cli/session_setup.h"
-#include "session/net/distortion_meter.h"
-#include "session/wire/handle_transforms.h"
-#include "session/net/host_datagram_channel.h"
+#include "model/decimating_level_builder.h"
 #include "session/engine/session_clock.h"
+#include "session/net/distortion_meter.h"
+#include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
+#include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
 #include <QThread>
@@ -112,6 +113,7 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
     if (progress) progress(line);
   };
   session::SessionHostOptions hostOptions;
+  hostOptions.levelBuilder = model::decimatingLevelBuilder();
   hostOptions.address = QHostAddress::LocalHost;
   hostOptions.referenceEvery = 1;
   hostOptions.hostName = QStringLiteral("experiment host");

@@ -4,6 +4,7 @@
 
 #include "app/gui/host_preparation.h"
 #include "app/gui/session_snapshot.h"
+#include "model/decimating_level_builder.h"
 #include "model/session_file.h"
 #include "session/engine/host_model.h"
 #include "session/net/session_client.h"
@@ -47,6 +48,7 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
   m_hostPositionsStale = false;
 
   session::SessionHostOptions options;
+  options.levelBuilder = model::decimatingLevelBuilder();
   options.tcpPort = m_hostSettings.port;
   options.password = m_hostSettings.password;
   options.hostName = m_hostSettings.name.isEmpty() ? QStringLiteral("host") : m_hostSettings.name;

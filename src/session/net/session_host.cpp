@@ -1,15 +1,15 @@
-// SessionHost: construction, start/shutdown, queries, broadcasts and the periodic timers. Peer connections and
-// model transfers are in session_host_peers.cpp, the lock, constraints and drags in session_host_lock.cpp, frame
-// production in session_host_frames.cpp.
+// SessionHost: construction, start/shutdown, the host's own user, and carrying out the engine's actions (sends,
+// frames, transfers, level builds, closes, signals) with the one timer. Socket events are translated into engine
+// events in session_host_peers.cpp.
 
 #include "session/net/session_host.h"
 
+#include "session/engine/session_clock.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/host_peer_connection.h"
 #include "session/net/level_library.h"
-#include "session/engine/session_clock.h"
-#include "session/net/session_host_peer.h"
 #include "session/net/tls_server.h"
+#include "session/wire/model_transfer.h"
 
 #include <QtCore/QPointer>
 #include <QtCore/QTimer>
@@ -17,44 +17,27 @@
 #include <algorithm>
 
 namespace sc::session {
-namespace {
-
-constexpr int kHousekeepingMs = 100;  ///< handshake timeouts, lock lease, own renew, idle refresh
-constexpr int kHeartbeatMs = 1000;
-
-}  // namespace
 
 SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOptions options, QObject* parent)
-    : QObject(parent), m_model(std::move(model)), m_options(std::move(options)) {
-  m_server = new TlsServer(this);
-  m_channel = new HostDatagramChannel(m_options.codec, this);
-  m_levels = new LevelLibrary(m_model, this);
-  m_housekeeping = new QTimer(this);
-  m_heartbeat = new QTimer(this);
-  m_coalesce = new QTimer(this);
-  m_coalesce->setSingleShot(true);
-  m_coalesce->setTimerType(Qt::PreciseTimer);
-  m_still = new QTimer(this);
-  m_still->setSingleShot(true);
-  m_still->setTimerType(Qt::PreciseTimer);
-  m_deformer =
-      std::make_unique<spectral::SpectralDeformer>(m_model->basis, m_model->operators, m_model->V, m_options.deformer);
-  m_Z = Eigen::MatrixXd::Zero(m_model->rowCount(), 3);
-
+    : QObject(parent),
+      m_model(std::move(model)),
+      m_options(std::move(options)),
+      m_server(new TlsServer(this)),
+      m_channel(new HostDatagramChannel(m_options.codec, this)),
+      m_levels(new LevelLibrary(m_model, m_options.levelBuilder, this)),
+      m_timer(new QTimer(this)),
+      m_engine(m_model, m_options, m_levels->ladder()) {
+  m_timer->setSingleShot(true);
+  m_timer->setTimerType(Qt::PreciseTimer);
   connect(m_server, &QTcpServer::newConnection, this, &SessionHost::acceptConnections);
   connect(m_levels, &LevelLibrary::levelReady, this, &SessionHost::onLevelReady);
   connect(m_levels, &LevelLibrary::levelFailed, this, &SessionHost::onLevelFailed);
-  connect(m_housekeeping, &QTimer::timeout, this, &SessionHost::housekeeping);
-  connect(m_heartbeat, &QTimer::timeout, this, &SessionHost::heartbeat);
-  connect(m_coalesce, &QTimer::timeout, this, &SessionHost::produceFrame);
-  connect(m_still, &QTimer::timeout, this, &SessionHost::produceStillFrame);
+  connect(m_timer, &QTimer::timeout, this, &SessionHost::onTimer);
 }
 
 SessionHost::~SessionHost() {
-  for (auto& [id, peer] : m_peers) disconnect(peer->connection, nullptr, this, nullptr);
+  for (auto& [id, connection] : m_peers) disconnect(connection, nullptr, this, nullptr);
 }
-
-Millis SessionHost::now() const { return std::chrono::duration_cast<Millis>(sessionNow()); }
 
 bool SessionHost::start(QString* error) {
   const auto fail = [error](const QString& why) {
@@ -68,9 +51,6 @@ bool SessionHost::start(QString* error) {
   if (m_model->rowCount() < 1 || m_model->rowCount() > kMaxRows || m_model->vertexCount() < 3) {
     return fail(QStringLiteral("the model needs 1..%1 basis functions and at least 3 vertices").arg(kMaxRows));
   }
-  m_options.maxPeers = std::clamp(m_options.maxPeers, 1, kMaxPeers - 1);
-  m_options.maxPendingHandshakes = std::max(m_options.maxPendingHandshakes, 1);
-  m_options.maxPendingPerAddress = std::max(m_options.maxPendingPerAddress, 1);
   if (!resolveIdentity(error)) return false;
   m_server->setSslConfiguration(hostTlsConfiguration(m_identity->certificate, m_identity->privateKey));
   if (m_options.password) {
@@ -85,9 +65,8 @@ bool SessionHost::start(QString* error) {
     return fail(QStringLiteral("TCP listen failed: %1").arg(m_server->errorString()));
   }
   m_started = true;
-  m_lastFrameAt = sessionNow();
-  m_housekeeping->start(kHousekeepingMs);
-  m_heartbeat->start(kHeartbeatMs);
+  apply(m_engine.start(sessionNow()));
+  static_cast<HostEngineOptions&>(m_options) = m_engine.options();  // the limits as clamped
   emit logMessage(QStringLiteral("hosting on TCP %1, UDP %2").arg(tcpPort()).arg(udpPort()));
   emit logMessage(QStringLiteral("certificate fingerprint (SHA-256): %1").arg(formatFingerprint(fingerprint())));
   return true;
@@ -117,96 +96,117 @@ bool SessionHost::resolveIdentity(QString* error) {
 }
 
 void SessionHost::shutdown() {
-  if (m_shutDown) return;
-  m_shutDown = true;
-  m_housekeeping->stop();
-  m_heartbeat->stop();
-  m_coalesce->stop();
-  m_still->stop();
+  if (m_engine.isShutDown()) return;
   m_server->close();
-  std::vector<QPointer<HostPeerConnection>> connections;
-  for (auto& [id, peer] : m_peers) connections.emplace_back(peer->connection);
-  for (const QPointer<HostPeerConnection>& connection : connections) {
-    if (!connection) continue;
-    if (connection->isWelcomed()) {
-      connection->send(Leave{});
-    } else {
-      connection->send(Refused{RefuseReason::ShuttingDown, kProtocolVersion, QStringLiteral("the host is closing")});
-    }
-    connection->close();
-  }
-  emit logMessage(QStringLiteral("session closed"));
+  apply(m_engine.shutdown(sessionNow()));
 }
 
 quint16 SessionHost::tcpPort() const { return m_server->serverPort(); }
 quint16 SessionHost::udpPort() const { return m_channel->port(); }
-PeerId SessionHost::lockHolder() const { return m_arbiter.holder(); }
-LockEpoch SessionHost::lockEpoch() const { return m_arbiter.epoch(); }
-const std::deque<PeerId>& SessionHost::lockQueue() const { return m_arbiter.queue(); }
 
-std::optional<StatsReport> SessionHost::stats(PeerId peer) const {
-  const auto it = m_peers.find(peer);
-  return it == m_peers.end() ? std::nullopt : it->second->stats;
+// --- the host's own user
+
+bool SessionHost::requestLock() {
+  bool sent = false;
+  apply(m_engine.requestLock(sessionNow(), &sent));
+  return sent;
 }
 
-PeerList SessionHost::peerList() const {
-  PeerList list;
-  list.peers.push_back({kHostPeer, static_cast<std::uint32_t>(m_model->vertexCount()), m_options.hostName});
-  for (const auto& [id, peer] : m_peers) {
-    if (!peer->connection->isWelcomed() || peer->connection->isClosing() || !peer->connection->peer()) continue;
-    list.peers.push_back({id, peer->loadedVertexCount, peer->connection->peer()->name});
+bool SessionHost::releaseLock() {
+  bool sent = false;
+  apply(m_engine.releaseLock(sessionNow(), &sent));
+  return sent;
+}
+
+bool SessionHost::setConstraints(const spectral::ConstraintSet& constraints) {
+  bool accepted = false;
+  apply(m_engine.setConstraints(constraints, sessionNow(), &accepted));
+  return accepted;
+}
+
+bool SessionHost::drag(std::span<const spectral::HandleTransform> poses) {
+  bool accepted = false;
+  apply(m_engine.drag(poses, sessionNow(), &accepted));
+  return accepted;
+}
+
+// --- the engine's actions
+
+void SessionHost::onTimer() {
+  for (const auto& [id, connection] : m_peers) m_engine.onHeard(id, connection->lastHeard());
+  apply(m_engine.tick(sessionNow()));
+}
+
+void SessionHost::apply(HostActions actions) {
+  for (const HostAction& action : actions.list) applyOne(action);
+  // The engine's wake-up as of now: an action may have led to a nested event (a close) since `actions` was made.
+  const std::optional<Micros> wakeAt = m_engine.nextWakeUp();
+  if (!wakeAt) {
+    m_timer->stop();
+    return;
   }
-  return list;
+  const auto wait = std::chrono::ceil<Millis>(*wakeAt - sessionNow());
+  m_timer->start(std::max<int>(0, static_cast<int>(wait.count())));
 }
 
-// --- timers and broadcasts
+void SessionHost::applyOne(const HostAction& action) {
+  if (const auto* send = std::get_if<SendToPeer>(&action)) {
+    if (HostPeerConnection* c = connection(send->peer)) c->send(send->message);
+  } else if (const auto* all = std::get_if<SendToAll>(&action)) {
+    broadcast(all->message);
+  } else if (const auto* frame = std::get_if<SendFrame>(&action)) {
+    m_channel->sendFrame(frame->frame, *frame->Z, frame->stamp);
+    emit frameSent(frame->frame);
+  } else if (const auto* transfer = std::get_if<StartTransfer>(&action)) {
+    startTransfer(*transfer);
+  } else if (const auto* request = std::get_if<RequestLevel>(&action)) {
+    m_levels->request(request->target);
+  } else if (std::holds_alternative<PrefetchLevels>(action)) {
+    m_levels->prefetchAll();
+  } else if (const auto* close = std::get_if<ClosePeer>(&action)) {
+    closePeer(*close);
+  } else if (const auto* expire = std::get_if<ExpireHandshake>(&action)) {
+    if (HostPeerConnection* c = connection(expire->peer)) c->tickHandshake(toMillis(sessionNow()));
+  } else if (std::holds_alternative<PeersChanged>(action)) {
+    emit peersChanged();
+  } else if (std::holds_alternative<LockChanged>(action)) {
+    emit lockChanged();
+  } else if (const auto* stats = std::get_if<StatsReported>(&action)) {
+    emit statsReported(stats->peer, stats->report);
+  } else if (const auto* log = std::get_if<LogLine>(&action)) {
+    emit logMessage(log->text);
+  }
+}
 
 void SessionHost::broadcast(const ControlMessage& message) {
   const QByteArray frame = encodeControlMessage(message);
   if (frame.isEmpty()) return;
-  for (const auto& [id, peer] : m_peers) {
-    if (peer->connection->isWelcomed()) peer->connection->sendEncoded(frame);
+  for (const auto& [id, c] : m_peers) {
+    if (c->isWelcomed()) c->sendEncoded(frame);
   }
 }
 
-void SessionHost::broadcastPeerList() { broadcast(peerList()); }
-
-void SessionHost::housekeeping() {
-  const Millis t = now();
-  std::vector<QPointer<HostPeerConnection>> pending;
-  for (const auto& [id, peer] : m_peers) {
-    if (!peer->connection->isWelcomed()) pending.emplace_back(peer->connection);
-  }
-  for (const QPointer<HostPeerConnection>& connection : pending) {
-    if (connection) connection->tickHandshake(t);
-  }
-  dispatchLock(m_arbiter.tick(t));
-  if (const std::optional<LockMessage> renew = m_localLock.pollRenew(t)) {
-    dispatchLock(m_arbiter.handleMessage(kHostPeer, *renew, t));
-  }
-  const bool idle = sessionNow() - m_lastFrameAt >= std::chrono::duration_cast<Micros>(m_options.idleRefresh);
-  if (idle && !m_coalesce->isActive()) produceFrame();
+void SessionHost::startTransfer(const StartTransfer& transfer) {
+  const LevelLibrary::Level* level = m_levels->find(transfer.target);
+  HostPeerConnection* c = connection(transfer.peer);
+  if (level == nullptr || c == nullptr) return;
+  c->startTransfer(std::make_unique<ModelSender>(transfer.transferId, level->kind, level->vertexCount, level->payload,
+                                                 level->sha256));
 }
 
-void SessionHost::heartbeat() {
-  const Millis t = now();
-  const Heartbeat beat{m_heartbeatSequence++};
-  std::vector<QPointer<HostPeerConnection>> silent;
-  for (const auto& [id, peer] : m_peers) {
-    HostPeerConnection* connection = peer->connection;
-    if (!connection->isWelcomed() || connection->isClosing()) continue;
-    if (t - connection->lastHeard() > m_options.peerTimeout) {
-      silent.emplace_back(connection);
-    } else {
-      connection->send(beat);
-    }
+void SessionHost::closePeer(const ClosePeer& close) {
+  HostPeerConnection* c = connection(close.peer);
+  if (c == nullptr) return;
+  if (close.how == ClosePeer::How::Abort) {
+    c->abort();  // onClosed() follows at once
+  } else {
+    c->close();
   }
-  for (const QPointer<HostPeerConnection>& connection : silent) {
-    if (!connection) continue;
-    ++m_counters.silentPeersDropped;
-    emit logMessage(QStringLiteral("peer %1 silent for too long: dropped").arg(connection->peerId()));
-    connection->abort();
-  }
+}
+
+HostPeerConnection* SessionHost::connection(PeerId id) const {
+  const auto it = m_peers.find(id);
+  return it == m_peers.end() ? nullptr : it->second;
 }
 
 }  // namespace sc::session

@@ -1,0 +1,118 @@
+// HostEngine: the lock (arbiter events to peers and to the host's own LockClient), constraints and poses (from
+// peers and from the host's own user), and the coalescing of accepted poses into frames.
+
+#include "session/engine/host_engine.h"
+
+#include "session/engine/host_engine_peer.h"
+#include "session/wire/handle_transforms.h"
+
+#include <algorithm>
+
+namespace sc::session {
+
+// --- lock
+
+void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions& out) {
+  const Millis t = toMillis(now);
+  for (const LockEvent& event : events) {
+    if (event.audience == LockAudience::AllPeers) {
+      out.add(SendToAll{event.notice});
+    } else if (welcomed(event.recipient) != nullptr) {
+      out.add(SendToPeer{event.recipient, event.notice});
+    }
+    const bool toHost = event.audience == LockAudience::AllPeers || event.recipient == kHostPeer;
+    if (toHost) {
+      if (const std::optional<LockMessage> reply = m_localLock.apply(event.notice, t)) {
+        dispatchLock(m_arbiter.handleMessage(kHostPeer, *reply, t), now, out);
+      }
+    }
+  }
+  if (!events.empty()) out.add(LockChanged{});
+}
+
+HostActions HostEngine::requestLock(Micros now, bool* sent) {
+  HostActions out;
+  const std::optional<LockMessage> message = m_localLock.request(toMillis(now));
+  if (message) dispatchLock(m_arbiter.handleMessage(kHostPeer, *message, toMillis(now)), now, out);
+  if (sent) *sent = message.has_value();
+  return finish(std::move(out));
+}
+
+HostActions HostEngine::releaseLock(Micros now, bool* sent) {
+  HostActions out;
+  const std::optional<LockMessage> message = m_localLock.release(toMillis(now));
+  if (message) dispatchLock(m_arbiter.handleMessage(kHostPeer, *message, toMillis(now)), now, out);
+  if (sent) *sent = message.has_value();
+  return finish(std::move(out));
+}
+
+// --- constraints and poses
+
+HostActions HostEngine::setConstraints(const spectral::ConstraintSet& constraints, Micros now, bool* accepted) {
+  const bool ok = applyConstraints(kHostPeer, m_localLock.heldEpoch(), constraints, now);
+  if (accepted) *accepted = ok;
+  return finish({});
+}
+
+HostActions HostEngine::drag(std::span<const spectral::HandleTransform> poses, Micros now, bool* accepted) {
+  HostActions out;
+  const bool ok = acceptPose(kHostPeer, m_localLock.heldEpoch(), {poses.begin(), poses.end()}, now, now, out);
+  if (accepted) *accepted = ok;
+  return finish(std::move(out));
+}
+
+void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, Micros now) {
+  const auto n = static_cast<std::uint32_t>(m_model->vertexCount());
+  const auto valid = [n](std::uint32_t id) { return id < n; };
+  spectral::ConstraintSet set;
+  bool idsValid = std::all_of(constraints.anchors.begin(), constraints.anchors.end(), valid);
+  for (const std::vector<std::uint32_t>& group : constraints.groups) {
+    idsValid = idsValid && std::all_of(group.begin(), group.end(), valid);
+    if (!idsValid) break;
+    set.handles.push_back({std::vector<int>(group.begin(), group.end())});
+  }
+  if (!idsValid) {
+    ++m_counters.constraintsRejected;
+    return;
+  }
+  set.anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
+  applyConstraints(peer, constraints.epoch, set, now);
+}
+
+bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now) {
+  if (m_arbiter.acceptDrag(peer, epoch, toMillis(now)) != DragVerdict::Accepted || !m_deformer->setConstraints(set)) {
+    ++m_counters.constraintsRejected;
+    return false;
+  }
+  ++m_counters.constraintsAccepted;
+  m_pendingArrival.reset();  // a pose for the previous groups means nothing now
+  return true;
+}
+
+bool HostEngine::acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses,
+                            Micros arrivedAt, Micros now, HostActions& out) {
+  switch (m_arbiter.acceptDrag(peer, epoch, toMillis(now))) {
+    case DragVerdict::NotHolder:
+      ++m_counters.dragsNotHolder;
+      return false;
+    case DragVerdict::StaleEpoch:
+      ++m_counters.dragsStale;
+      return false;
+    case DragVerdict::Accepted:
+      break;
+  }
+  ++m_counters.dragsAccepted;
+  m_pendingPoses = std::move(poses);
+  m_pendingArrival = arrivedAt;
+  if (m_coalesceDue) return true;  // the pending frame sends the latest pose
+  const Micros since = now - m_lastDragFrameAt;
+  const Micros spacing = std::chrono::duration_cast<Micros>(m_options.coalesce);
+  if (since >= spacing) {
+    produceFrame(now, false, out);
+  } else {
+    m_coalesceDue = now + std::max<Micros>(Millis{1}, std::chrono::ceil<Millis>(spacing - since));
+  }
+  return true;
+}
+
+}  // namespace sc::session

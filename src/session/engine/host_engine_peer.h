@@ -1,0 +1,31 @@
+#pragma once
+// HostEngine's per-connection bookkeeping, shared by the engine's translation units (host_engine*.cpp). Internal:
+// not part of the public API.
+
+#include "session/engine/host_engine.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace sc::session {
+
+struct HostEngine::Peer {
+  PeerId id = kNoPeer;
+  std::string address;   ///< the admission limits' key (e.g. the IP address as text)
+  Millis acceptedAt{0};  ///< the handshake deadline counts from here
+  Millis lastHeard{0};   ///< the last byte received (or the accept)
+  bool welcomed = false;
+  bool closing = false;                     ///< asked to close or refused: no longer counted, listed or sent to
+  QString name;                             ///< set once welcomed
+  std::optional<std::uint32_t> waitingFor;  ///< ladder target whose build this peer's transfer waits for
+  bool transferring = false;                ///< a transfer is in flight (StartTransfer until onTransferFinished)
+  std::uint32_t transferTarget = 0;         ///< ladder target of the transfer in flight
+  std::uint32_t transferVertexCount = 0;    ///< level of the transfer in flight
+  std::uint32_t loadedVertexCount = 0;      ///< level of the last completed transfer (0: none yet)
+  std::optional<StatsReport> stats;
+
+  [[nodiscard]] bool member() const { return welcomed && !closing; }
+};
+
+}  // namespace sc::session

@@ -1,0 +1,235 @@
+// HostEngine: membership (admission, welcome, incoming messages, closing) and the model transfers of the ladder's
+// levels to peers.
+
+#include "session/engine/host_engine.h"
+
+#include "session/engine/host_engine_peer.h"
+#include "session/wire/handle_transforms.h"
+
+#include <algorithm>
+
+namespace sc::session {
+namespace {
+
+QString describe(MessageType type) {
+  return QStringLiteral("0x%1").arg(static_cast<int>(type), 2, 16, QLatin1Char('0'));
+}
+
+}  // namespace
+
+// --- connections
+
+PeerId HostEngine::allocatePeerId() {
+  for (int attempt = 0; attempt < 0xffff; ++attempt) {
+    const PeerId id = m_nextPeerId;
+    m_nextPeerId = id >= 0xffff ? kHostPeer + 1 : id + 1;
+    if (!m_peers.contains(id)) return id;
+  }
+  return kNoPeer;
+}
+
+Admission HostEngine::onConnectionAttempt(const std::string& addressKey, Micros now) {
+  int pending = 0;
+  int fromAddress = 0;
+  for (const auto& [id, peer] : m_peers) {
+    if (peer.welcomed || peer.closing) continue;
+    ++pending;
+    if (peer.address == addressKey) ++fromAddress;
+  }
+  const bool admitted =
+      !m_shutDown && pending < m_options.maxPendingHandshakes && fromAddress < m_options.maxPendingPerAddress;
+  Admission admission;
+  admission.peer = admitted ? allocatePeerId() : kNoPeer;
+  if (admission.peer == kNoPeer) {
+    if (!m_shutDown) ++m_counters.connectionsOverLimit;
+    return admission;
+  }
+  admission.sessionFull = static_cast<int>(m_peers.size()) >= m_options.maxPeers;
+  Peer& peer = m_peers[admission.peer];
+  peer.id = admission.peer;
+  peer.address = addressKey;
+  peer.acceptedAt = toMillis(now);
+  peer.lastHeard = peer.acceptedAt;
+  return admission;
+}
+
+HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*/) {
+  HostActions out;
+  const auto it = m_peers.find(id);
+  if (it == m_peers.end()) return finish(std::move(out));
+  Peer& peer = it->second;
+  peer.welcomed = true;
+  peer.name = name;
+  out.add(SendToAll{peerList()});
+  // The exact level figures built so far; the rest of the ladder is built in the background and each new level
+  // re-sends the list to everybody (onLevelReady).
+  out.add(SendToPeer{id, m_ladder.levelList()});
+  out.add(PrefetchLevels{});
+  if (m_arbiter.holder() != kNoPeer) {
+    out.add(SendToPeer{id, LockNotice{LockNoticeKind::Granted, m_arbiter.holder(), m_arbiter.epoch(), 0, {}}});
+  }
+  out.add(LogLine{
+      QStringLiteral("%1 joined as peer %2 from %3").arg(name).arg(id).arg(QString::fromStdString(peer.address))});
+  out.add(PeersChanged{});
+  return finish(std::move(out));
+}
+
+void HostEngine::onRefused(PeerId id, RefuseReason reason) {
+  const auto index = static_cast<std::size_t>(reason);
+  if (index < m_counters.refusals.size()) ++m_counters.refusals[index];
+  if (const auto it = m_peers.find(id); it != m_peers.end()) it->second.closing = true;
+}
+
+HostActions HostEngine::onTlsFailed(PeerId id, const QString& why) {
+  ++m_counters.tlsFailures;
+  HostActions out;
+  const auto it = m_peers.find(id);
+  if (it == m_peers.end()) return finish(std::move(out));
+  it->second.closing = true;
+  const QString address = QString::fromStdString(it->second.address);
+  out.add(LogLine{QStringLiteral("TLS handshake with %1 failed: %2").arg(address, why)});
+  return finish(std::move(out));
+}
+
+void HostEngine::onHeard(PeerId id, Micros at) {
+  if (const auto it = m_peers.find(id); it != m_peers.end()) it->second.lastHeard = toMillis(at);
+}
+
+HostActions HostEngine::onClosed(PeerId id, Micros now) {
+  HostActions out;
+  const auto it = m_peers.find(id);
+  if (it == m_peers.end()) return finish(std::move(out));
+  const bool wasMember = it->second.welcomed;
+  m_peers.erase(it);
+  if (!wasMember) return finish(std::move(out));
+  dispatchLock(m_arbiter.peerDisconnected(id, toMillis(now)), now, out);
+  out.add(SendToAll{peerList()});
+  out.add(LogLine{QStringLiteral("peer %1 left").arg(id)});
+  out.add(PeersChanged{});
+  return finish(std::move(out));
+}
+
+void HostEngine::protocolFailure(Peer& peer, const QString& why, HostActions& out) {
+  ++m_counters.protocolErrors;
+  out.add(LogLine{QStringLiteral("protocol error from peer %1 (%2): connection closed").arg(peer.id).arg(why)});
+  closePeer(peer, ClosePeer::How::Graceful, out);
+}
+
+HostActions HostEngine::onDecodeError(PeerId id, const QString& why, Micros /*now*/) {
+  HostActions out;
+  if (Peer* peer = welcomed(id)) protocolFailure(*peer, why, out);
+  return finish(std::move(out));
+}
+
+HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micros now) {
+  HostActions out;
+  Peer* peer = welcomed(id);
+  if (peer == nullptr || peer->closing) return finish(std::move(out));
+  switch (messageType(message)) {
+    case MessageType::ResolutionRequest:
+      handleResolutionRequest(*peer, std::get<ResolutionRequest>(message), out);
+      break;
+    case MessageType::LockRequest:
+      dispatchLock(m_arbiter.handleMessage(id, std::get<LockMessage>(message), toMillis(now)), now, out);
+      break;
+    case MessageType::Constraints:
+      handleConstraints(id, std::get<Constraints>(message), now);
+      break;
+    case MessageType::Drag: {
+      const Drag& drag = std::get<Drag>(message);
+      acceptPose(id, drag.epoch, fromWire(drag.handles, m_deformer->constraints().handles.size()), now, now, out);
+      break;
+    }
+    case MessageType::StatsReport:
+      peer->stats = std::get<StatsReport>(message);
+      out.add(StatsReported{id, *peer->stats});
+      break;
+    case MessageType::Heartbeat:
+      break;  // onHeard() already noted the bytes
+    case MessageType::Leave:
+      closePeer(*peer, ClosePeer::How::Abort, out);  // onClosed() cleans up
+      break;
+    default:
+      protocolFailure(*peer, QStringLiteral("unexpected message %1").arg(describe(messageType(message))), out);
+      break;
+  }
+  return finish(std::move(out));
+}
+
+// --- model transfer
+
+void HostEngine::handleResolutionRequest(Peer& peer, const ResolutionRequest& request, HostActions& out) {
+  const std::uint32_t target = m_ladder.pick(request.vertexCount);
+  if (peer.transferring && peer.transferTarget == target) return;  // already on its way
+  if (m_ladder.find(target)) {
+    startTransfer(peer, target, out);
+    return;
+  }
+  peer.waitingFor = target;
+  out.add(RequestLevel{target});
+}
+
+void HostEngine::startTransfer(Peer& peer, std::uint32_t target, HostActions& out) {
+  const LevelFigures* level = m_ladder.find(target);
+  if (!level) return;
+  peer.waitingFor.reset();
+  if (++m_transferId == 0) m_transferId = 1;
+  peer.transferTarget = target;
+  peer.transferVertexCount = level->vertexCount;
+  if (peer.closing) return;  // a closing connection starts nothing
+  peer.transferring = true;
+  out.add(StartTransfer{peer.id, m_transferId, target});
+}
+
+HostActions HostEngine::onLevelReady(std::uint32_t target, const LevelFigures& figures, Micros /*now*/) {
+  HostActions out;
+  m_ladder.setBuilt(target, figures);
+  levelReady(target, out);
+  return finish(std::move(out));
+}
+
+void HostEngine::levelReady(std::uint32_t target, HostActions& out) {
+  out.add(SendToAll{m_ladder.levelList()});
+  for (auto& [id, peer] : m_peers) {
+    if (peer.waitingFor == target) startTransfer(peer, target, out);
+  }
+}
+
+HostActions HostEngine::onLevelFailed(std::uint32_t target, const QString& reason, Micros /*now*/) {
+  HostActions out;
+  m_ladder.setFailed(target);
+  out.add(LogLine{QStringLiteral("level %1 unavailable: %2").arg(target).arg(reason)});
+  const std::uint32_t full = m_ladder.fullTarget();
+  for (auto& [id, peer] : m_peers) {
+    if (peer.waitingFor != target) continue;
+    if (target == full) {
+      peer.waitingFor.reset();  // nothing left to send
+    } else {
+      peer.waitingFor = full;  // fall back to the full model
+    }
+  }
+  if (target != full) {
+    if (m_ladder.find(full)) {
+      levelReady(full, out);
+    } else {
+      out.add(RequestLevel{full});
+    }
+  }
+  return finish(std::move(out));
+}
+
+HostActions HostEngine::onTransferFinished(PeerId id, Micros /*now*/) {
+  HostActions out;
+  const auto it = m_peers.find(id);
+  if (it == m_peers.end()) return finish(std::move(out));
+  Peer& peer = it->second;
+  peer.transferring = false;
+  peer.loadedVertexCount = peer.transferVertexCount;
+  ++m_counters.transfersCompleted;
+  sendKeyframe(id, out);
+  out.add(SendToAll{peerList()});
+  out.add(PeersChanged{});
+  return finish(std::move(out));
+}
+
+}  // namespace sc::session
