@@ -178,6 +178,8 @@ class HostEngine {
   void levelReady(std::uint32_t target, HostActions& out);
   // host_engine_lock.cpp: lock, constraints, poses
   void dispatchLock(const LockEvents& events, Micros now, HostActions& out);
+  /// The host's own LockClient's message (if any) to the arbiter; `sent`: whether there was one.
+  HostActions localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent);
   void handleConstraints(PeerId peer, const Constraints& constraints, Micros now);
   bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now);
   bool acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses, Micros arrivedAt,

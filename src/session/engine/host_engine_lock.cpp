@@ -31,16 +31,15 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
 }
 
 HostActions HostEngine::requestLock(Micros now, bool* sent) {
-  HostActions out;
-  const std::optional<LockMessage> message = m_localLock.request(toMillis(now));
-  if (message) dispatchLock(m_arbiter.handleMessage(kHostPeer, *message, toMillis(now)), now, out);
-  if (sent) *sent = message.has_value();
-  return finish(std::move(out));
+  return localLockMessage(m_localLock.request(toMillis(now)), now, sent);
 }
 
 HostActions HostEngine::releaseLock(Micros now, bool* sent) {
+  return localLockMessage(m_localLock.release(toMillis(now)), now, sent);
+}
+
+HostActions HostEngine::localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent) {
   HostActions out;
-  const std::optional<LockMessage> message = m_localLock.release(toMillis(now));
   if (message) dispatchLock(m_arbiter.handleMessage(kHostPeer, *message, toMillis(now)), now, out);
   if (sent) *sent = message.has_value();
   return finish(std::move(out));
