@@ -185,19 +185,14 @@ ClientActions ClientEngine::requestResolution(std::uint32_t wantedVertices) {
   return out;
 }
 
-ClientActions ClientEngine::requestLock(Micros now) {
-  ClientActions out;
-  if (!live() || !m_lock) return out;
-  const std::optional<LockMessage> message = m_lock->request(toMillis(now));
-  sendLock(message, out);
-  if (message) out.emplace_back(client_action::Notify{ClientNotice::LockChanged});
-  return out;
-}
+ClientActions ClientEngine::requestLock(Micros now) { return lockCommand(&LockClient::request, now); }
 
-ClientActions ClientEngine::releaseLock(Micros now) {
+ClientActions ClientEngine::releaseLock(Micros now) { return lockCommand(&LockClient::release, now); }
+
+ClientActions ClientEngine::lockCommand(std::optional<LockMessage> (LockClient::*command)(Millis), Micros now) {
   ClientActions out;
   if (!live() || !m_lock) return out;
-  const std::optional<LockMessage> message = m_lock->release(toMillis(now));
+  const std::optional<LockMessage> message = ((*m_lock).*command)(toMillis(now));
   sendLock(message, out);
   if (message) out.emplace_back(client_action::Notify{ClientNotice::LockChanged});
   return out;

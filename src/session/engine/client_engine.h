@@ -126,6 +126,9 @@ class ClientEngine {
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
   [[nodiscard]] bool levelDecoding() const { return m_decoding; }
   [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
+  /// The StatsReport the engine would send with `sample`: the displayed level's vertex count, setDistortion()'s
+  /// figures; every double that is not finite and > 0 reads 0 (the wire's rule). Pure.
+  [[nodiscard]] StatsReport statsReport(const ReceiverSample& sample) const;
   /// PublishFrame actions so far (one per level installed plus one per coalesced batch of frame changes).
   [[nodiscard]] std::uint64_t framesPublished() const { return m_framesPublished; }
 
@@ -134,6 +137,8 @@ class ClientEngine {
   void fail(const QString& reason, ClientActions& out);
   void send(const ControlMessage& message, ClientActions& out);
   void sendLock(const std::optional<LockMessage>& message, ClientActions& out);
+  /// requestLock() / releaseLock(): the LockClient's command, when live; LockChanged when it sends something.
+  ClientActions lockCommand(std::optional<LockMessage> (LockClient::*command)(Millis), Micros now);
   void handleHandshake(const HandshakeOutput& handshake, ClientActions& out);
   void dispatch(const ControlMessage& message, Micros now, ClientActions& out);
   void onHostLeave(ClientActions& out);
@@ -146,7 +151,6 @@ class ClientEngine {
   void publishFrame(ClientActions& out);
   // cadence (client_engine_cadence.cpp)
   void everySecond(Micros now, const ReceiverSampler& sample, ClientActions& out);
-  [[nodiscard]] StatsReport statsReport(const ReceiverSample& sample) const;
 
   ClientEngineConfig m_config;
   ClientState m_state = ClientState::Idle;

@@ -189,7 +189,8 @@ class SessionClient final : public QObject {
   void frameUpdated(const sc::spectral::DisplayFrame& frame);
 
  private:
-  /// Executes the engine's actions in order (one line each, session_client_actions.cpp), then re-arms the timer.
+  /// Executes the engine's actions in order (session_client_actions.cpp; StartDecode and PublishFrame in
+  /// session_client_level.cpp), then re-arms the timer.
   void apply(ClientActions actions);
   /// apply() for a user command: false when the engine refused it (no action).
   bool applyCommand(ClientActions actions);
