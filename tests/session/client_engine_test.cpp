@@ -58,6 +58,25 @@ TEST(ClientEngine, ARefusalFailsWithTheHostsText) {
   EXPECT_EQ(engine.onClosed().size(), 0u) << "Failed is final";
 }
 
+TEST(ClientEngine, AChallengeWithoutAPasswordOrGarbageFailsTheHandshakeLocally) {
+  ClientEngine engine(config("nopass"));
+  engine.start();
+  engine.onSecured({}, kT0);
+  const ClientActions out =
+      engine.onMessage(message(Challenge{QByteArray(kNonceSize, 'n'), QByteArray(kSaltSize, 's'), 16}), kT0);
+  EXPECT_TRUE(sentMessages(out).empty()) << "the password is never guessed";
+  EXPECT_EQ(statesOf(out), std::vector<S>{S::Failed});
+  EXPECT_EQ(engine.handshake().failure(), ClientFailure::PasswordRequired);
+  EXPECT_EQ(engine.errorText(), engine.handshake().errorText());
+
+  ClientEngine garbage(config("garbage"));
+  garbage.start();
+  garbage.onSecured({}, kT0);
+  garbage.onMessage(ControlDecodeResult{ControlError::UnknownType, {}}, kT0);
+  EXPECT_EQ(garbage.state(), S::Failed);
+  EXPECT_EQ(garbage.handshake().failure(), ClientFailure::ProtocolError);
+}
+
 TEST(ClientEngine, ClosedConnectionReadsHostLostOnceJoined) {
   ClientEngine handshaking(config("a"));
   handshaking.start();
