@@ -148,4 +148,9 @@ ReceiverSample SessionClient::sampleReceiver(Micros now) {
   return ReceiverSample{m_channel->report(now), m_channel->framesApplied(), m_channel->droppedDatagrams()};
 }
 
+StatsReport SessionClient::peekStats() const {
+  return m_engine.statsReport(
+      ReceiverSample{m_channel->peek(sessionNow()), m_channel->framesApplied(), m_channel->droppedDatagrams()});
+}
+
 }  // namespace sc::session

@@ -121,6 +121,9 @@ class SessionClient final : public QObject {
   [[nodiscard]] const std::optional<ImpairmentSettings>& impairment() const { return m_options.impairment; }
   /// Distortion figures (% of the bbox diagonal) reported in the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
+  /// What the next StatsReport would say now (ClientEngine::statsReport() over the channel's peek(): no new loss
+  /// interval starts), for a UI showing this client's own figures without reaching into channel().
+  [[nodiscard]] StatsReport peekStats() const;
 
   [[nodiscard]] State state() const { return m_state; }
   [[nodiscard]] const QString& errorText() const { return m_engine.errorText(); }
