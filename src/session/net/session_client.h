@@ -1,8 +1,11 @@
 #pragma once
-// A client of a session over real sockets (docs/protocol.md, "Sequence" and "Rules"): the TCP control connection
-// (ClientHandshake, then session messages), a ClientDatagramChannel for the coefficient frames, a ModelReceiver
-// for the level transfer, a LockClient, and the reconstruction X' = X̂' + K·Z of the received level. A thin
-// adapter: protocol decisions are the pure state machines'; this class wires them to sockets and timers.
+// A client of a session over real sockets (docs/protocol.md, "Sequence" and "Rules"): a thin adapter over the
+// socket-free ClientEngine (session/engine/client_engine.h), which holds every session rule (states and failure
+// texts, the Welcome's ResolutionRequest, heartbeat, StatsReport and host-silence cadence, lock renewal, the level
+// pipeline's decisions, keyframes, the coalescing of frame updates). This class keeps only what needs the
+// operating system: the TLS control socket (and its certificate check), the ClientDatagramChannel, ONE timer armed
+// at the engine's nextWakeUp(), the level decode worker thread, and the translation of the engine's actions into
+// socket calls and signals.
 //
 // States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level decoded--> Ready
 //          (Connecting covers the TCP connect and the TLS 1.3 handshake; the Hello is sent once the host's
@@ -11,39 +14,43 @@
 //          errorText(): the host's Refused text, the socket's error, …; once joined, a host that vanished without
 //          a Leave (killed, crashed, unplugged, silent for hostTimeout) reads "host lost: <why>"). A failed or left
 //          client keeps its last level, Z and positions(); joining again takes a new SessionClient.
+//          state() is the state last announced by stateChanged() (the engine's, in signal order).
 // Contracts
 //   - After the Welcome: the datagram channel is bound and opened toward the host's address and udpPort, and a
 //     ResolutionRequest{options.level} is sent. A new level replaces the displayed one only once it is complete and
 //     decoded; a bad payload (checksum, decode, or shape not matching the Welcome) emits levelFailed(reason) and
 //     keeps the connection and the previous level.
 //   - Level decoding off the client's thread: the last chunk only completes the reassembly; the SHA-256 check,
-//     decodeResolutionLevel, the shape check and the interleaved rest positions run on one worker std::thread at
-//     a time, so heartbeats and datagrams are never stuck behind them. The result comes back through a queued call
-//     (levelReady()/levelFailed() are emitted on the client's thread); until then the previous level stays
-//     displayed (levelDecoding() is true). A transfer completed while another decodes waits, and supersedes it:
-//     only the latest completed transfer is installed. A result arriving after leave() or a failure is dropped.
-//     The destructor joins a running decode (it waits for it to finish; nothing is delivered to the dead object).
+//     decodeResolutionLevel, the shape check and the interleaved rest positions (session::decodeLevel) run on one
+//     worker std::thread at a time, so heartbeats and datagrams are never stuck behind them. The result comes back
+//     through a queued call (levelReady()/levelFailed() are emitted on the client's thread); until then the
+//     previous level stays displayed (levelDecoding() is true). A transfer completed while another decodes waits,
+//     and supersedes it: only the latest completed transfer is installed. A result arriving after leave() or a
+//     failure is dropped. The destructor joins a running decode (nothing is delivered to the dead object).
 //   - A Keyframe seeds the channel (ignored by it once a datagram frame arrived) and is re-emitted as
 //     keyframeReceived(frame, Z) (exact references for a DistortionProbe).
-//   - requestLock()/releaseLock() go through the LockClient (renewed every 250 ms poll while held);
+//   - requestLock()/releaseLock() go through the LockClient (a Renew is sent when due while held);
 //     sendConstraints()/sendDrag() refuse locally (return false, send nothing) unless the lock is held, and stamp
 //     the held epoch.
 //   - Heartbeat every second; a StatsReport every second from the channel's report() and the distortion figures
 //     set with setDistortion(); a host silent for options.hostTimeout fails the session.
-//   - positions() = X̂' + K·Z (float32, interleaved xyz) for positionsCoefficients(), the Z of positionsFrame(),
-//     updated at once when a level is installed and, when Z changes (frameUpdated of the channel, once per applied
-//     datagram or seed), coalesced: Z changes only mark the positions dirty and arm a zero-timeout single-shot
-//     timer, so every datagram already pending is decoded first and one update (one positionsUpdated(frame)) serves
-//     them all. The O(n'·m) reconstruction itself runs on the first positions() call after an update, so a view that
-//     reconstructs from K and positionsCoefficients() itself (MeshViewport) does not pay for it twice.
+// Frame path (docs/architecture.md): views take displayLevel() (signal displayLevelChanged: the level, shared and
+//   immutable, K held once per process) and the frame value (signal frameUpdated: frame number and Z, float32
+//   m by 3), and reconstruct X̂' + K·Z themselves (the shader, or spectral::reconstruct); they never call
+//   positions(). A Z change (frameUpdated of the channel, once per applied datagram or seed) only marks the frame
+//   dirty and wakes the timer at once, so every datagram already pending is decoded first and one update (one
+//   frameUpdated, then one positionsUpdated(frame)) serves them all; installing a level updates at once. Z is
+//   converted once per update, channel (double) → displayFrame().Z (float, in place), and passed by reference.
+//   positions() = X̂' + K·Z (float32, interleaved xyz) is a convenience for headless users (CLI, tests): it runs
+//   spectral::reconstruct on its first call after an update (O(n'·m)) and caches the result.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
+#include "session/engine/client_engine.h"
 #include "session/engine/handshake_client.h"
 #include "session/engine/lock_client.h"
 #include "session/net/client_datagram_channel.h"
 #include "session/wire/control_frame.h"
 #include "session/wire/control_messages.h"
-#include "session/wire/model_transfer.h"
 #include "spectral/display_level.h"
 #include "spectral/resolution_level.h"
 
@@ -114,49 +121,55 @@ class SessionClient final : public QObject {
   [[nodiscard]] const std::optional<ImpairmentSettings>& impairment() const { return m_options.impairment; }
   /// Distortion figures (% of the bbox diagonal) reported in the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
+  /// What the next StatsReport would say now (ClientEngine::statsReport() over the channel's peek(): no new loss
+  /// interval starts), for a UI showing this client's own figures without reaching into channel().
+  [[nodiscard]] StatsReport peekStats() const;
 
   [[nodiscard]] State state() const { return m_state; }
-  [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  [[nodiscard]] const QString& errorText() const { return m_engine.errorText(); }
   /// SHA-256 of the certificate the host showed (empty before the TLS handshake ends; set also when the
   /// fingerprint check refused it, so that the UI can show both).
   [[nodiscard]] const QByteArray& hostFingerprint() const { return m_hostFingerprint; }
   /// The handshake (its refusal() holds the host's reason when it refused us).
-  [[nodiscard]] const ClientHandshake& handshake() const { return m_handshake; }
+  [[nodiscard]] const ClientHandshake& handshake() const { return m_engine.handshake(); }
   /// The Welcome (peer id, m, n, udpPort); nullopt before it.
-  [[nodiscard]] const std::optional<Welcome>& session() const { return m_session; }
-  [[nodiscard]] PeerId peerId() const { return m_session ? m_session->peerId : kNoPeer; }
-  [[nodiscard]] const PeerList& peers() const { return m_peers; }
+  [[nodiscard]] const std::optional<Welcome>& session() const { return m_engine.session(); }
+  [[nodiscard]] PeerId peerId() const { return session() ? session()->peerId : kNoPeer; }
+  [[nodiscard]] const PeerList& peers() const { return m_engine.peers(); }
   /// The host's built levels with exact vertex/face counts (LevelList; empty until the first one arrives).
   /// requestResolution(closestLevel(levels(), n)->vertexCount) gets exactly that level.
-  [[nodiscard]] const LevelList& levels() const { return m_levels; }
+  [[nodiscard]] const LevelList& levels() const { return m_engine.levels(); }
   /// The lock state machine (nullptr before the Welcome).
-  [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
+  [[nodiscard]] const LockClient* lock() const { return m_engine.lock(); }
   /// The displayed level (nullptr before the first is complete), its payload bytes as received, its vertex count.
-  [[nodiscard]] const spectral::ResolutionLevel* level() const { return m_level ? &m_level->level : nullptr; }
+  [[nodiscard]] const spectral::ResolutionLevel* level() const {
+    return displayLevel() ? &displayLevel()->level : nullptr;
+  }
   /// The displayed level, shared and immutable (nullptr before the first is complete): a view holds this pointer,
   /// never a copy of K (one float K per process, docs/architecture.md).
-  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_level; }
-  /// The frame that positions() reflects: positionsFrame() and positionsCoefficients() as one value.
-  [[nodiscard]] spectral::DisplayFrame displayFrame() const { return {m_positionsFrame, m_positionsZ}; }
-  [[nodiscard]] const QByteArray& levelPayload() const { return m_levelPayload; }
-  [[nodiscard]] std::uint32_t levelVertexCount() const;
-  [[nodiscard]] const QString& levelError() const { return m_levelError; }
+  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_engine.displayLevel(); }
+  /// The displayed frame: positionsFrame() and positionsCoefficients() as one value (what frameUpdated carried).
+  [[nodiscard]] const spectral::DisplayFrame& displayFrame() const { return m_frame; }
+  [[nodiscard]] const QByteArray& levelPayload() const { return m_engine.levelPayload(); }
+  [[nodiscard]] std::uint32_t levelVertexCount() const { return m_engine.levelVertexCount(); }
+  [[nodiscard]] const QString& levelError() const { return m_engine.levelError(); }
   /// True while a completed transfer is being checked and decoded off-thread (the previous level is still shown).
-  [[nodiscard]] bool levelDecoding() const { return m_decoding; }
+  [[nodiscard]] bool levelDecoding() const { return m_engine.levelDecoding(); }
   /// X̂' + K·Z for Z = positionsCoefficients(), 3·n' floats (empty before a level). Reconstructed here on the first
-  /// call after an update (O(n'·m), spectral::reconstructInterleaved), then cached.
+  /// call after an update (O(n'·m), spectral::reconstruct), then cached. For headless users: views take
+  /// displayLevel() and frameUpdated instead.
   [[nodiscard]] const std::vector<float>& positions() const;
   /// The m by 3 Z (float32) that positions() reflects: the channel's coefficients at the last update (zero before
   /// the first frame); empty before a level.
-  [[nodiscard]] const Eigen::MatrixXf& positionsCoefficients() const { return m_positionsZ; }
+  [[nodiscard]] const Eigen::MatrixXf& positionsCoefficients() const { return m_frame.Z; }
   /// Wall time of the last reconstruction positions() ran, milliseconds (0 before the first).
   [[nodiscard]] double reconstructionMs() const { return m_reconstructionMs; }
   /// Frame number of the Z that positions() reflects (the channel's current frame at the last update).
-  [[nodiscard]] std::uint32_t positionsFrame() const { return m_positionsFrame; }
+  [[nodiscard]] std::uint32_t positionsFrame() const { return m_frame.frame; }
   /// How many times positions() was updated (one per level installed, plus at most one per event-loop pass in
   /// which Z changed, however many datagrams changed it); each update emits positionsUpdated() once.
-  [[nodiscard]] std::uint64_t positionUpdates() const { return m_positionUpdates; }
-  [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
+  [[nodiscard]] std::uint64_t positionUpdates() const { return m_engine.framesPublished(); }
+  [[nodiscard]] std::uint64_t keyframesReceived() const { return m_engine.keyframesReceived(); }
   [[nodiscard]] ClientDatagramChannel& channel() { return *m_channel; }
   [[nodiscard]] const ClientDatagramChannel& channel() const { return *m_channel; }
 
@@ -179,65 +192,47 @@ class SessionClient final : public QObject {
   void frameUpdated(const sc::spectral::DisplayFrame& frame);
 
  private:
-  void changeState(State next);
-  void fail(const QString& reason);
-  void send(const ControlMessage& message);
-  void sendLock(const std::optional<LockMessage>& message);
+  /// Executes the engine's actions in order (session_client_actions.cpp; StartDecode and PublishFrame in
+  /// session_client_level.cpp), then re-arms the timer.
+  void apply(ClientActions actions);
+  /// apply() for a user command: false when the engine refused it (no action).
+  bool applyCommand(ClientActions actions);
+  void execute(client_action::Connect);
+  void execute(client_action::Send& send);
+  void execute(client_action::StateChanged changed);
+  void execute(client_action::OpenDatagrams& open);
+  void execute(client_action::CloseDatagrams);
+  void execute(client_action::Disconnect disconnect);
+  void execute(client_action::Failed& failure);
+  void execute(client_action::Notify notify);
+  void execute(client_action::ModelProgress progress);
+  void execute(client_action::SeedKeyframe& keyframe);
+  void execute(client_action::StartDecode& decode);
+  void execute(client_action::LevelFailed& failure);
+  void execute(client_action::LevelReady ready);
+  void execute(client_action::PublishFrame);
+  void armTimer();
+  void wake();
+  [[nodiscard]] ReceiverSample sampleReceiver(Micros now);
   void readAvailable();
   void onEncrypted();
-  void handleHandshake(const HandshakeOutput& out);
-  void onJoined();
-  void onMessage(const ControlMessage& message);
-  struct DecodedLevel;
-  /// Runs on the worker thread: checksum, decode, shape check (m, n of the Welcome), interleaved rest positions.
-  static DecodedLevel decodeLevel(QByteArray payload, const QByteArray& expectedSha256, std::uint16_t rowCount,
-                                  std::uint32_t vertexCount);
-
-  void onModelChunk(const ModelChunk& chunk);
-  void startDecode(QByteArray payload, QByteArray expectedSha256);
-  void finishDecode(const std::shared_ptr<DecodedLevel>& result);
-  void installLevel(DecodedLevel& decoded);
-  void onKeyframe(const Keyframe& keyframe);
-  void onFrameUpdated();
-  void updatePositions();
-  void everySecond();
-  void renewTick();
-  [[nodiscard]] bool live() const { return m_state == State::Loading || m_state == State::Ready; }
+  /// The decode worker's result, on this object's thread.
+  void finishDecode(DecodedLevel& result);
 
   SessionClientOptions m_options;
+  ClientEngine m_engine;
+  State m_state = State::Idle;  ///< as last announced by stateChanged()
   QSslSocket* m_socket = nullptr;
   QByteArray m_hostFingerprint;
   ClientDatagramChannel* m_channel = nullptr;
-  QTimer* m_secondTimer = nullptr;
-  QTimer* m_renewTimer = nullptr;
-  QTimer* m_recomputeTimer = nullptr;  ///< zero-timeout single-shot: coalesced recompute after pending datagrams
+  QTimer* m_timer = nullptr;  ///< single-shot, armed at m_engine.nextWakeUp()
+  std::optional<Micros> m_armedFor;
   ControlFrameReader m_reader;
-  ClientHandshake m_handshake;
-  ModelReceiver m_receiver;
-  State m_state = State::Idle;
-  QString m_errorText;
-  std::optional<Welcome> m_session;
-  PeerList m_peers;
-  LevelList m_levels;
-  std::unique_ptr<LockClient> m_lock;
-  spectral::SharedDisplayLevel m_level;  ///< the displayed level (X̂' interleaved and K inside), shared with views
-  QByteArray m_levelPayload;
-  QString m_levelError;
-  mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_positionsZ once m_positionsStale is false
+  std::thread m_decoder;                   ///< one level decode at a time (the engine decides); the destructor joins it
+  spectral::DisplayFrame m_frame;          ///< the displayed frame (Z float m by 3; empty before a level)
+  mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_frame.Z once m_positionsStale is false
   mutable bool m_positionsStale = false;
   mutable double m_reconstructionMs = 0.0;
-  Eigen::MatrixXf m_positionsZ;
-  std::uint32_t m_positionsFrame = 0;
-  bool m_positionsDirty = false;
-  std::uint64_t m_positionUpdates = 0;
-  // level decoding (one worker at a time; the destructor joins it)
-  std::thread m_decoder;
-  bool m_decoding = false;
-  std::optional<std::pair<QByteArray, QByteArray>> m_nextDecode;  ///< (payload, sha256) completed meanwhile
-  std::uint64_t m_keyframes = 0;
-  std::uint32_t m_heartbeatSequence = 0;
-  std::chrono::microseconds m_lastHeard{0};
-  double m_hdMax = 0.0, m_hdMean = 0.0, m_hdLast = 0.0;
 };
 
 }  // namespace sc::session

@@ -1,0 +1,103 @@
+// ClientEngine: the level transfer (model chunks), the decode scheduling (one at a time, the latest transfer
+// supersedes), installing a level, Keyframes and the coalesced frame updates.
+
+#include "session/engine/client_engine.h"
+
+#include <utility>
+
+namespace sc::session {
+
+// --- level transfer and decode scheduling
+
+void ClientEngine::onModelBegin(const ModelBegin& begin, ClientActions& out) {
+  m_receiver.begin(begin);
+  out.emplace_back(client_action::ModelProgress{0, begin.totalSize});
+}
+
+void ClientEngine::onModelChunk(const ModelChunk& chunk, ClientActions& out) {
+  const ModelReceiver::Status status = m_receiver.addUnchecked(chunk);  // decodeLevel() checks the SHA-256
+  switch (status) {
+    case ModelReceiver::Status::InProgress:
+      out.emplace_back(client_action::ModelProgress{m_receiver.receivedBytes(), m_receiver.totalBytes()});
+      return;
+    case ModelReceiver::Status::Complete: {
+      out.emplace_back(client_action::ModelProgress{m_receiver.totalBytes(), m_receiver.totalBytes()});
+      QByteArray expected = m_receiver.current() ? m_receiver.current()->sha256 : QByteArray();
+      QByteArray payload = m_receiver.take();
+      startDecode(LevelJob{std::move(payload), std::move(expected), m_session->rowCount, m_session->vertexCount}, out);
+      return;
+    }
+    case ModelReceiver::Status::UnknownTransfer:
+      return;  // a chunk of an abandoned transfer
+    case ModelReceiver::Status::OutOfOrder:
+    case ModelReceiver::Status::BadChecksum:
+      m_levelError = QStringLiteral("model transfer failed: %1").arg(QString::fromLatin1(toString(status)));
+      out.emplace_back(client_action::LevelFailed{m_levelError});
+      return;
+  }
+}
+
+void ClientEngine::startDecode(LevelJob job, ClientActions& out) {
+  if (m_decoding) {  // one decode at a time: this transfer supersedes the one being decoded
+    m_nextDecode = std::move(job);
+    return;
+  }
+  m_decoding = true;
+  out.emplace_back(client_action::StartDecode{std::move(job)});
+}
+
+ClientActions ClientEngine::onLevelDecoded(DecodedLevel result) {
+  ClientActions out;
+  m_decoding = false;
+  if (m_nextDecode) {  // superseded by a transfer completed meanwhile: decode that one instead
+    LevelJob next = std::move(*m_nextDecode);
+    m_nextDecode.reset();
+    if (live()) startDecode(std::move(next), out);
+    return out;
+  }
+  if (!live()) return out;  // left or failed meanwhile
+  if (!result.level) {
+    m_levelError = result.error;
+    out.emplace_back(client_action::LevelFailed{m_levelError});
+    return out;
+  }
+  install(result, out);
+  return out;
+}
+
+void ClientEngine::install(DecodedLevel& decoded, ClientActions& out) {
+  m_level = std::move(decoded.level);
+  m_levelPayload = std::move(decoded.payload);
+  m_levelError.clear();
+  out.emplace_back(client_action::Notify{ClientNotice::LevelInstalled});
+  publishFrame(out);
+  changeState(ClientState::Ready, out);
+  out.emplace_back(client_action::LevelReady{levelVertexCount()});
+}
+
+// --- keyframes and frames
+
+void ClientEngine::onKeyframe(const Keyframe& keyframe, ClientActions& out) {
+  const auto m = static_cast<Eigen::Index>(keyframe.z.size() / 3);
+  if (!m_session || m != m_session->rowCount) return;  // not this session's shape: ignore
+  Eigen::MatrixXd Z(m, 3);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    for (Eigen::Index c = 0; c < 3; ++c) Z(r, c) = keyframe.z[static_cast<std::size_t>(3 * r + c)];
+  }
+  ++m_keyframes;
+  out.emplace_back(client_action::SeedKeyframe{keyframe.frame, std::move(Z)});
+}
+
+void ClientEngine::onFrameChanged(Micros now) {
+  if (!m_level || m_frameDirty) return;  // installing a level publishes anyway; already due
+  m_frameDirty = true;
+  m_dirtySince = now;
+}
+
+void ClientEngine::publishFrame(ClientActions& out) {
+  m_frameDirty = false;
+  ++m_framesPublished;
+  out.emplace_back(client_action::PublishFrame{});
+}
+
+}  // namespace sc::session
