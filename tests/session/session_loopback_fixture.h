@@ -41,7 +41,8 @@ class SessionLoopback : public ::testing::Test {
   /// 127.0.0.1, any port, host name "Hostess", 1000 PBKDF2 iterations (fast tests; production keeps the default).
   static SessionHostOptions hostOptions() {
     SessionHostOptions options;
-    options.levelBuilder = model::decimatingLevelBuilder();  // the suite checks the ladder of levels
+    options.levelBuilder =
+        session::LevelBuilder{model::levelTargetList, model::decimatedLevel};  // the suite checks the ladder of levels
     options.address = QHostAddress::LocalHost;
     options.pbkdf2Iterations = 1000;
     options.hostName = QStringLiteral("Hostess");

@@ -16,7 +16,7 @@ namespace sc::session {
 namespace {
 
 TEST_F(SessionLoopback, LevelLibraryPicksTheClosestTargetAndBuildsOnce) {
-  LevelLibrary library(s_model, model::decimatingLevelBuilder());
+  LevelLibrary library(s_model, LevelBuilder{model::levelTargetList, model::decimatedLevel});
   const std::vector<int> targets = model::levelTargets(static_cast<int>(n()));  // 81, 32, 8
   EXPECT_EQ(library.pick(0), n());
   EXPECT_EQ(library.pick(n()), n());

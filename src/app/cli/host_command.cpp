@@ -68,7 +68,7 @@ int runHostCommand(const QStringList& arguments) {
   if (!command.parse(arguments, exitCode)) return exitCode;
 
   session::SessionHostOptions options;
-  options.levelBuilder = model::decimatingLevelBuilder();
+  options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
   bool ok = false, ok2 = false, ok3 = false;
   options.tcpPort = static_cast<quint16>(command.parser().value(port).toUInt(&ok));
   options.udpPort = static_cast<quint16>(command.parser().value(udpPort).toUInt(&ok2));

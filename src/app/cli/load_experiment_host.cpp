@@ -140,7 +140,7 @@ int runLoadHost(const QStringList& arguments) {
   if (!model) return exitCode;
 
   session::SessionHostOptions options;
-  options.levelBuilder = model::decimatingLevelBuilder();
+  options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
   options.address = QHostAddress::LocalHost;
   options.maxPeers = maxPeers;
   options.hostName = QStringLiteral("load host");

@@ -113,7 +113,7 @@ std::variant<std::vector<LossRow>, QString> runLossExperiment(std::shared_ptr<co
     if (progress) progress(line);
   };
   session::SessionHostOptions hostOptions;
-  hostOptions.levelBuilder = model::decimatingLevelBuilder();
+  hostOptions.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
   hostOptions.address = QHostAddress::LocalHost;
   hostOptions.referenceEvery = 1;
   hostOptions.hostName = QStringLiteral("experiment host");

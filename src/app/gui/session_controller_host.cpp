@@ -48,7 +48,7 @@ void SessionController::finishPreparation(const std::shared_ptr<PreparedHost>& p
   m_hostPositionsStale = false;
 
   session::SessionHostOptions options;
-  options.levelBuilder = model::decimatingLevelBuilder();
+  options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
   options.tcpPort = m_hostSettings.port;
   options.password = m_hostSettings.password;
   options.hostName = m_hostSettings.name.isEmpty() ? QStringLiteral("host") : m_hostSettings.name;

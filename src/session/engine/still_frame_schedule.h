@@ -4,7 +4,7 @@
 // predict past the last frame. One frame interval after the last moving frame, with no frame since, the host
 // therefore sends ONE still frame: the same Z under a new frame number (an ordinary frame on the wire). A client's
 // FramePredictor then sees zero velocity and predicts nothing. Pure: the send times are passed in (no clock, no
-// timer); SessionHost drives it with a single-shot timer.
+// timer); HostEngine drives it (its nextWakeUp() includes the still frame's due time).
 //
 // Interval T: exponential average (weight 1/8) of the spacing of consecutive moving frames, over samples within
 // [kMinSample, kMaxSample] (pauses and bursts are ignored). The still frame is due kDelayFactor · T after the last

@@ -102,7 +102,7 @@ LevelLibrary::BuildResult LevelLibrary::build(const HostModel& model, const Leve
         result.error = QStringLiteral("no level builder for %1 vertices").arg(target);
         return result;
       }
-      level = builder.build(model, target);
+      level = builder.build(model.V, model.F, model.basis.vectors, target);
       if (level.restV.rows() < 3 || level.F.rows() < 1) {
         result.error = QStringLiteral("the level for %1 vertices has no mesh").arg(target);
         return result;

@@ -1,6 +1,6 @@
 #pragma once
 // The host's resolution ladder (docs/protocol.md, "Levels"): the full model and, built on demand, the display
-// levels for the LevelBuilder's targets (level_builder.h; model::decimatingLevelBuilder(): 50%, 20%, 5% of n),
+// levels for the LevelBuilder's targets (level_builder.h; model::levelTargetList: 50%, 20%, 5% of n),
 // each cached with its encoded payload (spectral::encodeResolutionLevel), which is what a ModelBegin/ModelChunk
 // transfer carries. The figures (pick, levelList) are a LevelLadder's (engine/level_ladder.h).
 //

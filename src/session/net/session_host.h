@@ -61,7 +61,7 @@ struct SessionHostOptions : HostEngineOptions {
   /// The TLS certificate and key. None: loadOrCreateTlsIdentity(defaultTlsIdentityDirectory()) at start() (the
   /// same fingerprint every run), or a fresh in-memory one when that folder cannot be used (logged).
   std::shared_ptr<const TlsIdentity> identity;
-  /// Builds the display levels (e.g. model::decimatingLevelBuilder()); empty: the full model only.
+  /// Builds the display levels (e.g. {model::levelTargetList, model::decimatedLevel}); empty: the full model only.
   LevelBuilder levelBuilder;
 };
 
