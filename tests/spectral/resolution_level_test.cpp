@@ -4,6 +4,7 @@
 #include "spectral/closest_point.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/reconstruction_kernel.h"
+#include "spectral/vertex_ids.h"
 
 #include "test_meshes.h"
 

@@ -53,7 +53,7 @@ class SessionController : public QObject, protected EditTarget {
   Q_DISABLE_COPY_MOVE(SessionController)
 
  public:
-  enum class Role { None, Host, Client };
+  enum class Role { None, Host, Client };  ///< None: no session (what views show without a controller)
   Q_ENUM(Role)
   enum class State { Idle, Preparing, Connecting, Live, Left, Failed };
   Q_ENUM(State)
