@@ -2,6 +2,7 @@
 
 #include "spectral/basis_cache.h"
 #include "spectral/closest_point.h"
+#include "spectral/vertex_ids.h"
 
 #include <algorithm>
 #include <array>
@@ -233,20 +234,20 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
   return level;
 }
 
-std::vector<int> dominantFullVertices(const BarycentricMap& P, std::span<const int> lowVertices) {
-  std::vector<int> ids;
-  ids.reserve(lowVertices.size());
-  for (const int low : lowVertices) {
-    if (low < 0 || low >= P.rows()) continue;
-    int best = -1;
+FullVertexIds dominantFullVertices(const BarycentricMap& P, std::span<const DisplayVertexId> displayed) {
+  FullVertexIds ids;
+  ids.reserve(displayed.size());
+  for (const DisplayVertexId low : displayed) {
+    if (low.index() >= static_cast<std::size_t>(P.rows())) continue;
+    Eigen::Index best = -1;
     double bestWeight = -1.0;
-    for (BarycentricMap::InnerIterator it(P, low); it; ++it) {
+    for (BarycentricMap::InnerIterator it(P, static_cast<Eigen::Index>(low.index())); it; ++it) {
       if (it.value() > bestWeight) {
         bestWeight = it.value();
-        best = static_cast<int>(it.col());
+        best = it.col();
       }
     }
-    if (best >= 0) ids.push_back(best);
+    if (best >= 0) ids.emplace_back(static_cast<std::uint32_t>(best));
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

@@ -33,6 +33,13 @@
 
 namespace sc::spectral {
 
+// The typed ids of vertex_ids.h, declared here only: a header that moc parses must not start its std includes with
+// <compare> (moc 6.4 fails on it), and callers of dominantFullVertices() include vertex_ids.h anyway.
+template <typename Tag>
+struct VertexId;
+struct FullVertexTag;
+struct DisplayVertexTag;
+
 inline constexpr std::uint32_t kResolutionLevelVersion = 1;
 
 /// n' by n barycentric map, row-major: row i holds the (≤ 3) weights of low-res vertex i on the full mesh.
@@ -74,13 +81,14 @@ ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
 /// Cost: O(n·m).
 ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const Eigen::MatrixXd& H);
 
-/// The full-resolution vertex each low-res vertex stands for: for lowVertices[k], the column with the largest
-/// weight in its row of P (the first such column on ties).
+/// The full-resolution vertex each displayed (low-res) vertex stands for: for displayed[k], the column with the
+/// largest weight in its row of P (the first such column on ties). The one map between the two id spaces.
 /// @param[in] P  n' by n barycentric map of a level.
-/// @param[in] lowVertices  low-res vertex ids; ids outside [0, n') and rows without non-zeros are skipped.
+/// @param[in] displayed  displayed vertex ids; ids outside [0, n') and rows without non-zeros are skipped.
 /// @return full-resolution ids in [0, n), sorted ascending, without duplicates.
-/// Cost: O(k log k) for k = lowVertices.size() (P has ≤ 3 non-zeros per row).
-std::vector<int> dominantFullVertices(const BarycentricMap& P, std::span<const int> lowVertices);
+/// Cost: O(k log k) for k = displayed.size() (P has ≤ 3 non-zeros per row).
+std::vector<VertexId<FullVertexTag>> dominantFullVertices(const BarycentricMap& P,
+                                                          std::span<const VertexId<DisplayVertexTag>> displayed);
 
 /// Serialises a level in the layout above. Requires every count < 2³² (asserted).
 /// Cost: O(24n' + 12f' + 12z + 4n'm) bytes written and checksummed.

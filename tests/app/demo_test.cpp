@@ -6,16 +6,14 @@
 // --demo --screenshot-dir`) writes its four PNGs, none blank, after a scripted drag that reached the clients.
 
 #include "app/gui/demo.h"
+#include "app/gui/client_controller.h"
 #include "app/gui/demo_screenshots.h"
 #include "app/gui/drag_commands.h"
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/network_conditions_dock.h"
-#include "app/gui/session_controller.h"
 #include "app_test_support.h"
-#include "session/net/client_datagram_channel.h"
-#include "session/net/session_client.h"
 #include "session_windows.h"
 #include "test_meshes.h"
 
@@ -93,11 +91,13 @@ TEST_F(DemoTest, ThreeWindowsBothClientsLive) {
   EXPECT_EQ(fullView->vertexCount(), m_vertices);
   EXPECT_GT(lowView->vertexCount(), 0);
   EXPECT_LT(lowView->vertexCount(), m_vertices / 4);
-  SessionController* low = demo.lowClientWindow()->session();
+  auto* low = qobject_cast<ClientController*>(demo.lowClientWindow()->session());
+  ASSERT_NE(low, nullptr);
   EXPECT_NEAR(low->networkConditions().loss, 0.10, 1e-12);
-  ASSERT_NE(low->sessionClient(), nullptr);
-  EXPECT_TRUE(QTest::qWaitFor([low] { return low->sessionClient()->channel().impairment() != nullptr; }, 5000));
-  EXPECT_FALSE(demo.fullClientWindow()->session()->sessionClient()->impairment().has_value());
+  EXPECT_TRUE(QTest::qWaitFor([low] { return low->impairmentInEffect().has_value(); }, 5000));
+  auto* full = qobject_cast<ClientController*>(demo.fullClientWindow()->session());
+  ASSERT_NE(full, nullptr);
+  EXPECT_FALSE(full->impairmentInEffect().has_value());
   // The low client's dock shows its 10% and is enabled; the host's is disabled.
   EXPECT_NEAR(demo.lowClientWindow()->networkConditionsDock()->lossPercent(), 10.0, 1e-9);
   EXPECT_TRUE(demo.lowClientWindow()
@@ -115,7 +115,6 @@ TEST_F(DemoTest, ThreeWindowsBothClientsLive) {
   ASSERT_TRUE(host->beginDrag());
   ASSERT_TRUE(host->dragTo(Eigen::Vector3d(0.0, 0.3, 0.0), Eigen::Matrix3d::Identity()));
   host->endDrag();
-  SessionController* full = demo.fullClientWindow()->session();
   EXPECT_TRUE(QTest::qWaitFor(
       [full] {
         const Eigen::MatrixXd Z = full->coefficients();
@@ -199,26 +198,27 @@ TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
   auto* delay = dock->widget()->findChild<QSpinBox*>(QStringLiteral("delaySpinBox"));
   ASSERT_TRUE(loss && burst && delay);
   EXPECT_TRUE(loss->isEnabled());
-  session::ClientDatagramChannel& channel = clientWindow.session()->sessionClient()->channel();
-  EXPECT_EQ(channel.impairment(), nullptr);
+  const auto* client = qobject_cast<const ClientController*>(clientWindow.session());
+  ASSERT_NE(client, nullptr);
+  EXPECT_FALSE(client->impairmentInEffect().has_value());
 
   loss->setValue(25.0);  // as the user typing it: applied at once
-  ASSERT_NE(channel.impairment(), nullptr);
-  EXPECT_NEAR(channel.impairment()->settings().loss, 0.25, 1e-12);
-  EXPECT_FALSE(channel.impairment()->settings().burst);
+  ASSERT_TRUE(client->impairmentInEffect().has_value());
+  EXPECT_NEAR(client->impairmentInEffect()->loss, 0.25, 1e-12);
+  EXPECT_FALSE(client->impairmentInEffect()->burst);
   burst->setValue(4.0);
   delay->setValue(40);
-  ASSERT_NE(channel.impairment(), nullptr);
-  EXPECT_TRUE(channel.impairment()->settings().burst);
-  EXPECT_DOUBLE_EQ(channel.impairment()->settings().burstLength, 4.0);
-  EXPECT_EQ(channel.impairment()->settings().delay.count(), 40);
+  ASSERT_TRUE(client->impairmentInEffect().has_value());
+  EXPECT_TRUE(client->impairmentInEffect()->burst);
+  EXPECT_DOUBLE_EQ(client->impairmentInEffect()->burstLength, 4.0);
+  EXPECT_EQ(client->impairmentInEffect()->delay.count(), 40);
   const NetworkConditions conditions = clientWindow.session()->networkConditions();
   EXPECT_NEAR(conditions.loss, 0.25, 1e-12);
   EXPECT_EQ(conditions.delayMs, 40);
 
   loss->setValue(0.0);
   delay->setValue(0);
-  EXPECT_EQ(channel.impairment(), nullptr);
+  EXPECT_FALSE(client->impairmentInEffect().has_value());
   EXPECT_DOUBLE_EQ(burst->value(), 4.0);                                  // kept as the user left it
   EXPECT_FALSE(hostWindow.session()->setNetworkConditions(0.1, 1.0, 0));  // a host has none
 }
@@ -261,7 +261,7 @@ TEST_F(DemoTest, FirstStartPicksAMeshAndIsReadyToDrag) {
   EXPECT_TRUE(dragAction->isChecked());
   // The handle is at the top (largest y).
   const Eigen::MatrixXd& V = session->displayRestPositions();
-  EXPECT_GT(V(session->handle().front(), 1), 0.5 * V.col(1).maxCoeff());
+  EXPECT_GT(V(static_cast<Eigen::Index>(session->handle().front().index()), 1), 0.5 * V.col(1).maxCoeff());
   // and the drag works at once
   ASSERT_TRUE(session->beginDrag());
   EXPECT_TRUE(session->dragTo(Eigen::Vector3d(0.0, 0.2, 0.0), Eigen::Matrix3d::Identity()));

@@ -10,6 +10,7 @@
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_controller.h"
+#include "app/gui/vertex_id_lists.h"
 #include "app/gui/vertex_picking.h"
 #include "app_test_support.h"
 #include "model/session_file.h"
@@ -97,7 +98,8 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     std::vector<int> handle = defaultHandle(V);
     std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
     window->viewport()->setSelection(handle, anchors);
-    ASSERT_TRUE(session->setSelection(handle, anchors));
+    ASSERT_TRUE(session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
+                                      typedIds<spectral::DisplayVertexId>(anchors)));
     drag(*window, Eigen::Vector3d(0.0, 0.25, 0.0), 0.0);
     drag(*window, Eigen::Vector3d(0.1, 0.1, 0.05), 15.0);
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), rest) > 0.05f; }, 10000));
@@ -124,7 +126,7 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     EXPECT_EQ(file.history.size(), 3u);
     EXPECT_EQ(file.historyIndex, 2);
     ASSERT_TRUE(file.current.has_value());
-    EXPECT_EQ(file.current->handle, session->hostDeformation()->handle);
+    EXPECT_EQ(file.current->handle, intIds<spectral::FullVertexTag>(session->hostDeformation()->handle));
     EXPECT_TRUE(file.Z.isApprox(session->coefficients()));
   }  // the hosting window is torn down
 
@@ -137,7 +139,7 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
   RecordProperty("rehost_max_difference", std::to_string(maxDifference(session->positions(), second)));
   RecordProperty("session_file_bytes", std::to_string(QFileInfo(sessionPath).size()));
   EXPECT_TRUE(session->canDrag());
-  EXPECT_EQ(window->viewport()->handles(), session->handle());
+  EXPECT_EQ(window->viewport()->handles(), intIds<spectral::DisplayVertexTag>(session->handle()));
   DragHistory* history = window->dragHistory();
   EXPECT_EQ(history->stack()->count(), 3);
   EXPECT_EQ(history->stack()->index(), 2);

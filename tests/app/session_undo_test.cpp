@@ -7,7 +7,7 @@
 #include "app/gui/drag_commands.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
-#include "app/gui/session_controller.h"
+#include "app/gui/vertex_id_lists.h"
 #include "app/gui/vertex_picking.h"
 #include "app_test_support.h"
 #include "model/mesh_loader.h"
@@ -92,12 +92,12 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   MainWindow hostWindow;
   sc::testing::showSessionWindow(hostWindow, QSize(900, 700));
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&hostWindow));
-  SessionController* hosting = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
+  HostController* hosting = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
   ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
 
   MainWindow clientWindow;
   sc::testing::showSessionWindow(clientWindow, QSize(900, 700));
-  SessionController* joined =
+  ClientController* joined =
       sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(hosting->tcpPort(), knownHostsFile()));
   ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
   const std::vector<float> rest = copyOf(joined->positions());
@@ -144,7 +144,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   view->setBrushRadius(40.0);
   stroke(view, anchorAt - QPoint(0, 20), anchorAt + QPoint(0, 20));
   ASSERT_FALSE(hosting->anchors().empty());
-  EXPECT_GE(hosting->sessionHost()->counters().constraintsAccepted, 2u);
+  EXPECT_GE(hosting->counters().constraintsAccepted, 2u);
   ASSERT_TRUE(hosting->hostDeformation().has_value());
 
   // The first mouse drag with the Drag tool: the client's displayed positions change and follow the host's.
@@ -154,7 +154,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   stroke(view, handleAt, handleAt + QPoint(-50, -40));
   EXPECT_FALSE(hosting->dragging());
   EXPECT_EQ(history->stack()->count(), 1);
-  EXPECT_GT(hosting->sessionHost()->counters().dragsAccepted, 0u);
+  EXPECT_GT(hosting->counters().dragsAccepted, 0u);
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.05f; }, 10000))
       << maxDifference(joined->positions(), rest) << " host " << maxDifference(hosting->positions(), rest) << " handle "
       << hosting->handle().size() << " anchors " << hosting->anchors().size() << " at " << handleAt.x() << ","
@@ -190,7 +190,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   ASSERT_TRUE(history->redo());
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterSecond) < 1e-3f; }, 10000));
   // The handle and anchors shown are the restored state's.
-  EXPECT_EQ(view->handles(), hosting->handle());
+  EXPECT_EQ(view->handles(), intIds<spectral::DisplayVertexTag>(hosting->handle()));
 
   // A drag after an undo starts from the restored pose and drops the redo branch.
   ASSERT_TRUE(history->undo());
@@ -218,7 +218,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
     const auto& mesh = std::get<model::LoadedMesh>(loaded);
     EXPECT_EQ(mesh.V.rows(), clientWindow.viewport()->vertexCount()) << name;
     EXPECT_EQ(mesh.F.rows(), joined->displayFaces().rows()) << name;
-    const std::span<const float> shown = joined->positions();
+    const std::vector<float> shown = joined->positions();
     double worst = 0.0;
     for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
       for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(mesh.V(i, c) - shown[3 * i + c]));

@@ -8,13 +8,10 @@
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/recent_sessions.h"
-#include "app/gui/session_controller.h"
 #include "app/gui/session_docks.h"
 #include "app_test_support.h"
 #include "model/peer_table_model.h"
 #include "model/statistics_model.h"
-#include "session/net/client_datagram_channel.h"
-#include "session/net/session_client.h"
 #include "session/net/session_host.h"
 #include "session_windows.h"
 #include "spectral/reconstruction_kernel.h"
@@ -53,7 +50,7 @@ std::vector<float> interleaved(const Eigen::MatrixXd& V) {
 class SessionWindowTest : public sc::testing::TorusSessionTest {
  protected:
   /// Shows `window` and hosts the torus in it (m = 20, any port, password "secret"); waits until it is live.
-  SessionController* host(MainWindow& window) {
+  HostController* host(MainWindow& window) {
     sc::testing::showSessionWindow(window, QSize(640, 480));
     HostSettings settings = sc::testing::loopbackHostSettings(m_meshPath, 20);
     settings.password = QStringLiteral("secret");
@@ -69,7 +66,7 @@ class SessionWindowTest : public sc::testing::TorusSessionTest {
 
 TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   MainWindow hostWindow;
-  SessionController* hosting = host(hostWindow);
+  HostController* hosting = host(hostWindow);
   ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
   EXPECT_EQ(hosting->role(), SessionController::Role::Host);
   const quint16 port = hosting->tcpPort();
@@ -91,7 +88,7 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
 
   MainWindow clientWindow;
   sc::testing::showSessionWindow(clientWindow, QSize(640, 480));
-  SessionController* joined = sc::testing::joinAndWait(clientWindow, joinSettings(port, QStringLiteral("secret")));
+  ClientController* joined = sc::testing::joinAndWait(clientWindow, joinSettings(port, QStringLiteral("secret")));
   ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
   EXPECT_EQ(joined->role(), SessionController::Role::Client);
   EXPECT_EQ(clientWindow.viewport()->vertexCount(), n);  // the client shows the mesh
@@ -108,10 +105,10 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   EXPECT_EQ(hostWindow.findChild<QLabel*>(QStringLiteral("lockLabel"))->text(), hosting->lockText());
 
   // Handle: the outer rim at +x; anchors: everything at x < 0.
-  std::vector<int> handle, anchors;
+  spectral::DisplayVertexIds handle, anchors;
   for (int i = 0; i < n; ++i) {
-    if (m_mesh.V(i, 0) > 1.2) handle.push_back(i);
-    if (m_mesh.V(i, 0) < 0.0) anchors.push_back(i);
+    if (m_mesh.V(i, 0) > 1.2) handle.emplace_back(static_cast<std::uint32_t>(i));
+    if (m_mesh.V(i, 0) < 0.0) anchors.emplace_back(static_cast<std::uint32_t>(i));
   }
   ASSERT_FALSE(handle.empty());
   ASSERT_TRUE(hosting->setSelection(handle, anchors));
@@ -123,8 +120,9 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.1f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   EXPECT_GT(maxDifference(hosting->positions(), rest), 0.1f);
-  // The client's viewport reconstructs what it shows from K and Z itself (MeshViewport::setCoefficients): its
-  // positions are the session's, and the status bar reports that reconstruction with the redraw.
+  // The client's viewport reconstructs what it shows from the level and frame the controller pushed down
+  // (MeshViewport::setDisplayLevel/showFrame): its positions are the session's, and the status bar reports that
+  // reconstruction with the redraw.
   MeshViewport* clientViewport = clientWindow.viewport();
   EXPECT_TRUE(clientViewport->hasReconstructionBasis());
   ASSERT_TRUE(QTest::qWaitFor(
@@ -142,17 +140,15 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
       << timing->text().toStdString();
   // The join dialog's client extrapolates by default; after the drag stopped (the host's still frame) it shows a
   // received frame, not a prediction past it.
-  const session::ClientDatagramChannel& joinedChannel = joined->sessionClient()->channel();
-  ASSERT_NE(joinedChannel.predictor(), nullptr);
-  ASSERT_TRUE(QTest::qWaitFor([&] { return hosting->sessionHost()->counters().stillFramesSent >= 1; }, 5000));
-  ASSERT_TRUE(
-      QTest::qWaitFor([&] { return joinedChannel.receivedFrame() == hosting->sessionHost()->currentFrame(); }, 5000));
-  EXPECT_EQ(joinedChannel.currentFrame(), joinedChannel.receivedFrame());
-  EXPECT_EQ(joinedChannel.predictor()->predictedFrames(), 0);
+  ASSERT_TRUE(joined->reception().predicts);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return hosting->counters().stillFramesSent >= 1; }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return joined->reception().received == hosting->currentFrame(); }, 5000));
+  EXPECT_EQ(joined->reception().displayed, joined->reception().received);
+  EXPECT_EQ(joined->reception().predictedFrames, 0);
 
   // Without the lock the client can neither constrain nor drag, and its viewport refuses drags.
   EXPECT_FALSE(joined->canDrag());
-  EXPECT_FALSE(joined->setHandle({0, 1, 2}));
+  EXPECT_FALSE(joined->setHandle(spectral::vertexIds<spectral::DisplayVertexId>(std::vector<std::uint32_t>{0, 1, 2})));
   EXPECT_FALSE(joined->beginDrag());
   EXPECT_FALSE(joined->dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
   EXPECT_FALSE(clientWindow.viewport()->dragAllowed());
@@ -177,7 +173,7 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   const auto lowN = static_cast<int>(level->restV.rows());
   EXPECT_LT(lowN, n / 2);
   EXPECT_EQ(clientWindow.viewport()->vertexCount(), lowN);
-  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->sessionClient()->channel().hasFrame(); }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->reception().hasFrame; }, 5000));
   const Eigen::MatrixXd Z = joined->coefficients();
   ASSERT_GT(Z.norm(), 0.0);  // still deformed
   std::vector<float> expected(3 * static_cast<std::size_t>(lowN));
@@ -189,18 +185,18 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(hosting->releaseLock());
   ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->canDrag(); }, 5000)) << joined->lockText().toStdString();
   EXPECT_TRUE(joined->lockText().contains(QStringLiteral("You hold")));
-  std::vector<int> lowHandle;
+  spectral::DisplayVertexIds lowHandle;
   for (int i = 0; i < lowN; ++i)
-    if (level->restV(i, 1) > 1.0) lowHandle.push_back(i);
+    if (level->restV(i, 1) > 1.0) lowHandle.emplace_back(static_cast<std::uint32_t>(i));
   ASSERT_FALSE(lowHandle.empty());
   EXPECT_TRUE(joined->setHandle(lowHandle));
   ASSERT_TRUE(joined->beginDrag());
   EXPECT_TRUE(joined->dragTo(Eigen::Vector3d(0.0, 0.3, 0.0), Eigen::Matrix3d::Identity()));
   joined->endDrag();
   // The constraints and the drag travel over TCP: wait for the host to accept both.
-  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().constraintsAccepted >= 2; }, 5000));
-  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->sessionHost()->counters().dragsAccepted >= 2; }, 5000));
-  EXPECT_EQ(hosting->sessionHost()->counters().constraintsRejected, 0u);
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->counters().constraintsAccepted >= 2; }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([hosting] { return hosting->counters().dragsAccepted >= 2; }, 5000));
+  EXPECT_EQ(hosting->counters().constraintsRejected, 0u);
 
   // The host's docks: both peers in the table, the client's figures in its statistics model with non-zero
   // bandwidth (StatsReports arrive about once a second).
@@ -256,7 +252,7 @@ TEST_F(SessionWindowTest, JoiningNobodyFailsReadably) {
 }
 
 TEST_F(SessionWindowTest, HostingAMissingFileFailsAndCancelWorks) {
-  SessionController controller;
+  HostController controller;
   QSignalSpy failures(&controller, &SessionController::failed);
   HostSettings settings;
   settings.meshPath = m_dir.filePath(QStringLiteral("missing.off"));
@@ -267,7 +263,7 @@ TEST_F(SessionWindowTest, HostingAMissingFileFailsAndCancelWorks) {
   ASSERT_TRUE(QTest::qWaitFor([&failures] { return failures.count() > 0; }, 20000));
   EXPECT_EQ(controller.state(), State::Failed);
 
-  SessionController cancelled;
+  HostController cancelled;
   QSignalSpy cancelFailures(&cancelled, &SessionController::failed);
   settings.meshPath = m_meshPath;
   ASSERT_TRUE(cancelled.host(settings));

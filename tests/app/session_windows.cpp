@@ -33,17 +33,17 @@ app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFi
   return settings;
 }
 
-app::SessionController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings) {
+app::HostController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings) {
   window.hostSession(settings);
-  app::SessionController* session = window.session();
+  auto* session = qobject_cast<app::HostController*>(window.session());
   // The caller checks the state reached: a timeout leaves it Preparing.
   static_cast<void>(QTest::qWaitFor([session] { return session->state() != State::Preparing; }, kSessionLiveTimeoutMs));
   return session;
 }
 
-app::SessionController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings) {
+app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings) {
   window.joinSession(settings);
-  app::SessionController* session = window.session();
+  auto* session = qobject_cast<app::ClientController*>(window.session());
   // The caller checks the state reached: a timeout leaves it Connecting (or Transferring).
   static_cast<void>(
       QTest::qWaitFor([session] { return session->state() == State::Live || session->state() == State::Failed; },

@@ -3,8 +3,9 @@
 // on any free port of 127.0.0.1, another MainWindow joining it, each step waiting until the session is live; and a
 // fixture holding a generated torus written as an OFF file in a temporary folder.
 
+#include "app/gui/client_controller.h"
+#include "app/gui/host_controller.h"
 #include "app/gui/main_window.h"
-#include "app/gui/session_controller.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -31,13 +32,13 @@ app::HostSettings loopbackHostSettings(const QString& meshPath, int m);
 app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFile);
 
 /// Hosts with `settings` in `window` and processes events until the preparation has ended, at most
-/// kSessionLiveTimeoutMs. Returns window.session() (never null): Live when hosting worked, Failed (errorText() says
-/// why) when it did not, still Preparing after the timeout. Asserts nothing: the caller checks the state.
-app::SessionController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings);
+/// kSessionLiveTimeoutMs. Returns window.session() (never null), a host: Live when hosting worked, Failed (errorText()
+/// says why) when it did not, still Preparing after the timeout. Asserts nothing: the caller checks the state.
+app::HostController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings);
 
 /// Joins with `settings` in `window` and processes events until the session is Live or Failed, at most
-/// kSessionLiveTimeoutMs. Returns window.session() (never null) in the state it reached. Asserts nothing.
-app::SessionController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings);
+/// kSessionLiveTimeoutMs. Returns window.session() (never null), a client, in the state it reached. Asserts nothing.
+app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings);
 
 /// Fixture of the two-window session tests: a 48 × 24 torus (m_mesh) written to m_meshPath in a temporary folder
 /// (m_dir). Skips the test without an OpenGL 3.3 context (the windows' viewports need one).

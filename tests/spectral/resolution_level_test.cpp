@@ -4,6 +4,7 @@
 #include "spectral/closest_point.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/reconstruction_kernel.h"
+#include "spectral/vertex_ids.h"
 
 #include "test_meshes.h"
 
@@ -190,22 +191,23 @@ TEST(DominantFullVertices, PicksTheLargestWeightOfEachRowSortedAndUnique) {
   std::vector<Eigen::Triplet<double>> weights{{0, 0, 0.2}, {0, 3, 0.7}, {0, 4, 0.1}, {1, 1, 0.5},
                                               {1, 2, 0.5}, {2, 3, 0.6}, {2, 2, 0.4}};
   P.setFromTriplets(weights.begin(), weights.end());
-  const std::vector<int> low{2, 0, 1, 3, -1, 4};  // 2 and 0 both map to 3; 3 has no weights; -1, 4 out of range
-  EXPECT_EQ(dominantFullVertices(P, low), (std::vector<int>{1, 3}));  // the tie in row 1 takes the first column
-  EXPECT_TRUE(dominantFullVertices(P, std::vector<int>{}).empty());
+  // 2 and 0 both map to 3; 3 has no weights; 4 and 1000 are out of range
+  const DisplayVertexIds low = vertexIds<DisplayVertexId>(std::vector<std::uint32_t>{2, 0, 1, 3, 4, 1000});
+  // the tie in row 1 takes the first column
+  EXPECT_EQ(dominantFullVertices(P, low), vertexIds<FullVertexId>(std::vector<std::uint32_t>{1, 3}));
+  EXPECT_TRUE(dominantFullVertices(P, DisplayVertexIds{}).empty());
 }
 
 TEST_F(ResolutionLevelTest, DominantFullVerticesOfTheFullLevelAreTheIdsThemselves) {
   const ResolutionLevel full = fullResolutionLevel(s_mesh->V, s_mesh->F, *s_H);
-  const std::vector<int> ids{7, 3, 3, 11};
-  EXPECT_EQ(dominantFullVertices(full.P, ids), (std::vector<int>{3, 7, 11}));
+  const DisplayVertexIds ids = vertexIds<DisplayVertexId>(std::vector<std::uint32_t>{7, 3, 3, 11});
+  EXPECT_EQ(dominantFullVertices(full.P, ids), vertexIds<FullVertexId>(std::vector<std::uint32_t>{3, 7, 11}));
   // on a decimated level every id is a corner of the closest full-res face: within range
-  std::vector<int> all(static_cast<std::size_t>(s_level->P.rows()));
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<int>(i);
-  for (const int id : dominantFullVertices(s_level->P, all)) {
-    EXPECT_GE(id, 0);
-    EXPECT_LT(id, s_mesh->V.rows());
-  }
+  DisplayVertexIds all;
+  for (Eigen::Index i = 0; i < s_level->P.rows(); ++i) all.emplace_back(static_cast<std::uint32_t>(i));
+  const FullVertexIds mapped = dominantFullVertices(s_level->P, all);
+  EXPECT_FALSE(mapped.empty());
+  for (const FullVertexId id : mapped) EXPECT_LT(id.index(), static_cast<std::size_t>(s_mesh->V.rows()));
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 #include "app/gui/drag_commands.h"
 
-#include "app/gui/session_snapshot.h"
+#include "app/gui/saved_deformation.h"
 #include "model/session_file.h"
 
 #include <QAction>

@@ -2,6 +2,8 @@
 
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/session_controller.h"
+#include "app/gui/vertex_id_lists.h"
 #include "app/gui/vertex_picking.h"
 
 #include <QAction>
@@ -140,7 +142,8 @@ void prepareDefaultDrag(MainWindow& window) {
         std::vector<int> handle = defaultHandle(V);
         std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
         target->viewport()->setSelection(handle, anchors);
-        session->setSelection(std::move(handle), std::move(anchors));
+        session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
+                              typedIds<spectral::DisplayVertexId>(anchors));
         session->requestLock();
         if (auto* drag = target->findChild<QAction*>(QStringLiteral("actionToolDrag"))) {
           drag->trigger();

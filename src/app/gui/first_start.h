@@ -6,7 +6,7 @@
 // default anchors (everything farther than 40% of the bounding-box diagonal), request the lock and switch to the
 // Drag tool, so that a left drag on the handle deforms the mesh at once.
 
-#include "app/gui/session_controller.h"
+#include "app/gui/session_settings.h"
 
 #include <Eigen/Core>
 #include <QString>

@@ -3,7 +3,7 @@
 // frequencies m and display name. OK validates (validateHostSettings) and shows the problem in the dialog instead
 // of closing; on success the values (not the password) are remembered in QSettings (RecentSessions).
 
-#include "app/gui/session_controller.h"
+#include "app/gui/session_settings.h"
 
 #include <QDialog>
 #include <QString>

@@ -1,6 +1,5 @@
 #include "app/gui/host_preparation.h"
 
-#include "app/gui/session_controller.h"
 #include "model/cache_location.h"
 #include "model/mesh_loader.h"
 #include "model/session_file.h"
@@ -122,8 +121,8 @@ std::shared_ptr<PreparedHost> prepare(const HostSettings& settings, const std::a
     model->F = std::move(mesh->F);
     model->basis = std::move(basis->result.basis);
     model->operators = std::move(basis->operators);
-    prepared->full = std::make_unique<spectral::ResolutionLevel>(
-        spectral::fullResolutionLevel(model->V, model->F, model->basis.vectors));
+    prepared->level =
+        spectral::makeDisplayLevel(spectral::fullResolutionLevel(model->V, model->F, model->basis.vectors));
     prepared->model = std::move(model);
   } catch (const std::exception& e) {
     prepared->error = HostPreparation::tr("Preparing the session failed: %1").arg(QString::fromLocal8Bit(e.what()));

@@ -1,10 +1,13 @@
 #pragma once
-// HostPreparation: the host's long start-up work on a worker thread, for SessionController::host(): load the
+// HostPreparation: the host's long start-up work on a worker thread, for HostController::host(): load the
 // mesh (or a saved session, model/session_file.h: its mesh and m), compute (or read from the cache) the harmonic
-// basis, and build the full-resolution display level. It
+// basis, and build the full-resolution display level (once: the host shows it, shared with its view). It
 // reports progress and its result back to a context object's thread through queued calls, so the GUI thread
 // never waits for it; cancel() stops it at the next check (after the mesh load, or at the eigensolve's next
 // progress callback), join() and the destructor wait for the thread.
+
+#include "app/gui/session_settings.h"
+#include "spectral/display_level.h"
 
 #include <QCoreApplication>
 #include <QString>
@@ -20,17 +23,11 @@ namespace sc::session {
 struct HostModel;
 }
 
-namespace sc::spectral {
-struct ResolutionLevel;
-}
-
 namespace sc::model {
 struct SessionFile;
 }
 
 namespace sc::app {
-
-struct HostSettings;
 
 /// What a preparation hands back: the model and its full level, or an error text, or a cancellation.
 struct PreparedHost {
@@ -40,7 +37,7 @@ struct PreparedHost {
   PreparedHost& operator=(const PreparedHost&) = delete;
 
   std::shared_ptr<session::HostModel> model;        ///< null unless it succeeded
-  std::unique_ptr<spectral::ResolutionLevel> full;  ///< fullResolutionLevel() of the model: K = float(H)
+  spectral::SharedDisplayLevel level;               ///< fullResolutionLevel() of the model: K = float(H)
   std::shared_ptr<const model::SessionFile> saved;  ///< the session file hosted (null for a mesh file)
   QString error;                                    ///< readable reason when it failed
   bool cancelled = false;

@@ -5,7 +5,7 @@
 // dialog instead of closing; on success the values (not the password) are remembered. A pinned fingerprint is
 // remembered by the session layer's known-hosts store once it matched (session::KnownHosts), not here.
 
-#include "app/gui/session_controller.h"
+#include "app/gui/session_settings.h"
 
 #include <QDialog>
 #include <QString>

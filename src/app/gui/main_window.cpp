@@ -7,6 +7,7 @@
 #include "ui_main_window.h"
 
 #include "app/gui/drag_commands.h"
+#include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_summary.h"
@@ -78,11 +79,12 @@ void MainWindow::setUpSessionFileActions() {
 }
 
 bool MainWindow::saveSession(const QString& path, QString* error) {
-  if (m_session == nullptr) {
+  const auto* host = qobject_cast<const HostController*>(m_session);
+  if (host == nullptr) {
     if (error != nullptr) *error = tr("Only a live host can save its session.");
     return false;
   }
-  return sc::app::saveSession(path, *m_session, m_dragHistory, error);
+  return sc::app::saveSession(path, *host, m_dragHistory, error);
 }
 
 void MainWindow::chooseAndSaveSession() {
@@ -147,7 +149,8 @@ void MainWindow::setUpEditAndExport() {
 bool MainWindow::exportDeformedMesh(const QString& path, QString* error) {
   Eigen::MatrixXd V;
   const Eigen::MatrixXi* F = nullptr;
-  const std::span<const float> positions = m_session != nullptr ? m_session->positions() : std::span<const float>();
+  // the session's current shape at this peer's resolution: the CPU kernel on the shared level and frame
+  const std::vector<float> positions = m_session != nullptr ? m_session->positions() : std::vector<float>();
   if (!positions.empty() && m_session->displayFaces().rows() > 0 &&
       positions.size() == static_cast<std::size_t>(m_session->displayRestPositions().rows()) * 3) {
     V.resize(static_cast<Eigen::Index>(positions.size() / 3), 3);

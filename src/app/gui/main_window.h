@@ -1,9 +1,11 @@
 #pragma once
 // MainWindow: the application window. Wiring only: menus → mesh loading (sc::model) → MeshViewport and status bar;
-// Session menu, lock toolbar and resolution selector → SessionController (which owns the session).
+// Session menu, lock toolbar and resolution selector → the current SessionController (HostController or
+// ClientController, which owns the session). The frame path goes one way: the controller's displayLevelChanged and
+// frameChanged go to the viewport's setDisplayLevel() and showFrame(); nothing is pulled back.
 
 #include "app/gui/mesh_viewport.h"
-#include "app/gui/session_controller.h"
+#include "app/gui/session_settings.h"
 
 #include <QMainWindow>
 #include <QString>
@@ -21,6 +23,7 @@ namespace sc::app {
 
 class MeshViewport;
 class DragHistory;
+class SessionController;
 class InteractiveProxyBuilder;
 class SessionDocks;
 class NetworkConditionsDock;
@@ -62,8 +65,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] SessionDocks* docks() const { return m_docks; }
   /// The client's Network conditions dock (objectName "networkConditionsDock", bound to session()).
   [[nodiscard]] NetworkConditionsDock* networkConditionsDock() const { return m_networkDock; }
-  /// Time of the last frame's reconstruction (the viewport's own when it reconstructs from K and Z, as on a client;
-  /// otherwise the session's) and of the rest of its redraw (normals, paint, composition: FrameTimes), ms.
+  /// Time of the last frame's reconstruction (the viewport's own: it reconstructs from K and Z) and of the rest of
+  /// its redraw (normals, paint, composition: FrameTimes), ms.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
   /// Undo/redo of the host user's committed drags (Edit menu; see drag_commands.h).
@@ -104,16 +107,18 @@ class MainWindow : public QMainWindow {
  private:
   static constexpr int kStatusMessageMs = 10000;  ///< how long transient status bar messages stay
 
-  SessionController* newSession();
+  /// Makes `controller` (new, not started) the current session: the previous one leaves and is deleted later.
+  void adoptSession(SessionController* controller);
   void setUpEditAndExport();
   void setUpSessionFileActions();
   void setUpSessionControls();
   void setUpSessionStatusBar();
   void connectViewportToSession();
   void setUpSessionDocks();
+  void onSessionLevel(const spectral::SharedDisplayLevel& level);
+  /// Shows a frame of the session in the viewport (the per-frame path) and starts the redraw timing.
+  void onSessionFrame(const spectral::DisplayFrame& frame);
   void onSessionMesh();
-  /// Shows the controller's positions in the viewport (the per-frame path) and starts the redraw timing.
-  void showSessionPositions();
   void updateLockControls();
   void updateLevelCombo();
   void updateSessionActions();
@@ -132,7 +137,6 @@ class MainWindow : public QMainWindow {
   SessionDocks* m_docks = nullptr;
   NetworkConditionsDock* m_networkDock = nullptr;
   bool m_redrawPending = false;
-  bool m_viewReconstructs = false;  // the last frame was reconstructed by the viewport (setCoefficients)
   double m_viewReconstructMs = 0.0;
   double m_redrawMs = 0.0;
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes

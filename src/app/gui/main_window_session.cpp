@@ -1,11 +1,14 @@
 // MainWindow: the session wiring. Session menu, tool actions, lock toolbar and resolution selector, status bar
-// fields, viewport intents to the SessionController, the docks; and the controller's signals back to the window.
+// fields, viewport intents to the SessionController, the docks; and the controller's signals back to the window
+// (the frame path: its level and frames straight to the viewport).
 
 #include "app/gui/main_window.h"
 
 #include "ui_main_window.h"
 
+#include "app/gui/client_controller.h"
 #include "app/gui/drag_commands.h"
+#include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/join_dialog.h"
@@ -14,7 +17,7 @@
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/session_identity_view.h"
-#include "spectral/reconstruction_kernel.h"
+#include "app/gui/vertex_id_lists.h"
 
 #include <QActionGroup>
 #include <QComboBox>
@@ -104,12 +107,13 @@ void MainWindow::setUpSessionStatusBar() {
 
 void MainWindow::connectViewportToSession() {
   // Viewport intents → session. Handle/anchor strokes send constraints, drags send poses (the controller checks
-  // the lock; the viewport blocks drags itself through setDragAllowed()).
-  connect(ui->viewport, &MeshViewport::handlePainted, this, [this](std::vector<int> handles) {
-    if (m_session != nullptr) m_session->setHandle(std::move(handles));
+  // the lock; the viewport blocks drags itself through setDragAllowed()). The viewport's plain ids are displayed
+  // vertex ids: typed here, where the two meet.
+  connect(ui->viewport, &MeshViewport::handlePainted, this, [this](const std::vector<int>& handles) {
+    if (m_session != nullptr) m_session->setHandle(typedIds<spectral::DisplayVertexId>(handles));
   });
-  connect(ui->viewport, &MeshViewport::anchorsPainted, this, [this](std::vector<int> anchors) {
-    if (m_session != nullptr) m_session->setAnchors(std::move(anchors));
+  connect(ui->viewport, &MeshViewport::anchorsPainted, this, [this](const std::vector<int>& anchors) {
+    if (m_session != nullptr) m_session->setAnchors(typedIds<spectral::DisplayVertexId>(anchors));
   });
   // Committed drags of the host's own user go to the undo history (Edit menu).
   m_dragHistory = new DragHistory(this);
@@ -129,11 +133,9 @@ void MainWindow::connectViewportToSession() {
     const FrameTimes& frame = ui->viewport->frameTimes();
     if (m_redrawPending) {
       m_redrawPending = false;
-      // As shapecast-bench-viewport: the viewport's own reconstruction (when it reconstructs), normals, paint and
-      // composition.
-      m_viewReconstructs = ui->viewport->hasReconstructionBasis();
+      // As shapecast-bench-viewport: the viewport's own reconstruction, normals, paint and composition.
       m_viewReconstructMs = frame.reconstructMs;
-      m_redrawMs = frame.totalMs() - (m_viewReconstructs ? frame.reconstructMs : 0.0);
+      m_redrawMs = frame.totalMs() - frame.reconstructMs;
     } else if (frame.triangles == m_labelFrame.triangles && frame.renderScale == m_labelFrame.renderScale) {
       return;  // e.g. the idle full redraw after a moving frame changes the label's "moving" part
     }
@@ -152,7 +154,9 @@ void MainWindow::setUpSessionDocks() {
   connect(this, &MainWindow::sessionStarted, m_networkDock, &NetworkConditionsDock::bind);
   connect(this, &MainWindow::sessionStarted, m_dragHistory, &DragHistory::bind);
   connect(m_dragHistory, &DragHistory::restored, this, [this] {
-    if (m_session != nullptr) ui->viewport->setSelection(m_session->handle(), m_session->anchors());
+    if (m_session == nullptr) return;
+    ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(m_session->handle()),
+                               intIds<spectral::DisplayVertexTag>(m_session->anchors()));
   });
 }
 
@@ -168,15 +172,17 @@ void MainWindow::showJoinDialog() {
   if (dialog.exec() == QDialog::Accepted) joinSession(dialog.settings());
 }
 
-SessionController* MainWindow::newSession() {
+void MainWindow::adoptSession(SessionController* controller) {
   if (m_session != nullptr) {
     m_session->disconnect(this);
     m_session->leave();
     m_session->deleteLater();
   }
-  m_session = new SessionController(this);
+  m_session = controller;
+  // the frame path, one way: the controller's level and frames go to the viewport as they are
+  connect(m_session, &SessionController::displayLevelChanged, this, &MainWindow::onSessionLevel);
+  connect(m_session, &SessionController::frameChanged, this, &MainWindow::onSessionFrame);
   connect(m_session, &SessionController::meshChanged, this, &MainWindow::onSessionMesh);
-  connect(m_session, &SessionController::positionsChanged, this, &MainWindow::showSessionPositions);
   connect(m_session, &SessionController::lockChanged, this, &MainWindow::updateLockControls);
   connect(m_session, &SessionController::peersChanged, this, &MainWindow::updateLockControls);
   connect(m_session, &SessionController::levelsChanged, this, &MainWindow::updateLevelCombo);
@@ -193,18 +199,19 @@ SessionController* MainWindow::newSession() {
         kStatusMessageMs);
   });
   emit sessionStarted(m_session);
-  return m_session;
 }
 
 void MainWindow::hostSession(const HostSettings& settings) {
-  SessionController* session = newSession();
+  auto* session = new HostController(this);
+  adoptSession(session);
   setWindowTitle(QFileInfo(settings.meshPath).fileName() + tr(" (hosting) — ShapeCast"));
   session->host(settings);
   updateSessionActions();
 }
 
 void MainWindow::joinSession(const JoinSettings& settings) {
-  SessionController* session = newSession();
+  auto* session = new ClientController(this);
+  adoptSession(session);
   setWindowTitle(tr("%1:%2 — ShapeCast").arg(settings.host).arg(settings.port));
   session->join(settings);
   updateSessionActions();
@@ -218,43 +225,26 @@ void MainWindow::leaveSession() {
   updateLockControls();
 }
 
-double MainWindow::reconstructionMs() const {
-  if (m_viewReconstructs) return m_viewReconstructMs;
-  return m_session != nullptr ? m_session->reconstructionMs() : 0.0;
+double MainWindow::reconstructionMs() const { return m_viewReconstructMs; }
+
+void MainWindow::onSessionLevel(const spectral::SharedDisplayLevel& level) {
+  // The viewport holds the shared level and reconstructs rest + K·Z itself: in the vertex shader on the GPU path;
+  // on the CPU path only the vertices its frame needs (the interactive proxy's while the shape moves).
+  ui->viewport->setDisplayLevel(level);
+  if (level) m_proxyBuilder->build(level->level.restV, level->level.F);
+}
+
+void MainWindow::onSessionFrame(const spectral::DisplayFrame& frame) {
+  m_redrawPending = true;
+  ui->viewport->showFrame(frame);
 }
 
 void MainWindow::onSessionMesh() {
-  const Eigen::MatrixXd& V = m_session->displayRestPositions();
-  const Eigen::MatrixXi& F = m_session->displayFaces();
-  ui->viewport->setMesh(V, F);
-  m_proxyBuilder->build(V, F);
-  // The viewport reconstructs rest + K·Z itself (setCoefficients() frames): in the vertex shader on the GPU path; on
-  // the CPU path only the vertices its frame needs (the interactive proxy's while the shape moves).
-  const spectral::ResolutionLevel* level = m_session->level();
-  if (level != nullptr && level->K.rows() == V.rows())
-    ui->viewport->setReconstructionBasis(level->K, spectral::interleavedPositions(V));
-  showSessionPositions();
-  m_meshSizeLabel->setText(meshSizeText(static_cast<int>(V.rows()), static_cast<int>(F.rows())));
-  statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kStatusMessageMs);
+  const auto vertices = static_cast<int>(m_session->displayRestPositions().rows());
+  m_meshSizeLabel->setText(meshSizeText(vertices, static_cast<int>(m_session->displayFaces().rows())));
+  statusBar()->showMessage(tr("Showing %1 vertices").arg(vertices), kStatusMessageMs);
   updateLevelCombo();
   updateLockControls();
-}
-
-void MainWindow::showSessionPositions() {
-  if (m_session == nullptr) return;
-  const spectral::ResolutionLevel* level = m_session->level();
-  if (ui->viewport->hasReconstructionBasis() && level != nullptr) {
-    const Eigen::MatrixXf Z = m_session->positionsCoefficients();
-    if (Z.rows() == level->K.cols() && Z.cols() == 3) {
-      m_redrawPending = true;
-      ui->viewport->setCoefficients(Z);
-      return;
-    }
-  }
-  const std::span<const float> positions = m_session->positions();
-  if (positions.empty() || positions.size() != static_cast<std::size_t>(ui->viewport->vertexCount()) * 3) return;
-  m_redrawPending = true;
-  ui->viewport->setPositionsInterleaved(positions);
 }
 
 void MainWindow::updateLockControls() {
@@ -284,7 +274,7 @@ void MainWindow::updateLevelCombo() {
     m_levelCombo->addItem(level.label, QVariant::fromValue<uint>(level.target));
     if (level.current) m_levelCombo->setCurrentIndex(m_levelCombo->count() - 1);
   }
-  m_levelCombo->setEnabled(m_session->role() == SessionController::Role::Client && levels.size() > 1);
+  m_levelCombo->setEnabled(levels.size() > 1);  // a host has only its full level
 }
 
 void MainWindow::updateSessionActions() {

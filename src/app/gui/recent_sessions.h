@@ -2,7 +2,7 @@
 // What the Host… and Join… dialogs remember between runs (QSettings, group "sessions"): recent mesh paths, host
 // addresses, ports and display names, most recent first. Passwords are never stored.
 
-#include "app/gui/session_controller.h"
+#include "app/gui/session_settings.h"
 
 #include <QSettings>
 #include <QString>

@@ -5,8 +5,7 @@
 #include "app/gui/statistics_dock.h"
 #include "model/peer_table_model.h"
 #include "model/statistics_model.h"
-#include "session/net/host_datagram_channel.h"
-#include "session/net/session_host.h"
+#include "session/net/session_host.h"  // kHostPeer
 
 #include <QMainWindow>
 
@@ -100,8 +99,7 @@ void SessionDocks::appendStatistics() {
     sample.hdPct = report->hdLastPct;
     sample.lossPct = 100.0 * report->lossFraction;
     sample.kbpsIn = report->payloadKbpsIn;
-    if (session::SessionHost* host = m_controller->sessionHost())
-      sample.kbpsOut = host->channel().traffic(peer.peerId).payloadKbpsOut;
+    sample.kbpsOut = m_controller->sentKbps(peer.peerId);
     sample.fps = report->framesPerSecond;
     sample.latencyMs = report->latencyP99Ms;
     statistics->append(sample);

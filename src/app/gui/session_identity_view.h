@@ -2,7 +2,7 @@
 // How the desktop app shows the host's identity (docs/security.md, "Host authentication"): the SHA-256 fingerprint
 // of the host's TLS certificate, grouped for reading aloud, with how a client trusted it. A host shows its own so
 // that joiners can compare or pin it; a client shows the one it saw. Views only: the fingerprint and the trust
-// decision come from SessionController (which takes them from the session layer).
+// decision come from the SessionController (which takes them from the session layer).
 
 #include "app/gui/session_controller.h"
 

@@ -1,29 +1,20 @@
 #include "app/gui/session_snapshot.h"
 
 #include "app/gui/drag_commands.h"
-#include "session/net/session_host.h"
+#include "app/gui/host_controller.h"
 
 #include <QCoreApplication>
 #include <QUndoStack>
 
 namespace sc::app {
 
-model::SavedDeformation toSavedDeformation(const HostDeformation& state) {
-  return {state.handle, state.anchors, state.translation, state.rotation};
-}
-
-HostDeformation toHostDeformation(const model::SavedDeformation& state) {
-  return {state.handle, state.anchors, state.translation, state.rotation};
-}
-
-std::optional<model::SessionFile> snapshotSession(const SessionController& session, const DragHistory* history,
+std::optional<model::SessionFile> snapshotSession(const HostController& session, const DragHistory* history,
                                                   QString* error) {
   const auto fail = [error](const char* why) {
     if (error != nullptr) *error = QCoreApplication::translate("SessionSnapshot", why);
     return std::nullopt;
   };
-  if (session.role() != SessionController::Role::Host || session.state() != SessionController::State::Live ||
-      session.sessionHost() == nullptr) {
+  if (session.state() != SessionController::State::Live || !session.displayLevel()) {
     return fail("Only a live host can save its session.");
   }
   model::SessionFile file;
@@ -31,7 +22,7 @@ std::optional<model::SessionFile> snapshotSession(const SessionController& sessi
   file.F = session.displayFaces();
   file.Z = session.coefficients();
   file.m = static_cast<int>(file.Z.rows());
-  file.mode = session.sessionHost()->options().deformer.mode;
+  file.mode = session.deformationMode();
   if (const std::optional<HostDeformation> current = session.hostDeformation()) {
     file.current = toSavedDeformation(*current);
   }
@@ -47,7 +38,7 @@ std::optional<model::SessionFile> snapshotSession(const SessionController& sessi
   return file;
 }
 
-bool saveSession(const QString& path, const SessionController& session, const DragHistory* history, QString* error) {
+bool saveSession(const QString& path, const HostController& session, const DragHistory* history, QString* error) {
   const std::optional<model::SessionFile> file = snapshotSession(session, history, error);
   if (!file) return false;
   if (const std::optional<QString> failure = model::writeSessionFile(path, *file)) {

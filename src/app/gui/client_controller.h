@@ -1,0 +1,97 @@
+#pragma once
+// ClientController: this instance joined a session (SessionController's client role). It owns a SessionClient
+// (and its distortion meter) and passes the client's frame path straight down: the SessionClient's shared level
+// (displayLevelChanged) and frames (frameUpdated) become this controller's displayLevelChanged() and
+// frameChanged(), with no copy of the level here. Displayed ids map to full-resolution ids through the level's
+// P (spectral::dominantFullVertices). Also: the resolution choices, the emulated network conditions, this client's
+// own statistics and how the host's certificate was trusted (pinned fingerprint or trust on first use).
+//
+// Lifecycle: Idle --join()--> Connecting (TCP, TLS, handshake, model download; progress()) --> Live once the
+// first level is displayed; the host leaving or going silent, a refusal or cancel() --> Failed.
+
+#include "app/gui/session_controller.h"
+
+#include "session/engine/network_impairment.h"
+
+#include <cstdint>
+#include <optional>
+
+namespace sc::session {
+class SessionClient;
+class DistortionMeter;
+}  // namespace sc::session
+
+namespace sc::app {
+
+/// How this client's datagram channel stands (diagnostics and tests).
+struct FrameReception {
+  bool hasFrame = false;        ///< a frame was received or seeded
+  std::uint32_t received = 0;   ///< the newest frame received
+  std::uint32_t displayed = 0;  ///< the frame shown: received plus predicted ones
+  bool predicts = false;        ///< lost frames are concealed by extrapolation
+  int predictedFrames = 0;      ///< frames shown past `received` (0: a received frame is shown)
+};
+
+class ClientController final : public SessionController {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(ClientController)
+
+ public:
+  explicit ClientController(QObject* parent = nullptr);
+  /// A joined client leaves (Leave to the host).
+  ~ClientController() override;
+
+  /// Joins a host: the SessionClient connects, authenticates and downloads its level (progress()). Live once the
+  /// first level is displayed (meshChanged()). False (nothing started) unless state() is Idle.
+  bool join(const JoinSettings& settings);
+
+  [[nodiscard]] Role role() const override { return Role::Client; }
+  /// While connecting: state Failed with failed("Cancelled.").
+  void cancel() override;
+  [[nodiscard]] session::PeerId selfId() const override;
+  bool requestLock() override;
+  [[nodiscard]] session::PeerId lockHolder() const override;
+  /// Full, then, once the host's LevelList is complete, its levels with their exact vertex counts ("5,231
+  /// vertices"); before that model::levelTargets(n) largest first, "≈ N vertices" (the host sends the closest).
+  [[nodiscard]] std::vector<LevelChoice> levels() const override;
+  /// Asks the host for another level; the current one (and the deformation, which lives in Z) stays until the new
+  /// one is in, then meshChanged(). False when not live.
+  bool setLevel(std::uint32_t target) override;
+  /// Simulates `loss` (0..1, clamped), mean burst `burstLength` (≥ 1; 1 = Bernoulli, more = Gilbert–Elliott) and
+  /// `delayMs` (≥ 0) on the datagrams received, live (datagrams held back by the previous setting are delivered at
+  /// once). loss 0 and delay 0 remove the impairment. Emits networkConditionsChanged().
+  bool setNetworkConditions(double loss, double burstLength, int delayMs) override;
+  [[nodiscard]] NetworkConditions networkConditions() const override;
+  [[nodiscard]] session::PeerList peers() const override;
+  /// Only this client's own figures (selfId()), from its receiver statistics and distortion meter.
+  [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
+  [[nodiscard]] QByteArray hostFingerprint() const override;
+  [[nodiscard]] HostTrust hostTrust() const override;
+  [[nodiscard]] bool fingerprintRefused() const override;
+
+  // --- the client's own figures (diagnostics and tests)
+  /// The impairment the datagram channel applies now (nullopt: none).
+  [[nodiscard]] std::optional<session::ImpairmentSettings> impairmentInEffect() const;
+  [[nodiscard]] FrameReception reception() const;
+
+ protected:
+  [[nodiscard]] const session::LockClient* lockClient() const override;
+  bool release() override;
+  void stop() override;
+  /// Through the displayed level's P: the dominant full-resolution vertex of each displayed one.
+  [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
+  bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
+  bool sendPose(const spectral::HandleTransform& pose) override;
+
+ private:
+  void connectClient();
+  void onClientState();
+  void onLevelReady();
+
+  session::SessionClient* m_client = nullptr;
+  session::DistortionMeter* m_meter = nullptr;
+  std::optional<double> m_joinFraction;
+  HostTrust m_joinTrust = HostTrust::None;  ///< what an accepted certificate means (set by join())
+};
+
+}  // namespace sc::app

@@ -1,0 +1,249 @@
+// HostController: preparation, the SessionHost and its local user (lock, constraints, poses), the restoring of a
+// saved session's state, the host's display (its full level once, a frame per new Z) and its figures.
+#include "app/gui/host_controller.h"
+
+#include "app/gui/host_preparation.h"
+#include "app/gui/saved_deformation.h"
+#include "app/gui/vertex_id_lists.h"
+#include "model/decimating_level_builder.h"
+#include "model/session_file.h"
+#include "session/engine/host_model.h"
+#include "session/net/host_datagram_channel.h"
+#include "session/net/session_host.h"
+
+#include <QLocale>
+
+#include <algorithm>
+#include <span>
+#include <utility>
+
+namespace sc::app {
+
+namespace {
+
+/// A host displays the full level: its displayed ids are full ids, and back.
+spectral::DisplayVertexIds displayedIds(const spectral::FullVertexIds& full) {
+  spectral::DisplayVertexIds ids;
+  ids.reserve(full.size());
+  for (const spectral::FullVertexId id : full) ids.emplace_back(id.value);
+  return ids;
+}
+
+spectral::ConstraintSet constraintSet(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) {
+  spectral::ConstraintSet set;
+  set.handles.push_back({intIds<spectral::FullVertexTag>(handle)});
+  set.anchors = intIds<spectral::FullVertexTag>(anchors);
+  return set;
+}
+
+}  // namespace
+
+HostController::HostController(QObject* parent) : SessionController(parent) {}
+
+HostController::~HostController() {
+  if (m_preparation) {
+    m_preparation->cancel();
+    m_preparation->join();
+  }
+  if (m_host != nullptr) {
+    m_host->disconnect(this);
+    m_host->shutdown();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------- starting
+
+bool HostController::host(const HostSettings& settings) {
+  if (state() != State::Idle) return false;
+  m_settings = settings;
+  changeState(State::Preparing);
+  emit progress(0, tr("Loading %1").arg(settings.meshPath));
+  m_preparation = std::make_unique<HostPreparation>();
+  m_preparation->start(
+      settings, this, [this](int percent, const QString& what) { emit progress(percent, what); },
+      [this](const std::shared_ptr<PreparedHost>& prepared) { finishPreparation(prepared); });
+  return true;
+}
+
+void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prepared) {
+  m_preparation->join();
+  if (state() != State::Preparing) return;  // cancelled or left meanwhile
+  if (prepared->cancelled) {
+    fail(tr("Cancelled."));
+    return;
+  }
+  if (!prepared->error.isEmpty() || !prepared->model || !prepared->level) {
+    fail(tr("Could not host %1: %2").arg(m_settings.meshPath, prepared->error));
+    return;
+  }
+  m_model = prepared->model;
+  m_saved = prepared->saved;
+  session::SessionHostOptions options;
+  options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
+  options.tcpPort = m_settings.port;
+  options.password = m_settings.password;
+  options.hostName = m_settings.name.isEmpty() ? QStringLiteral("host") : m_settings.name;
+  if (m_saved) options.deformer.mode = m_saved->mode;
+  m_host = new session::SessionHost(m_model, options, this);
+  QString error;
+  if (!m_host->start(&error)) {
+    fail(tr("Could not host on TCP port %1: %2").arg(m_settings.port).arg(error));
+    return;
+  }
+  connect(m_host, &session::SessionHost::frameSent, this, &HostController::onFrame);
+  connect(m_host, &session::SessionHost::lockChanged, this, &HostController::onLockChanged);
+  connect(m_host, &session::SessionHost::peersChanged, this, &HostController::peersChanged);
+  connect(m_host, &session::SessionHost::statsReported, this, &HostController::statsChanged);
+  showLevel(std::move(prepared->level));
+  showFrame({m_host->currentFrame(), m_host->coefficients().cast<float>()});
+  emit progress(100, tr("Hosting"));
+  changeState(State::Live);
+  emit meshChanged();
+  emit peersChanged();
+  emit lockChanged();
+  emit hostingStarted(m_host->tcpPort());
+  if (m_saved) restoreSavedSession();
+}
+
+void HostController::restoreSavedSession() {
+  const auto restore = [this] {
+    if (m_saved->current && !restoreHostDeformation(toHostDeformation(*m_saved->current))) {
+      emit failed(tr("The saved shape could not be restored (the deformer refused its constraints)."));
+    }
+    emit savedSessionRestored();
+  };
+  if (!m_saved->current) {
+    emit savedSessionRestored();
+    return;
+  }
+  // The host's own lock request is granted at once when nobody holds the lock (a fresh host); otherwise the state
+  // is restored when it is granted.
+  requestLock();
+  if (canDrag()) {
+    restore();
+    return;
+  }
+  auto connection = std::make_shared<QMetaObject::Connection>();
+  *connection = connect(this, &SessionController::lockChanged, this, [this, restore, connection] {
+    if (!canDrag()) return;
+    disconnect(*connection);
+    restore();
+  });
+}
+
+void HostController::onFrame() {
+  const spectral::SharedDisplayLevel& level = displayLevel();
+  const Eigen::MatrixXd& Z = m_host->coefficients();
+  if (!level || Z.rows() != level->basisSize() || Z.cols() != 3) return;
+  Eigen::MatrixXf Zf = Z.cast<float>();
+  const Eigen::MatrixXf& shown = displayFrame().Z;
+  if (shown.rows() == Zf.rows() && shown.cols() == Zf.cols() && shown == Zf) return;  // idle refresh
+  showFrame({m_host->currentFrame(), std::move(Zf)});
+}
+
+// ---------------------------------------------------------------------------------------------------- ending
+
+void HostController::cancel() {
+  if (state() == State::Preparing && m_preparation) m_preparation->cancel();
+  // finishPreparation() reports the cancellation once the worker stops.
+}
+
+void HostController::stop() {
+  if (m_preparation) m_preparation->cancel();
+  if (m_host != nullptr) m_host->shutdown();
+}
+
+// ---------------------------------------------------------------------------------------------------- lock, edits
+
+bool HostController::requestLock() { return state() == State::Live && m_host->requestLock(); }
+
+bool HostController::release() { return m_host->releaseLock(); }
+
+const session::LockClient* HostController::lockClient() const {
+  return m_host != nullptr ? &m_host->localLock() : nullptr;
+}
+
+session::PeerId HostController::lockHolder() const {
+  return state() == State::Live ? m_host->lockHolder() : session::kNoPeer;
+}
+
+std::vector<session::PeerId> HostController::lockQueue() const {
+  if (state() != State::Live) return {};
+  return {m_host->lockQueue().begin(), m_host->lockQueue().end()};
+}
+
+spectral::FullVertexIds HostController::fullIds(const spectral::DisplayVertexIds& displayed) const {
+  const std::size_t n = m_model ? static_cast<std::size_t>(m_model->vertexCount()) : 0;
+  spectral::FullVertexIds ids;
+  ids.reserve(displayed.size());
+  for (const spectral::DisplayVertexId id : displayed) {
+    if (id.index() < n) ids.emplace_back(id.value);
+  }
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+bool HostController::sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) {
+  return m_host->setConstraints(constraintSet(handle, anchors));
+}
+
+bool HostController::sendPose(const spectral::HandleTransform& pose) {
+  return m_host->drag(std::span<const spectral::HandleTransform>(&pose, 1));
+}
+
+std::optional<HostDeformation> HostController::hostDeformation() const {
+  if (m_host == nullptr) return std::nullopt;
+  return editor().sent();
+}
+
+bool HostController::restoreHostDeformation(const HostDeformation& state) {
+  if (m_host == nullptr || dragging() || !canDrag() || state.handle.empty()) return false;
+  if (!m_host->setConstraints(constraintSet(state.handle, state.anchors))) return false;
+  const spectral::HandleTransform pose{state.translation, state.rotation};
+  if (!sendPose(pose)) return false;
+  editor().adopt(state, displayedIds(state.handle), displayedIds(state.anchors));
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------------- figures
+
+quint16 HostController::tcpPort() const { return m_host != nullptr && state() == State::Live ? m_host->tcpPort() : 0; }
+
+session::PeerId HostController::selfId() const { return m_host != nullptr ? session::kHostPeer : session::kNoPeer; }
+
+Eigen::MatrixXd HostController::coefficients() const {
+  return m_host != nullptr ? m_host->coefficients() : Eigen::MatrixXd();
+}
+
+std::vector<LevelChoice> HostController::levels() const {
+  if (!m_model) return {};
+  return {{0, tr("Full — %1 vertices").arg(QLocale().toString(m_model->vertexCount())), true}};
+}
+
+session::PeerList HostController::peers() const {
+  return state() == State::Live ? m_host->peerList() : session::PeerList{};
+}
+
+std::optional<session::StatsReport> HostController::stats(session::PeerId peer) const {
+  if (state() != State::Live) return std::nullopt;
+  return m_host->stats(peer);
+}
+
+double HostController::sentKbps(session::PeerId peer) const {
+  return m_host != nullptr ? m_host->channel().traffic(peer).payloadKbpsOut : 0.0;
+}
+
+QByteArray HostController::hostFingerprint() const { return m_host != nullptr ? m_host->fingerprint() : QByteArray(); }
+
+session::SessionHostCounters HostController::counters() const {
+  return m_host != nullptr ? m_host->counters() : session::SessionHostCounters{};
+}
+
+std::uint32_t HostController::currentFrame() const { return m_host != nullptr ? m_host->currentFrame() : 0; }
+
+spectral::DeformationMode HostController::deformationMode() const {
+  return m_host != nullptr ? m_host->options().deformer.mode : spectral::DeformationMode{};
+}
+
+}  // namespace sc::app

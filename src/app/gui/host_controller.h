@@ -1,0 +1,90 @@
+#pragma once
+// HostController: this instance hosts (SessionController's host role). It prepares the model on a worker thread
+// (HostPreparation: mesh or saved session, basis, the full level built once), then owns a SessionHost whose own
+// user is peer 1. Its display is the full level (K = float(H), shared with the view; the SessionHost keeps the
+// double H its deformer needs), pushed down once, and one DisplayFrame{frame, float(Z)} per new frame.
+// A host started from a session file restores the file's shape once live (savedSessionRestored()).
+//
+// Lifecycle: Idle --host()--> Preparing --> Live --leave()--> Left; failures (unreadable mesh, basis, port in
+// use, cancel()) --> Failed. The destructor cancels and joins a running preparation (it waits for a running mesh
+// load; the eigensolve stops at its next progress callback) and shuts a live host down (Leave to every peer is
+// queued, not guaranteed to be written).
+
+#include "app/gui/session_controller.h"
+
+#include <memory>
+
+namespace sc::session {
+class SessionHost;
+struct HostModel;
+struct SessionHostCounters;
+}  // namespace sc::session
+
+namespace sc::app {
+
+class HostPreparation;
+struct PreparedHost;
+
+class HostController final : public SessionController {
+  Q_OBJECT
+  Q_DISABLE_COPY_MOVE(HostController)
+
+ public:
+  explicit HostController(QObject* parent = nullptr);
+  ~HostController() override;
+
+  /// Starts hosting: loads the mesh and computes its basis on a worker thread (progress() with percent 0..100),
+  /// then starts a SessionHost (hostingStarted(port)). False (nothing started) unless state() is Idle.
+  bool host(const HostSettings& settings);
+
+  [[nodiscard]] Role role() const override { return Role::Host; }
+  void cancel() override;
+  [[nodiscard]] quint16 tcpPort() const override;
+  [[nodiscard]] session::PeerId selfId() const override;
+  bool requestLock() override;
+  [[nodiscard]] session::PeerId lockHolder() const override;
+  [[nodiscard]] std::vector<session::PeerId> lockQueue() const override;
+  [[nodiscard]] std::optional<HostDeformation> hostDeformation() const override;
+  [[nodiscard]] const model::SessionFile* savedSession() const override { return m_saved.get(); }
+  /// As the lock holder and outside a drag: sets `state`'s constraints and solves its pose again, so that everyone
+  /// sees that shape (a new frame); handle() and anchors() become the state's and the next drag starts from its
+  /// pose. False (nothing changed) without the lock, during a drag, with an empty handle or ids the deformer refuses.
+  bool restoreHostDeformation(const HostDeformation& state) override;
+  /// The deformer's exact Z (m by 3, double; the displayed frame is its float copy).
+  [[nodiscard]] Eigen::MatrixXd coefficients() const override;
+  [[nodiscard]] std::vector<LevelChoice> levels() const override;
+  [[nodiscard]] session::PeerList peers() const override;
+  [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
+  [[nodiscard]] double sentKbps(session::PeerId peer) const override;
+  [[nodiscard]] QByteArray hostFingerprint() const override;
+
+  // --- the host's own figures (diagnostics and tests)
+  /// What the host accepted, refused and sent so far (zeros before it started).
+  [[nodiscard]] session::SessionHostCounters counters() const;
+  /// The number of the latest frame produced (0 before any).
+  [[nodiscard]] std::uint32_t currentFrame() const;
+  /// The deformer's mode (a saved session's, else the default).
+  [[nodiscard]] spectral::DeformationMode deformationMode() const;
+
+ protected:
+  [[nodiscard]] const session::LockClient* lockClient() const override;
+  bool release() override;
+  void stop() override;
+  /// A host displays the full level: a displayed id is the full id (ids out of range dropped).
+  [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
+  bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
+  bool sendPose(const spectral::HandleTransform& pose) override;
+
+ private:
+  void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);
+  void restoreSavedSession();
+  void onFrame();
+
+  HostSettings m_settings;
+  std::unique_ptr<HostPreparation> m_preparation;
+  std::shared_ptr<const session::HostModel> m_model;
+  std::shared_ptr<const model::SessionFile> m_saved;  ///< the session file it was started from
+  session::SessionHost* m_host = nullptr;
+};
+
+}  // namespace sc::app

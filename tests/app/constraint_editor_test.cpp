@@ -1,0 +1,136 @@
+// ConstraintEditor without a session: a fake EditTarget records what would be sent. Covers when constraints go out
+// (now with the lock, else when it is granted), the id map and the handle-wins rule, the composition of a drag's
+// poses with the previous drags', a lost lock ending a drag, and the state undo/redo reads and restores.
+
+#include "app/gui/constraint_editor.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace sc::app {
+namespace {
+
+using spectral::DisplayVertexId;
+using spectral::DisplayVertexIds;
+using spectral::FullVertexId;
+using spectral::FullVertexIds;
+
+DisplayVertexIds displayed(std::vector<std::uint32_t> ids) { return spectral::vertexIds<DisplayVertexId>(ids); }
+FullVertexIds full(std::vector<std::uint32_t> ids) { return spectral::vertexIds<FullVertexId>(ids); }
+
+/// Maps displayed id d to full id 10·d (a client's P, in miniature), drops d ≥ 100, and records the sends.
+class FakeTarget final : public EditTarget {
+ public:
+  bool locked = false;
+  bool refuse = false;
+  std::vector<std::pair<FullVertexIds, FullVertexIds>> constraints;
+  std::vector<spectral::HandleTransform> poses;
+
+  [[nodiscard]] bool canDrag() const override { return locked; }
+  [[nodiscard]] FullVertexIds fullIds(const DisplayVertexIds& ids) const override {
+    FullVertexIds out;
+    for (const DisplayVertexId id : ids) {
+      if (id.value < 100) out.emplace_back(10 * id.value);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+  bool sendConstraints(const FullVertexIds& handle, const FullVertexIds& anchors) override {
+    if (refuse) return false;
+    constraints.emplace_back(handle, anchors);
+    return true;
+  }
+  bool sendPose(const spectral::HandleTransform& pose) override {
+    if (refuse) return false;
+    poses.push_back(pose);
+    return true;
+  }
+};
+
+TEST(ConstraintEditor, SendsWhenTheLockIsGrantedMappedAndTheHandleWins) {
+  FakeTarget target;
+  ConstraintEditor editor(target);
+  EXPECT_FALSE(editor.setSelection(displayed({3, 1, 3, 500}), displayed({1, 2})));  // no lock: kept, not sent
+  EXPECT_TRUE(target.constraints.empty());
+  EXPECT_EQ(editor.handle(), displayed({3, 1, 3, 500}));
+  EXPECT_FALSE(editor.sent().has_value());
+
+  target.locked = true;
+  editor.lockChanged(true);
+  ASSERT_EQ(target.constraints.size(), 1u);
+  EXPECT_EQ(target.constraints[0].first, full({10, 30}));  // mapped, sorted, unique, out of range dropped
+  EXPECT_EQ(target.constraints[0].second, full({20}));     // 1 is a handle vertex: not an anchor
+  ASSERT_TRUE(editor.sent().has_value());
+  EXPECT_EQ(editor.sent()->handle, full({10, 30}));
+
+  EXPECT_TRUE(editor.setAnchors(displayed({4})));  // held: sent at once, the handle kept
+  ASSERT_EQ(target.constraints.size(), 2u);
+  EXPECT_EQ(target.constraints[1].first, full({10, 30}));
+  EXPECT_EQ(target.constraints[1].second, full({40}));
+  EXPECT_FALSE(editor.setHandle(displayed({200})));  // nothing left after mapping: not sent
+  EXPECT_EQ(target.constraints.size(), 2u);
+}
+
+TEST(ConstraintEditor, DragsComposeWithThePosePreviousDragsLeft) {
+  FakeTarget target;
+  target.locked = true;
+  ConstraintEditor editor(target);
+  EXPECT_FALSE(editor.beginDrag());  // no handle
+  ASSERT_TRUE(editor.setHandle(displayed({1})));
+  EXPECT_FALSE(editor.dragTo(Eigen::Vector3d::UnitX(), Eigen::Matrix3d::Identity()));  // outside a drag
+
+  ASSERT_TRUE(editor.beginDrag());
+  const Eigen::Matrix3d quarter = Eigen::AngleAxisd(0.5 * EIGEN_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), quarter));
+  editor.endDrag();
+  EXPECT_FALSE(editor.dragging());
+  ASSERT_TRUE(editor.beginDrag());
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(0.0, 2.0, 0.0), quarter));
+  ASSERT_EQ(target.poses.size(), 2u);
+  EXPECT_TRUE(target.poses[1].translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));  // t₀ + t
+  EXPECT_TRUE(target.poses[1].rotation.isApprox(quarter * quarter));                  // R·R₀
+  EXPECT_TRUE(editor.sent()->translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));
+
+  target.refuse = true;  // a refused pose is not recorded as the last one
+  EXPECT_FALSE(editor.dragTo(Eigen::Vector3d(5.0, 0.0, 0.0), quarter));
+  EXPECT_TRUE(editor.sent()->translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));
+  target.refuse = false;
+
+  target.locked = false;  // losing the lock ends the drag
+  editor.lockChanged(false);
+  EXPECT_FALSE(editor.dragging());
+  // A new constraint set starts from rest.
+  target.locked = true;
+  editor.lockChanged(true);
+  EXPECT_EQ(target.constraints.size(), 2u);
+  EXPECT_TRUE(editor.sent()->translation.isZero());
+}
+
+TEST(ConstraintEditor, AdoptedStateIsTheNextDragsStartAndClearForgetsTheIds) {
+  FakeTarget target;
+  target.locked = true;
+  ConstraintEditor editor(target);
+  HostDeformation state{full({7}), full({8, 9}), Eigen::Vector3d(0.0, 0.0, 3.0), Eigen::Matrix3d::Identity()};
+  editor.adopt(state, displayed({7}), displayed({8, 9}));
+  EXPECT_EQ(editor.sent(), state);
+  EXPECT_EQ(editor.anchors(), displayed({8, 9}));
+  ASSERT_TRUE(editor.beginDrag());  // already sent: no new constraints
+  EXPECT_TRUE(target.constraints.empty());
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
+  EXPECT_TRUE(target.poses.back().translation.isApprox(Eigen::Vector3d(1.0, 0.0, 3.0)));
+
+  editor.clear();
+  EXPECT_TRUE(editor.handle().empty());
+  EXPECT_TRUE(editor.anchors().empty());
+  EXPECT_FALSE(editor.sent().has_value());
+}
+
+}  // namespace
+}  // namespace sc::app

@@ -1,0 +1,55 @@
+// The lock line of the session toolbar from a LockClient driven by hand-made host notices (no session).
+
+#include "app/gui/lock_text.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdint>
+#include <utility>
+
+namespace sc::app {
+namespace {
+
+using session::LockNotice;
+using session::LockNoticeKind;
+using namespace std::chrono_literals;
+
+session::PeerList peers() {
+  session::PeerList list;
+  list.peers.push_back({1, 100, QStringLiteral("alice")});
+  list.peers.push_back({2, 100, QStringLiteral("bob")});
+  list.peers.push_back({7, 100, QString()});  // no name: "peer 7"
+  return list;
+}
+
+TEST(LockText, NamesTheHolderAndWhereThisUserStands) {
+  session::LockClient lock(2);
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free"));
+  ASSERT_TRUE(lock.request(0ms).has_value());
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free — requesting…"));
+  lock.apply({LockNoticeKind::Granted, 1, 1, 0}, 1ms);  // alice got it first
+  lock.apply({LockNoticeKind::Queued, 2, session::kNoEpoch, 2}, 2ms);
+  EXPECT_EQ(lockText(lock, 1, 2, peers()), QStringLiteral("Lock held by alice — you are 2nd in the queue"));
+  EXPECT_EQ(lockText(lock, 7, 2, peers()), QStringLiteral("Lock held by peer 7 — you are 2nd in the queue"));
+  lock.apply({LockNoticeKind::Granted, 2, 2, 0}, 3ms);
+  ASSERT_TRUE(lock.canDrag());
+  EXPECT_EQ(lockText(lock, 2, 2, peers()), QStringLiteral("You hold the lock"));
+  ASSERT_TRUE(lock.release(4ms).has_value());
+  EXPECT_EQ(lockText(lock, 2, 2, peers()), QStringLiteral("Lock held by bob — releasing…"));
+}
+
+TEST(LockText, QueuePositionsReadAsEnglishOrdinals) {
+  const std::pair<std::uint32_t, const char*> cases[] = {{1, "1st"},   {3, "3rd"},   {4, "4th"},   {11, "11th"},
+                                                         {12, "12th"}, {13, "13th"}, {21, "21st"}, {112, "112th"}};
+  for (const auto& [position, ordinal] : cases) {
+    session::LockClient lock(2);
+    ASSERT_TRUE(lock.request(0ms).has_value());
+    lock.apply({LockNoticeKind::Queued, 2, session::kNoEpoch, position}, 1ms);
+    EXPECT_EQ(lockText(lock, 1, 2, peers()),
+              QStringLiteral("Lock held by alice — you are %1 in the queue").arg(QLatin1StringView(ordinal)));
+  }
+}
+
+}  // namespace
+}  // namespace sc::app
