@@ -21,6 +21,8 @@
 //   …        4·n'·m    f32 K, row-major
 //   end − 8  8         u64 checksum64 of every byte before it
 
+#include "spectral/vertex_ids.h"
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -32,13 +34,6 @@
 #include <vector>
 
 namespace sc::spectral {
-
-// The typed ids of vertex_ids.h, declared here only: a header that moc parses must not start its std includes with
-// <compare> (moc 6.4 fails on it), and callers of dominantFullVertices() include vertex_ids.h anyway.
-template <typename Tag>
-struct VertexId;
-struct FullVertexTag;
-struct DisplayVertexTag;
 
 inline constexpr std::uint32_t kResolutionLevelVersion = 1;
 
@@ -87,8 +82,7 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
 /// @param[in] displayed  displayed vertex ids; ids outside [0, n') and rows without non-zeros are skipped.
 /// @return full-resolution ids in [0, n), sorted ascending, without duplicates.
 /// Cost: O(k log k) for k = displayed.size() (P has ≤ 3 non-zeros per row).
-std::vector<VertexId<FullVertexTag>> dominantFullVertices(const BarycentricMap& P,
-                                                          std::span<const VertexId<DisplayVertexTag>> displayed);
+FullVertexIds dominantFullVertices(const BarycentricMap& P, std::span<const DisplayVertexId> displayed);
 
 /// Serialises a level in the layout above. Requires every count < 2³² (asserted).
 /// Cost: O(24n' + 12f' + 12z + 4n'm) bytes written and checksummed.

@@ -4,7 +4,6 @@
 // displays (rows of K and of X̂'). A client at a lower resolution maps one to the other through P
 // (dominantFullVertices() in resolution_level.h); mixing them without that map is a compile error.
 
-#include <compare>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -19,7 +18,11 @@ struct VertexId {
   constexpr VertexId() = default;
   constexpr explicit VertexId(std::uint32_t id) : value(id) {}
   [[nodiscard]] constexpr std::size_t index() const { return value; }
-  friend constexpr auto operator<=>(VertexId, VertexId) = default;
+  // ==, != and < written out rather than a defaulted <=>: <compare> first in a Q_OBJECT header's include chain
+  // breaks moc ("Parse error at std").
+  friend constexpr bool operator==(VertexId a, VertexId b) { return a.value == b.value; }
+  friend constexpr bool operator!=(VertexId a, VertexId b) { return a.value != b.value; }
+  friend constexpr bool operator<(VertexId a, VertexId b) { return a.value < b.value; }
 };
 
 struct FullVertexTag {};

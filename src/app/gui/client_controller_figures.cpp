@@ -3,7 +3,6 @@
 #include "app/gui/client_controller.h"
 
 #include "model/mesh_decimation.h"
-#include "session/engine/session_clock.h"
 #include "session/net/distortion_meter.h"
 #include "session/net/session_client.h"
 
@@ -93,29 +92,7 @@ session::PeerList ClientController::peers() const {
 
 std::optional<session::StatsReport> ClientController::stats(session::PeerId peer) const {
   if (state() != State::Live || peer != m_client->peerId() || !m_client->channel().isOpen()) return std::nullopt;
-  const session::ClientDatagramChannel& channel = m_client->channel();
-  const auto figure = [](double v) { return std::isfinite(v) && v > 0.0 ? v : 0.0; };
-  const session::ReceiverReport r = channel.peek(session::sessionNow());
-  session::StatsReport s;
-  s.vertexCount = m_client->levelVertexCount();
-  s.framesApplied = static_cast<std::uint32_t>(channel.framesApplied());
-  s.received = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.received));
-  s.lost = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.cumulativeLost));
-  s.late = r.late;
-  s.dropped = channel.droppedDatagrams();
-  s.lossFraction = figure(r.lossFraction);
-  s.jitterMs = figure(r.jitterMs);
-  s.payloadKbpsIn = figure(r.payloadKbps);
-  s.wireKbpsIn = figure(r.wireKbps);
-  s.framesPerSecond = figure(r.framesPerSecond);
-  s.latencyP50Ms = figure(r.latencyP50Ms);
-  s.latencyP99Ms = figure(r.latencyP99Ms);
-  if (m_meter != nullptr) {
-    s.hdMaxPct = figure(m_meter->summary().maxPct);
-    s.hdMeanPct = figure(m_meter->summary().meanPct);
-    s.hdLastPct = figure(m_meter->summary().lastPct);
-  }
-  return s;
+  return m_client->peekStats();  // what the next StatsReport carries (the distortion meter feeds setDistortion())
 }
 
 FrameReception ClientController::reception() const {
