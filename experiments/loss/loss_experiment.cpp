@@ -1,11 +1,11 @@
-#include "app/cli/loss_experiment.h"
+#include "experiments/loss/loss_experiment.h"
 
 #include "app/cli/session_setup.h"
-#include "session/net/distortion_meter.h"
-#include "session/wire/handle_transforms.h"
-#include "session/net/host_datagram_channel.h"
 #include "session/engine/session_clock.h"
+#include "session/net/distortion_meter.h"
+#include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
+#include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
 #include <QThread>
