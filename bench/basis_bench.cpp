@@ -4,8 +4,8 @@
 // Prints a table and writes it, with the machine description, into docs/benchmarks.md (section basis-bench).
 // Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR] [--out FILE]
 
-#include "app/report/machine_info.h"
-#include "app/report/markdown_section.h"
+#include "experiments/report/machine_info.h"
+#include "experiments/report/markdown_section.h"
 
 #include <QCommandLineParser>
 #include <QCoreApplication>

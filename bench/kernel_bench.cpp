@@ -2,7 +2,7 @@
 // on random data of a display level's size; median over many frames, for 1 and 2 threads.
 // Usage: shapecast-bench-kernel [vertices = 100000] [m = 100] [frames = 200]
 
-#include "app/report/machine_info.h"
+#include "experiments/report/machine_info.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <algorithm>

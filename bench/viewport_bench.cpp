@@ -14,7 +14,7 @@
 
 #include "app/gui/interactive_proxy.h"
 #include "app/gui/mesh_viewport.h"
-#include "app/report/machine_info.h"
+#include "experiments/report/machine_info.h"
 #include "model/mesh_loader.h"
 #include "model/mesh_proxy.h"
 #include "spectral/reconstruction_kernel.h"

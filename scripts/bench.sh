@@ -11,3 +11,6 @@ if command -v xvfb-run > /dev/null; then
 else
   echo "xvfb-run not found: skipping shapecast-bench-viewport" >&2
 fi
+# The paper's experiments and Table 1 are shapecast-lab's (experiments/; also run as `shapecast-cli experiment
+# loss|load` and `shapecast-cli bench table1`). They take minutes to hours, so they are run one by one, by hand:
+echo "paper experiments: $root/build/bin/shapecast-lab table1|loss|load (see --help)" >&2

@@ -3,29 +3,14 @@
 // src/spectral, cleaned and with a report of what cleaning changed.
 
 #include "model/mesh_cleaning.h"
+#include "model/mesh_error.h"
 
 #include <Eigen/Core>
 
 #include <filesystem>
-#include <string>
 #include <variant>
 
 namespace sc::model {
-
-/// Why a mesh could not be loaded.
-enum class MeshErrorKind {
-  FileNotFound,          ///< no such file, or it is not a regular readable file (a directory, no permission).
-  UnknownFormat,         ///< the extension is none of .off .obj .ply .stl.
-  ReadFailed,            ///< the reader rejected the file: empty, truncated, malformed header, bad index, …
-  NoFaces,               ///< nothing triangulable is left (after cleaning).
-  NonFiniteCoordinates,  ///< a vertex coordinate is NaN or ±∞ (only binary PLY/STL can hold such values).
-};
-
-/// A typed load error with a message that names the file and the problem.
-struct MeshError {
-  MeshErrorKind kind{};
-  std::string message;
-};
 
 /// A loaded, triangulated and cleaned mesh.
 struct LoadedMesh {

@@ -2,7 +2,7 @@
 // Private to shapecast_model: the one place that drives OpenMesh's file readers (see loadMesh() for the public
 // entry point). This header does not include OpenMesh.
 
-#include "model/mesh_loader.h"
+#include "model/mesh_error.h"
 
 #include <Eigen/Core>
 

@@ -2,12 +2,12 @@
 // three windows whose two clients reach Live and show the mesh (the low one at ≈5% behind 10% loss); the dock
 // changes a client's impairment live; the first start picks a mesh (a generated one when none is fetched), becomes
 // Live with a default handle, anchors, the lock and the Drag tool. With SHAPECAST_TEST_SCREENSHOTS=DIR the demo's
-// windows are saved to DIR (demo-host.png, demo-client-full.png, demo-client-low.png). DemoScreenshots (`shapecast
-// --demo --screenshot-dir`) writes its four PNGs, none blank, after a scripted drag that reached the clients.
+// windows are saved to DIR (demo-host.png, demo-client-full.png, demo-client-low.png). DemoScreenshots
+// (tools/screenshots/, `shapecast --demo --screenshot-dir`) writes its four PNGs, none blank, after a scripted drag
+// that reached the clients.
 
 #include "app/gui/demo.h"
 #include "app/gui/client_controller.h"
-#include "app/gui/demo_screenshots.h"
 #include "app/gui/drag_commands.h"
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
@@ -16,6 +16,7 @@
 #include "app_test_support.h"
 #include "session_windows.h"
 #include "test_meshes.h"
+#include "tools/screenshots/demo_screenshots.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,5 @@
-// Tests for src/app/gui/main.cpp: the shapecast executable's --screenshot mode, run as a child process.
+// Tests for src/app/gui/main.cpp: the shapecast executable's --screenshot mode and its usage errors, and the
+// --demo --screenshot-dir alias to shapecast-screenshots, run as child processes.
 
 #include "address_sanitizer.h"
 #include "app_test_support.h"
@@ -6,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <QDir>
 #include <QFileInfo>
 #include <QImage>
 #include <QProcess>
@@ -21,14 +23,15 @@ struct RunResult {
   QString standardError;
 };
 
-RunResult runShapecast(const QStringList& arguments) {
+RunResult runShapecast(const QStringList& arguments, QProcessEnvironment environment = {}) {
   QProcess process;
+  if (!environment.isEmpty()) process.setProcessEnvironment(environment);
   if (sc::testing::kAddressSanitizer) {
     // The child exits with Mesa's GL driver already unloaded (see keep_libraries_mapped.h), so LeakSanitizer would
     // report the driver's blocks as leaks of `<unknown module>`; app_tests keeps the libraries mapped and checks
     // the GUI library for leaks, but the child's main is not a test's to change: no leak check in the child (ASan
     // and UBSan stay on). Known gap: main.cpp itself is not leak-checked.
-    QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+    if (environment.isEmpty()) environment = QProcessEnvironment::systemEnvironment();
     const QString options = environment.value(QStringLiteral("ASAN_OPTIONS"));
     environment.insert(QStringLiteral("ASAN_OPTIONS"), options.isEmpty() ? QStringLiteral("detect_leaks=0")
                                                                          : options + QStringLiteral(":detect_leaks=0"));
@@ -94,6 +97,25 @@ TEST_F(ShapecastExe, ScreenshotDirNeedsTheDemoAndSensibleSeconds) {
                 .exitCode,
             64);
   EXPECT_FALSE(QFileInfo::exists(dir));
+}
+
+TEST_F(ShapecastExe, ScreenshotDirRunsTheScreenshotsTool) {
+  // `shapecast --demo MESH --screenshot-dir DIR` runs shapecast-screenshots (tools/screenshots/) with its arguments.
+  const QString mesh = m_dir.filePath(QStringLiteral("torus.off"));
+  const auto torus = sc::testing::torus(40, 20);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, torus.V, torus.F));
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  // the demo's basis cache and known hosts go to this test's folder, not the user's
+  environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  const QString dir = m_dir.filePath(QStringLiteral("shots"));
+  const RunResult run = runShapecast({QStringLiteral("--demo"), mesh, QStringLiteral("--screenshot-dir"), dir,
+                                      QStringLiteral("--after"), QStringLiteral("1")},
+                                     environment);
+  ASSERT_EQ(run.exitCode, 0) << run.standardError.toStdString();
+  for (const char* name :
+       {"demo-host.png", "demo-client-full.png", "demo-client-low.png", "main-window-statistics.png"})
+    EXPECT_FALSE(QImage(QDir(dir).filePath(QString::fromLatin1(name))).isNull()) << name;
 }
 
 TEST_F(ShapecastExe, MalformedFingerprintIsAUsageError) {

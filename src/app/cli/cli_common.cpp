@@ -1,5 +1,6 @@
 #include "app/cli/cli_common.h"
 
+#include "app/common/host_address.h"
 #include "model/cache_location.h"
 
 #include <QFile>
@@ -66,17 +67,13 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
 
 bool SubcommandParser::parsePeerAddress(int& exitCode) {
   const QString address = m_parser.positionalArguments().constFirst();
-  const qsizetype colon = address.lastIndexOf(QLatin1Char(':'));
-  bool numeric = false;
-  const uint port = colon > 0 ? address.mid(colon + 1).toUInt(&numeric) : 0;
-  if (!numeric || port < 1 || port > 65535) {
+  const std::optional<HostAddress> peer = parseHostAddress(address);
+  if (!peer) {
     error(QStringLiteral("'%1' is not HOST:PORT (e.g. 127.0.0.1:47100)").arg(address));
     return false;
   }
-  m_peerHost = address.left(colon);
-  if (m_peerHost.startsWith(QLatin1Char('[')) && m_peerHost.endsWith(QLatin1Char(']')))
-    m_peerHost = m_peerHost.mid(1, m_peerHost.size() - 2);  // [::1]:47100
-  m_peerPort = static_cast<quint16>(port);
+  m_peerHost = peer->host;
+  m_peerPort = peer->port;
   m_basis.json = m_parser.isSet(m_json);
   exitCode = kExitOk;
   return true;

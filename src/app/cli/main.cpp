@@ -3,16 +3,15 @@
 #include "app/cli/basis_command.h"
 #include "app/cli/deform_command.h"
 #include "app/cli/drive_command.h"
-#include "app/cli/experiment_command.h"
 #include "app/cli/host_command.h"
 #include "app/cli/join_command.h"
-#include "app/cli/table1_command.h"
+#include "app/cli/lab_alias.h"
 
 #include <QCoreApplication>
-#include <QGuiApplication>
 #include <QTextStream>
 
-#include <memory>
+#include <span>
+#include <vector>
 
 namespace {
 
@@ -25,8 +24,6 @@ constexpr const char* kUsage =
     "  deform MESH --script DRAG.json [--mode linear|rigid] [--level N] [--out FILE] [--m 100] [--no-cache]\n"
     "         [--cache-dir DIR] [--json]\n"
     "      replay a drag script (docs/drag-script.md) with the spectral deformer and write the deformed mesh\n"
-    "  bench table1 [MESH...] [--m 100] [--low-fraction 0.05] [--frames 200] [--json] [--markdown FILE]\n"
-    "      reproduce the paper's Table 1 on this machine and write it to docs/benchmarks.md\n"
     "  host MESH [--port 47100] [--password-file F] [--mode linear|rigid] [--m 100] [--seconds T]\n"
     "      host a session: clients join, one at a time holds the edit lock and drags\n"
     "  join HOST:PORT [--name N] [--password-file F] [--level full|N] [--loss P] [--burst L] [--seconds T]\n"
@@ -34,6 +31,11 @@ constexpr const char* kUsage =
     "      join a session headless and report loss, bandwidth, latency and Hausdorff distortion\n"
     "  drive HOST:PORT --script DRAG.json [--name N] [--password-file F]\n"
     "      take the edit lock, play a drag script, release\n"
+    "\n"
+    "the paper's experiments and benchmarks, run by shapecast-lab (next to shapecast-cli; see 'shapecast-lab "
+    "--help'):\n"
+    "  bench table1 [MESH...] [--m 100] [--low-fraction 0.05] [--frames 200] [--json] [--markdown FILE]\n"
+    "      reproduce the paper's Table 1 on this machine and write it to docs/benchmarks.md\n"
     "  experiment loss [--mesh MESH] [--loss 0,0.02,...] [--burst] [--json]\n"
     "      reproduce the paper's Figures 3 and 4 on loopback and write them to docs/benchmarks.md\n"
     "  experiment load --clients N --seconds T [--mesh MESH] [--markdown FILE] [--json]\n"
@@ -44,12 +46,9 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char* argv[]) {
-  // The loss experiment draws a PNG plot (QPainter text needs a QGuiApplication); headless, on the offscreen
-  // platform. Every other subcommand needs only Qt Core.
-  const bool needsGui = argc > 1 && QByteArrayView(argv[1]) == "experiment";
-  if (needsGui && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-  const std::unique_ptr<QCoreApplication> app =
-      needsGui ? std::make_unique<QGuiApplication>(argc, argv) : std::make_unique<QCoreApplication>(argc, argv);
+  // argv as given (QCoreApplication may take out the options it knows) for the shapecast-lab alias.
+  const std::vector<char*> given(argv + 1, argv + argc);
+  const QCoreApplication app(argc, argv);
   QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
   QCoreApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
   QStringList arguments = QCoreApplication::arguments();
@@ -57,12 +56,10 @@ int main(int argc, char* argv[]) {
   const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();
   if (subcommand == QLatin1String("basis")) return sc::app::runBasisCommand(arguments);
   if (subcommand == QLatin1String("deform")) return sc::app::runDeformCommand(arguments);
-  if (subcommand == QLatin1String("bench") && !arguments.isEmpty() && arguments.constFirst() == QLatin1String("table1"))
-    return sc::app::runTable1Command(arguments.mid(1));
   if (subcommand == QLatin1String("host")) return sc::app::runHostCommand(arguments);
   if (subcommand == QLatin1String("join")) return sc::app::runJoinCommand(arguments);
   if (subcommand == QLatin1String("drive")) return sc::app::runDriveCommand(arguments);
-  if (subcommand == QLatin1String("experiment")) return sc::app::runExperimentCommand(arguments);
+  if (sc::app::isLabCommand(QStringList(subcommand) + arguments)) return sc::app::runLabAlias(given);
 
   QTextStream err(stderr);
   if (subcommand.isEmpty() || subcommand == QLatin1String("--help") || subcommand == QLatin1String("-h")) {

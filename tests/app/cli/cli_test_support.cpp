@@ -7,13 +7,23 @@
 
 namespace sc::testing {
 
-CliRun runCli(const QStringList& arguments, const QString& workingDirectory) {
+namespace {
+
+CliRun runProgram(const QString& program, const QStringList& arguments, const QString& workingDirectory) {
   QProcess process;
   if (!workingDirectory.isEmpty()) process.setWorkingDirectory(workingDirectory);
-  process.start(QStringLiteral(SHAPECAST_CLI), arguments);
+  process.start(program, arguments);
   EXPECT_TRUE(process.waitForFinished(120000));
   return {process.exitCode(), process.readAllStandardOutput(), process.readAllStandardError()};
 }
+
+}  // namespace
+
+CliRun runCli(const QStringList& arguments, const QString& workingDirectory) {
+  return runProgram(QStringLiteral(SHAPECAST_CLI), arguments, workingDirectory);
+}
+
+CliRun runLab(const QStringList& arguments) { return runProgram(QStringLiteral(SHAPECAST_LAB), arguments, {}); }
 
 void writeOff(const QString& path, const GeneratedMesh& mesh) {
   std::ofstream out(path.toStdString());

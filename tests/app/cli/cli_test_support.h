@@ -1,5 +1,6 @@
 #pragma once
-// Helpers of the shapecast-cli end-to-end tests: run the real executable, write generated meshes as OFF files.
+// Helpers of the shapecast-cli end-to-end tests: run the real executables (shapecast-cli, shapecast-lab), write
+// generated meshes as OFF files.
 
 #include "test_meshes.h"
 
@@ -18,6 +19,9 @@ struct CliRun {
 /// Runs the shapecast-cli executable (SHAPECAST_CLI) with `arguments` in `workingDirectory` (empty: this process's
 /// current folder) and waits up to two minutes for it.
 CliRun runCli(const QStringList& arguments, const QString& workingDirectory = {});
+
+/// Runs the shapecast-lab executable (SHAPECAST_LAB) with `arguments` and waits up to two minutes for it.
+CliRun runLab(const QStringList& arguments);
 
 /// Writes `mesh` as an ASCII OFF file with 17 significant digits.
 void writeOff(const QString& path, const GeneratedMesh& mesh);

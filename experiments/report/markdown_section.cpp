@@ -1,4 +1,4 @@
-#include "app/report/markdown_section.h"
+#include "experiments/report/markdown_section.h"
 
 #include <QFile>
 

@@ -1,10 +1,10 @@
 // The host child of the load experiment (`shapecast-cli experiment load-host`, see load_experiment.h): a
 // SessionHost on 127.0.0.1 whose own user plays the scripted drag at 30 fps on command, measuring its own CPU time.
 
-#include "app/cli/load_experiment.h"
-#include "app/cli/loss_experiment.h"
 #include "app/cli/session_setup.h"
 #include "model/decimating_level_builder.h"
+#include "experiments/load/load_experiment.h"
+#include "experiments/loss/loss_experiment.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
 #include "spectral/hausdorff.h"

@@ -1,4 +1,4 @@
-#include "app/cli/loss_experiment_report.h"
+#include "experiments/loss/loss_experiment_report.h"
 
 #include <QJsonObject>
 #include <QJsonValue>

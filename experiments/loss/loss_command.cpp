@@ -1,11 +1,10 @@
-#include "app/cli/experiment_command.h"
+#include "experiments/loss/loss_command.h"
 
-#include "app/cli/load_experiment.h"
-#include "app/cli/loss_experiment.h"
 #include "app/cli/session_setup.h"
-#include "app/report/line_plot.h"
-#include "app/report/machine_info.h"
-#include "app/report/markdown_section.h"
+#include "experiments/loss/loss_experiment.h"
+#include "experiments/report/line_plot.h"
+#include "experiments/report/machine_info.h"
+#include "experiments/report/markdown_section.h"
 
 #include <QDir>
 #include <QFileInfo>
@@ -15,24 +14,6 @@
 
 namespace sc::app {
 namespace {
-
-/// `--mesh MESH` (the spelling) becomes the parser's MESH positional argument; default: the 23k dragon.
-QStringList withMeshPositional(QStringList arguments) {
-  QString mesh = QStringLiteral(SHAPECAST_ASSETS_DIR "/dragon_vrip_res3.ply");
-  for (qsizetype i = 0; i < arguments.size(); ++i) {
-    if (arguments[i] == QLatin1String("--mesh") && i + 1 < arguments.size()) {
-      mesh = arguments[i + 1];
-      arguments.remove(i, 2);
-      break;
-    }
-    if (arguments[i].startsWith(QLatin1String("--mesh="))) {
-      mesh = arguments[i].mid(7);
-      arguments.remove(i);
-      break;
-    }
-  }
-  return arguments << mesh;
-}
 
 std::optional<std::vector<double>> parseLosses(const QString& text) {
   std::vector<double> losses;
@@ -48,17 +29,7 @@ std::optional<std::vector<double>> parseLosses(const QString& text) {
 
 }  // namespace
 
-int runExperimentCommand(const QStringList& arguments) {
-  if (!arguments.isEmpty() && arguments.constFirst() == QLatin1String("load")) {
-    return runLoadExperimentCommand(withMeshPositional(arguments.mid(1)));
-  }
-  if (!arguments.isEmpty() && arguments.constFirst() == QLatin1String("load-host")) {
-    return runLoadHost(arguments.mid(1));  // the load experiment's host child (MESH given positionally)
-  }
-  if (arguments.isEmpty() || arguments.constFirst() != QLatin1String("loss")) {
-    QTextStream(stderr) << "usage: shapecast-cli experiment loss|load [--mesh MESH] [options]; see --help\n";
-    return kExitUsage;
-  }
+int runLossCommand(const QStringList& arguments) {
   SubcommandParser command(QStringLiteral("experiment loss"),
                            QStringLiteral("Loss experiment (the paper's Figures 3 and 4) on loopback."));
   QCommandLineParser& p = command.parser();
@@ -79,7 +50,7 @@ int runExperimentCommand(const QStringList& arguments) {
                                 QStringLiteral(SHAPECAST_SOURCE_DIR "/docs/loss-experiment.png"));
   p.addOptions({losses, burst, burstLength, seed, lowFraction, markdown, plot});
   int exitCode = kExitOk;
-  if (!command.parse(withMeshPositional(arguments.mid(1)), exitCode)) return exitCode;
+  if (!command.parse(arguments, exitCode)) return exitCode;
 
   LossExperimentSettings settings;
   bool ok = false, ok2 = false, ok3 = false;

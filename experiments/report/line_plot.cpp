@@ -1,4 +1,4 @@
-#include "app/report/line_plot.h"
+#include "experiments/report/line_plot.h"
 
 #include <QPainter>
 #include <QPainterPath>

@@ -1,8 +1,8 @@
 // `shapecast-cli experiment load`: options, the run, and its report (see load_experiment.h).
 
-#include "app/cli/load_experiment.h"
-#include "app/report/machine_info.h"
-#include "app/report/markdown_section.h"
+#include "experiments/load/load_experiment.h"
+#include "experiments/report/machine_info.h"
+#include "experiments/report/markdown_section.h"
 #include "session/wire/wire_format.h"
 
 #include <QCoreApplication>

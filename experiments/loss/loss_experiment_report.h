@@ -2,7 +2,7 @@
 // Results of the loss experiment (`shapecast-cli experiment loss`, the paper's Figures 3 and 4) and their three
 // presentations: the --json rows, the Markdown table for docs/benchmarks.md, and the PNG plot.
 
-#include "app/report/line_plot.h"
+#include "experiments/report/line_plot.h"
 
 #include <QJsonArray>
 #include <QString>

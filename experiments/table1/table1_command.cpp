@@ -1,9 +1,9 @@
-#include "app/cli/table1_command.h"
+#include "experiments/table1/table1_command.h"
 
 #include "app/cli/cli_common.h"
-#include "app/cli/table1_measurement.h"
-#include "app/report/machine_info.h"
-#include "app/report/markdown_section.h"
+#include "experiments/report/machine_info.h"
+#include "experiments/report/markdown_section.h"
+#include "experiments/table1/table1_measurement.h"
 
 #include <QCommandLineParser>
 #include <QDateTime>

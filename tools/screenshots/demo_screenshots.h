@@ -1,10 +1,13 @@
 #pragma once
-// `shapecast --demo --screenshot-dir DIR [--after SECONDS]`: README screenshots of the real demo. Once the demo's
-// three windows are live, the host plays a scripted drag of its default handle through its viewport's drag signals
-// (the path a mouse drag takes: the session solves and streams every step, the drag lands in the undo history) for
-// the given time, so that the shape, the clients' displays and every Statistics chart (distortion, loss,
-// bandwidth, frame rate) are live; then, with the drag still going, each window is resized to a sensible size,
-// its view framed on the deformed shape and grabbed with QWidget::grab (which includes the OpenGL viewport) into
+// `shapecast-screenshots --demo [MESH] --screenshot-dir DIR [--after SECONDS]` (also `shapecast --demo
+// --screenshot-dir …`, which runs it): README screenshots of the real demo. Not part of the application: this tool
+// drives the GUI library's public API only. Once the demo's three windows are live, the host plays a scripted drag
+// of its default handle through the calls a mouse drag ends in (MainWindow::session()'s beginDrag(), dragTo() and
+// endDrag(), with MainWindow::dragHistory() told around it, as the window does for its viewport's drag gestures:
+// the session solves and streams every step, the drag lands in the undo history) for the given time, so that the shape,
+// the clients' displays and every Statistics chart (distortion, loss, bandwidth, frame rate) are live; then, with the
+// drag still going, each window is resized to a sensible size, its view framed on the deformed shape and grabbed with
+// QWidget::grab (which includes the OpenGL viewport) into
 //   DIR/demo-host.png, DIR/demo-client-full.png, DIR/demo-client-low.png   (the three windows, docks as they are)
 //   DIR/main-window-statistics.png   (the host window, larger, its Statistics dock showing the lossy client)
 // and finished() reports the result.

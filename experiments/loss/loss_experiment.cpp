@@ -1,4 +1,4 @@
-#include "app/cli/loss_experiment.h"
+#include "experiments/loss/loss_experiment.h"
 
 #include "app/cli/session_setup.h"
 #include "model/decimating_level_builder.h"

@@ -1,6 +1,6 @@
 // The load experiment's presentations (see load_experiment.h): --json and the Markdown section.
 
-#include "app/cli/load_experiment.h"
+#include "experiments/load/load_experiment.h"
 #include "session/wire/wire_format.h"
 
 #include <QFileInfo>

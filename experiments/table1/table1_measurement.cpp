@@ -1,4 +1,4 @@
-#include "app/cli/table1_measurement.h"
+#include "experiments/table1/table1_measurement.h"
 
 #include "model/mesh_decimation.h"
 #include "spectral/basis_pipeline.h"

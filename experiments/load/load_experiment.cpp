@@ -1,10 +1,10 @@
 // The load experiment's driver (see load_experiment.h): the host child process, the client threads, the counts.
 
-#include "app/cli/load_experiment.h"
+#include "experiments/load/load_experiment.h"
 
 #include "app/cli/session_setup.h"
-#include "session/net/session_client.h"
 #include "session/engine/session_clock.h"
+#include "session/net/session_client.h"
 
 #include <QFile>
 #include <QJsonArray>

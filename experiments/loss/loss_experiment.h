@@ -10,7 +10,7 @@
 // resolution, % of the full rest bounding-box diagonal), so kd-tree work never delays datagram processing.
 
 #include "app/cli/drag_script.h"
-#include "app/cli/loss_experiment_report.h"
+#include "experiments/loss/loss_experiment_report.h"
 #include "session/engine/host_model.h"
 
 #include <QString>

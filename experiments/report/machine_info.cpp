@@ -1,4 +1,4 @@
-#include "app/report/machine_info.h"
+#include "experiments/report/machine_info.h"
 
 #include <QFile>
 #include <QRegularExpression>

@@ -1,6 +1,7 @@
-#include "app/gui/demo_screenshots.h"
+#include "tools/screenshots/demo_screenshots.h"
 
 #include "app/gui/demo.h"
+#include "app/gui/drag_commands.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/network_conditions_dock.h"
@@ -118,14 +119,13 @@ void DemoScreenshots::beginDrag() {
   const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   m_finalTranslation = Eigen::Vector3d(0.3, 1.0, 0.2).normalized() * kLiftFraction * diagonal;
   m_wobble = Eigen::Vector3d(1.0, 0.0, -0.5).normalized() * kWobbleFraction * diagonal;
-  emit m_demo.hostWindow()->viewport()->dragStarted();
+  if (session->beginDrag()) m_demo.hostWindow()->dragHistory()->dragStarted();
   m_clock.restart();
   connect(m_timer, &QTimer::timeout, this, &DemoScreenshots::dragStep);
   m_timer->start(kDragStepMs);
 }
 
 void DemoScreenshots::dragStep() {
-  MeshViewport* view = m_demo.hostWindow()->viewport();
   const double duration = 1000.0 * m_options.afterSeconds;
   const double p = std::min(1.0, static_cast<double>(m_clock.elapsed()) / duration);
   // lift to the final pose in the first third, then sway around it until the grabs are done
@@ -135,7 +135,7 @@ void DemoScreenshots::dragStep() {
   const Eigen::Vector3d translation = lift * m_finalTranslation + sway * m_wobble;
   const Eigen::Matrix3d rotation =
       Eigen::AngleAxisd(lift * kFinalDegrees * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  emit view->dragMoved(translation, rotation);
+  m_demo.hostWindow()->session()->dragTo(translation, rotation);
   if (p >= 1.0 && !m_grabbing) {
     m_grabbing = true;  // the drag goes on while the windows are resized and grabbed: the figures stay live
     grabDemoWindows();
@@ -145,7 +145,9 @@ void DemoScreenshots::dragStep() {
 void DemoScreenshots::endDrag() {
   m_timer->stop();
   m_timer->disconnect(this);
-  emit m_demo.hostWindow()->viewport()->dragFinished();
+  MainWindow* host = m_demo.hostWindow();
+  host->session()->endDrag();
+  host->dragHistory()->dragFinished();
 }
 
 void DemoScreenshots::grabDemoWindows() {

@@ -1,0 +1,25 @@
+// shapecast-lab: the paper experiments and benchmarks (lab_command.h). Usage: shapecast-lab <subcommand> [options].
+
+#include "experiments/lab_command.h"
+
+#include <QCoreApplication>
+#include <QGuiApplication>
+
+#include <memory>
+
+int main(int argc, char* argv[]) {
+  QStringList arguments;
+  for (int i = 1; i < argc; ++i) arguments << QString::fromLocal8Bit(argv[i]);
+  // The experiments run under a QGuiApplication (the loss experiment draws a PNG plot: QPainter text needs one),
+  // headless, on the offscreen platform; table1 needs only Qt Core.
+  const bool needsGui = sc::app::labCommandNeedsGui(arguments);
+  if (needsGui && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  const std::unique_ptr<QCoreApplication> app =
+      needsGui ? std::make_unique<QGuiApplication>(argc, argv) : std::make_unique<QCoreApplication>(argc, argv);
+  // The name that the basis cache and the settings are kept under: the same as shapecast-cli's.
+  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
+  QCoreApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
+  arguments = QCoreApplication::arguments();
+  arguments.removeFirst();
+  return sc::app::runLabCommand(arguments);
+}

@@ -1,0 +1,160 @@
+// Tests for src/app/gui/launch_options.cpp: shapecast's command line into LaunchOptions or a readable error (no
+// QApplication, no windows).
+
+#include "app/gui/launch_options.h"
+
+#include <gtest/gtest.h>
+
+#include <QFile>
+#include <QTemporaryDir>
+
+namespace sc::app {
+namespace {
+
+std::variant<LaunchOptions, LaunchError> parse(QStringList arguments) {
+  arguments.prepend(QStringLiteral("shapecast"));
+  return parseLaunchArguments(arguments);
+}
+
+LaunchOptions options(const QStringList& arguments) {
+  const std::variant<LaunchOptions, LaunchError> parsed = parse(arguments);
+  if (const auto* error = std::get_if<LaunchError>(&parsed)) {
+    ADD_FAILURE() << arguments.join(QLatin1Char(' ')).toStdString() << ": " << error->message.toStdString();
+    return {};
+  }
+  return std::get<LaunchOptions>(parsed);
+}
+
+/// The error of a command line that must not run (empty message when it unexpectedly parsed).
+LaunchError error(const QStringList& arguments) {
+  const std::variant<LaunchOptions, LaunchError> parsed = parse(arguments);
+  if (const auto* problem = std::get_if<LaunchError>(&parsed)) return *problem;
+  ADD_FAILURE() << arguments.join(QLatin1Char(' ')).toStdString() << " parsed";
+  return {};
+}
+
+class LaunchOptionsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(m_dir.isValid());
+    m_mesh = m_dir.filePath(QStringLiteral("mesh.off"));
+    QFile file(m_mesh);
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly));  // validateHostSettings() only checks that it is a readable file
+  }
+  QTemporaryDir m_dir;
+  QString m_mesh;
+};
+
+TEST_F(LaunchOptionsTest, NoArgumentsIsTheFirstStart) {
+  const LaunchOptions none = options({});
+  EXPECT_TRUE(none.firstStart());
+  EXPECT_FALSE(none.demo || none.host || none.join || none.screenshotFile);
+  EXPECT_FALSE(options({m_mesh}).firstStart());
+  EXPECT_EQ(options({m_mesh}).meshPath, m_mesh);
+}
+
+TEST_F(LaunchOptionsTest, ScreenshotAndSize) {
+  const LaunchOptions shot = options({m_mesh, QStringLiteral("--screenshot"), QStringLiteral("shot.png"),
+                                      QStringLiteral("--size"), QStringLiteral("320x240")});
+  ASSERT_TRUE(shot.screenshotFile.has_value());
+  EXPECT_EQ(*shot.screenshotFile, QStringLiteral("shot.png"));
+  EXPECT_EQ(shot.viewportSize, QSize(320, 240));
+  EXPECT_EQ(options({}).viewportSize, QSize(1024, 768));
+  for (const char* size : {"big", "0x10", "10x0", "100000x10", "10x", "-5x5"}) {
+    EXPECT_TRUE(error({QStringLiteral("--size"), QString::fromLatin1(size)}).showHelp) << size;
+  }
+  EXPECT_TRUE(error({m_mesh, m_mesh}).showHelp) << "at most one MESH";
+}
+
+TEST_F(LaunchOptionsTest, HostSettingsFromTheCommandLine) {
+  const LaunchOptions host =
+      options({QStringLiteral("--host"), m_mesh, QStringLiteral("--port"), QStringLiteral("0"), QStringLiteral("--m"),
+               QStringLiteral("30"), QStringLiteral("--name"), QStringLiteral("  alice ")});
+  ASSERT_TRUE(host.host.has_value());
+  EXPECT_EQ(host.host->meshPath, m_mesh);
+  EXPECT_EQ(host.host->port, 0);
+  EXPECT_EQ(host.host->m, 30);
+  EXPECT_EQ(host.host->name, QStringLiteral("alice"));
+  EXPECT_FALSE(host.firstStart());
+  EXPECT_EQ(options({QStringLiteral("--host"), m_mesh}).host->name, QStringLiteral("host"));
+  EXPECT_EQ(options({QStringLiteral("--host"), m_mesh}).host->port, 47100);
+
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_mesh, QStringLiteral("--port"), QStringLiteral("65536")})
+                  .message.contains(QStringLiteral("--port")));
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_mesh, QStringLiteral("--m"), QStringLiteral("many")})
+                  .message.contains(QStringLiteral("--m")));
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_dir.filePath(QStringLiteral("missing.off"))})
+                  .message.contains(QStringLiteral("missing.off")));
+  EXPECT_FALSE(
+      error({QStringLiteral("--host"), m_mesh, QStringLiteral("--join"), QStringLiteral("a:1")}).message.isEmpty());
+}
+
+TEST_F(LaunchOptionsTest, JoinAddressesLevelsAndFingerprints) {
+  const LaunchOptions join = options({QStringLiteral("--join"), QStringLiteral("[::1]:5000"), QStringLiteral("--name"),
+                                      QStringLiteral("bob"), QStringLiteral("--level"), QStringLiteral("20%")});
+  ASSERT_TRUE(join.join.has_value());
+  EXPECT_EQ(join.join->host, QStringLiteral("::1"));
+  EXPECT_EQ(join.join->port, 5000);
+  EXPECT_EQ(join.join->name, QStringLiteral("bob"));
+  ASSERT_TRUE(join.join->levelFraction.has_value());
+  EXPECT_DOUBLE_EQ(*join.join->levelFraction, 0.2);
+  const QString address = QStringLiteral("192.168.1.20:47100");
+  EXPECT_EQ(options({QStringLiteral("--join"), address, QStringLiteral("--level"), QStringLiteral("1200")}).join->level,
+            1200u);
+  EXPECT_FALSE(options({QStringLiteral("--join"), address, QStringLiteral("--level"), QStringLiteral("100%")})
+                   .join->levelFraction.has_value())
+      << "100% is full resolution";
+  EXPECT_FALSE(options({QStringLiteral("--join"), address}).join->name.isEmpty()) << "$USER or guest";
+
+  for (const char* bad : {"localhost", "localhost:0", "host:99999", ":47100", "a b:1"}) {
+    EXPECT_TRUE(
+        error({QStringLiteral("--join"), QString::fromLatin1(bad)}).message.contains(QStringLiteral("HOST:PORT")))
+        << bad;
+  }
+  for (const char* level : {"0%", "101%", "lots", "-3"}) {
+    EXPECT_TRUE(error({QStringLiteral("--join"), address, QStringLiteral("--level"), QString::fromLatin1(level)})
+                    .message.contains(QStringLiteral("--level")))
+        << level;
+  }
+  EXPECT_TRUE(error({QStringLiteral("--join"), address, QStringLiteral("--fingerprint"), QStringLiteral("ab:cd:no")})
+                  .message.contains(QStringLiteral("--fingerprint")));
+  const QString hex = QStringLiteral("0123456789abcdef").repeated(4);
+  EXPECT_EQ(options({QStringLiteral("--join"), address, QStringLiteral("--fingerprint"), hex}).join->fingerprint.size(),
+            32);
+}
+
+TEST_F(LaunchOptionsTest, DemoAndItsScreenshots) {
+  const LaunchOptions demo = options({QStringLiteral("--demo"), m_mesh});
+  EXPECT_TRUE(demo.demo);
+  EXPECT_FALSE(demo.firstStart());
+  EXPECT_FALSE(demo.screenshotDirectory.has_value());
+  EXPECT_EQ(demoOptions(demo).meshPath, m_mesh);
+  EXPECT_TRUE(demoOptions(demo).errorDialogs);
+
+  const LaunchOptions shots = options({QStringLiteral("--demo"), QStringLiteral("--screenshot-dir"),
+                                       QStringLiteral("shots"), QStringLiteral("--after"), QStringLiteral("5")});
+  ASSERT_TRUE(shots.screenshotDirectory.has_value());
+  EXPECT_EQ(*shots.screenshotDirectory, QStringLiteral("shots"));
+  EXPECT_DOUBLE_EQ(shots.afterSeconds, 5.0);
+  EXPECT_FALSE(demoOptions(shots).errorDialogs) << "screenshot runs report on stderr";
+  EXPECT_DOUBLE_EQ(options({QStringLiteral("--demo")}).afterSeconds, 20.0);
+
+  EXPECT_TRUE(
+      error({QStringLiteral("--screenshot-dir"), QStringLiteral("shots")}).message.contains(QStringLiteral("--demo")));
+  for (const char* after : {"soon", "0.5", "601"}) {
+    EXPECT_TRUE(error({QStringLiteral("--demo"), QStringLiteral("--after"), QString::fromLatin1(after)})
+                    .message.contains(QStringLiteral("--after")))
+        << after;
+  }
+  EXPECT_FALSE(error({QStringLiteral("--demo"), QStringLiteral("--host"), m_mesh}).message.isEmpty());
+  EXPECT_FALSE(
+      error({QStringLiteral("--demo"), QStringLiteral("--screenshot"), QStringLiteral("x.png")}).message.isEmpty());
+}
+
+TEST_F(LaunchOptionsTest, UnknownOptionsAndMissingValuesAreErrors) {
+  EXPECT_TRUE(error({QStringLiteral("--bogus")}).message.contains(QStringLiteral("bogus")));
+  EXPECT_FALSE(error({QStringLiteral("--join")}).message.isEmpty());
+}
+
+}  // namespace
+}  // namespace sc::app
