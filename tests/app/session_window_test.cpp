@@ -123,7 +123,7 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.1f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   EXPECT_GT(maxDifference(hosting->positions(), rest), 0.1f);
-  // The client's viewport reconstructs what it shows from K and Z itself (MeshViewport::setCoefficients): its
+  // The client's viewport reconstructs what it shows from K and Z itself (MeshViewport::showFrame): its
   // positions are the session's, and the status bar reports that reconstruction with the redraw.
   MeshViewport* clientViewport = clientWindow.viewport();
   EXPECT_TRUE(clientViewport->hasReconstructionBasis());

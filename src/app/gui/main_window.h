@@ -132,7 +132,7 @@ class MainWindow : public QMainWindow {
   SessionDocks* m_docks = nullptr;
   NetworkConditionsDock* m_networkDock = nullptr;
   bool m_redrawPending = false;
-  bool m_viewReconstructs = false;  // the last frame was reconstructed by the viewport (setCoefficients)
+  bool m_viewReconstructs = false;  // the last frame was reconstructed by the viewport (showFrame)
   double m_viewReconstructMs = 0.0;
   double m_redrawMs = 0.0;
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes

@@ -14,7 +14,7 @@
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/session_identity_view.h"
-#include "spectral/reconstruction_kernel.h"
+#include "spectral/display_level.h"
 
 #include <QActionGroup>
 #include <QComboBox>
@@ -226,13 +226,16 @@ double MainWindow::reconstructionMs() const {
 void MainWindow::onSessionMesh() {
   const Eigen::MatrixXd& V = m_session->displayRestPositions();
   const Eigen::MatrixXi& F = m_session->displayFaces();
-  ui->viewport->setMesh(V, F);
-  m_proxyBuilder->build(V, F);
-  // The viewport reconstructs rest + K·Z itself (setCoefficients() frames): in the vertex shader on the GPU path; on
-  // the CPU path only the vertices its frame needs (the interactive proxy's while the shape moves).
+  // The viewport reconstructs rest + K·Z itself (showFrame() frames): in the vertex shader on the GPU path; on the
+  // CPU path only the vertices its frame needs (the interactive proxy's while the shape moves). The controller hands
+  // out no shared level yet, so the view's level is built here (one copy of K, as the padded copy it replaces).
   const spectral::ResolutionLevel* level = m_session->level();
-  if (level != nullptr && level->K.rows() == V.rows())
-    ui->viewport->setReconstructionBasis(level->K, spectral::interleavedPositions(V));
+  if (level != nullptr && level->K.rows() == V.rows()) {
+    ui->viewport->setDisplayLevel(spectral::makeDisplayLevel({V, F, {}, level->K}));
+  } else {
+    ui->viewport->setMesh(V, F);
+  }
+  m_proxyBuilder->build(V, F);
   showSessionPositions();
   m_meshSizeLabel->setText(meshSizeText(static_cast<int>(V.rows()), static_cast<int>(F.rows())));
   statusBar()->showMessage(tr("Showing %1 vertices").arg(V.rows()), kStatusMessageMs);
@@ -242,12 +245,11 @@ void MainWindow::onSessionMesh() {
 
 void MainWindow::showSessionPositions() {
   if (m_session == nullptr) return;
-  const spectral::ResolutionLevel* level = m_session->level();
-  if (ui->viewport->hasReconstructionBasis() && level != nullptr) {
+  if (ui->viewport->hasReconstructionBasis()) {
     const Eigen::MatrixXf Z = m_session->positionsCoefficients();
-    if (Z.rows() == level->K.cols() && Z.cols() == 3) {
+    if (Z.rows() == ui->viewport->displayLevel()->basisSize() && Z.cols() == 3) {
       m_redrawPending = true;
-      ui->viewport->setCoefficients(Z);
+      ui->viewport->showFrame({0, Z});
       return;
     }
   }
