@@ -2,7 +2,6 @@
 
 #include "spectral/parallel_ranges.h"
 
-#include <algorithm>
 #include <cassert>
 
 namespace sc::spectral {
@@ -11,13 +10,11 @@ namespace {
 /// Partial sums per coordinate: one 512-bit register of floats, or two 256-bit ones.
 constexpr Eigen::Index kLanes = 16;
 
-/// out[3i + c] = rest[3s + c] + Σ_k K(s, k)·Z(k, c), s = source(i), for outputs i in [begin, end).
-template <class Source>
+/// out[3i + c] = rest[3i + c] + Σ_k K(i, k)·Z(k, c) for rows [begin, end).
 void reconstructRows(const float* K, Eigen::Index m, const float* z0, const float* z1, const float* z2,
-                     const float* rest, float* out, std::ptrdiff_t begin, std::ptrdiff_t end, const Source& source) {
+                     const float* rest, float* out, std::ptrdiff_t begin, std::ptrdiff_t end) {
   for (std::ptrdiff_t i = begin; i < end; ++i) {
-    const std::ptrdiff_t s = source(i);
-    const float* k = K + s * m;
+    const float* k = K + i * m;
     float a0[kLanes] = {}, a1[kLanes] = {}, a2[kLanes] = {};
     Eigen::Index j = 0;
     for (; j + kLanes <= m; j += kLanes)
@@ -37,9 +34,9 @@ void reconstructRows(const float* K, Eigen::Index m, const float* z0, const floa
         a1[l] += a1[l + w];
         a2[l] += a2[l + w];
       }
-    out[3 * i + 0] = rest[3 * s + 0] + a0[0];
-    out[3 * i + 1] = rest[3 * s + 1] + a1[0];
-    out[3 * i + 2] = rest[3 * s + 2] + a2[0];
+    out[3 * i + 0] = rest[3 * i + 0] + a0[0];
+    out[3 * i + 1] = rest[3 * i + 1] + a1[0];
+    out[3 * i + 2] = rest[3 * i + 2] + a2[0];
   }
 }
 
@@ -58,23 +55,9 @@ void reconstructInterleaved(const RowMatrixXf& K, std::span<const float> rest, c
   assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
   assert(rest.size() == static_cast<std::size_t>(3 * n) && out.size() == rest.size() && "buffers must be 3·n'");
   detail::parallelRanges(n, threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    reconstructRows(K.data(), m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), begin, end,
-                    [](std::ptrdiff_t i) { return i; });
+    reconstructRows(K.data(), m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), begin,
+                    end);
   });
-}
-
-void reconstructRowsInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
-                                std::span<const std::uint32_t> rows, std::span<float> out) {
-  const Eigen::Index m = K.cols();
-  assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
-  assert(rest.size() == static_cast<std::size_t>(3 * K.rows()) && out.size() == 3 * rows.size() &&
-         "rest must be 3·n' and out 3·#rows");
-  assert(
-      std::all_of(rows.begin(), rows.end(), [&](std::uint32_t r) { return static_cast<Eigen::Index>(r) < K.rows(); }) &&
-      "row out of range");
-  reconstructRows(K.data(), m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), 0,
-                  static_cast<std::ptrdiff_t>(rows.size()),
-                  [rows](std::ptrdiff_t i) { return static_cast<std::ptrdiff_t>(rows[static_cast<std::size_t>(i)]); });
 }
 
 }  // namespace sc::spectral

@@ -12,7 +12,6 @@
 
 #include <Eigen/Core>
 
-#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -35,16 +34,5 @@ std::vector<float> interleavedPositions(const Eigen::MatrixXd& V);
 ///       the development machine (bench/kernel_bench.cpp, docs/benchmarks.md).
 void reconstructInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
                             std::span<float> out, int threads = 1);
-
-/// The same kernel on a subset of the rows, e.g. the vertices of a viewport's interactive proxy: reads only those
-/// rows of K (in place, no gathered copy) and writes them densely.
-///
-/// @param[in] K, rest, Z  as reconstructInterleaved() (n' by m, 3·n' floats, m by 3).
-/// @param[in] rows  r row indices into K, each in [0, n') (asserted); any order, repeats allowed.
-/// @param[out] out  3·r floats: out[3j + c] = rest[3·rows[j] + c] + K.row(rows[j])·Z.col(c); may not alias `rest`.
-/// \note Same float32 sums as reconstructInterleaved(): a row gives bit-identical values on both.
-/// Cost: 6·r·m flops and 4·r·m bytes of K read (one contiguous row per output vertex), one thread.
-void reconstructRowsInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
-                                std::span<const std::uint32_t> rows, std::span<float> out);
 
 }  // namespace sc::spectral

@@ -78,7 +78,10 @@ TEST(CompactProxy, ReconstructsTheMeshPositionsOfItsVertices) {
   std::vector<float> full(rest.size());
   sc::spectral::reconstructInterleaved(K, rest, Z, full);
 
-  proxy.reconstruct(K, rest, Z);  // the kernel on the proxy's rows of K, read in place
+  EXPECT_FALSE(proxy.hasBasis());
+  proxy.setBasis(K, rest);
+  ASSERT_TRUE(proxy.hasBasis());
+  proxy.reconstruct(Z);
   std::set<std::size_t> checked;
   for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
     for (Eigen::Index c = 0; c < 3; ++c) {
@@ -89,6 +92,8 @@ TEST(CompactProxy, ReconstructsTheMeshPositionsOfItsVertices) {
     }
   }
   EXPECT_EQ(checked.size(), static_cast<std::size_t>(proxy.vertexCount()));
+  proxy.clearBasis();
+  EXPECT_FALSE(proxy.hasBasis());
 }
 
 }  // namespace

@@ -67,17 +67,5 @@ TEST(ReconstructionKernel, ZeroCoefficientsGiveTheRestPositions) {
   EXPECT_EQ(out, rest);
 }
 
-TEST(ReconstructionKernel, RowSubsetEqualsTheSameRowsOfTheFullReconstruction) {
-  const KernelCase c = randomCase(500, 37, 13);
-  const std::vector<float> rest = interleavedPositions(c.rest);
-  std::vector<float> full(rest.size());
-  reconstructInterleaved(c.K, rest, c.Z, full);
-  const std::vector<std::uint32_t> rows = {499, 0, 17, 17, 250};  // any order, repeats allowed
-  std::vector<float> subset(3 * rows.size(), -1.0f);
-  reconstructRowsInterleaved(c.K, rest, c.Z, rows, subset);
-  for (std::size_t j = 0; j < rows.size(); ++j)
-    for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(subset[3 * j + k], full[3 * rows[j] + k]) << "row " << rows[j];
-}
-
 }  // namespace
 }  // namespace sc::spectral

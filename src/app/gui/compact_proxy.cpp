@@ -42,10 +42,27 @@ void CompactProxy::gatherTints(std::span<const std::uint8_t> meshRgba) {
   }
 }
 
-void CompactProxy::reconstruct(const spectral::RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z) {
+void CompactProxy::setBasis(const spectral::RowMatrixXf& K, std::span<const float> rest) {
   assert(static_cast<std::size_t>(K.rows()) == m_compactOf.size() && rest.size() == 3 * m_compactOf.size() &&
-         Z.rows() == K.cols() && Z.cols() == 3 && "reconstruct needs the mesh's K and rest positions and an m by 3 Z");
-  spectral::reconstructRowsInterleaved(K, rest, Z, m_meshVertex, m_positions);
+         "setBasis needs the mesh's K and rest positions");
+  m_basis.resize(static_cast<Eigen::Index>(m_meshVertex.size()), K.cols());
+  m_rest.resize(3 * m_meshVertex.size());
+  for (std::size_t i = 0; i < m_meshVertex.size(); ++i) {
+    m_basis.row(static_cast<Eigen::Index>(i)) = K.row(static_cast<Eigen::Index>(m_meshVertex[i]));
+    for (std::size_t k = 0; k < 3; ++k) {
+      m_rest[3 * i + k] = rest[3 * m_meshVertex[i] + k];
+    }
+  }
+}
+
+void CompactProxy::clearBasis() {
+  m_basis.resize(0, 0);
+  m_rest.clear();
+}
+
+void CompactProxy::reconstruct(const Eigen::MatrixXf& Z) {
+  assert(hasBasis() && Z.rows() == m_basis.cols() && Z.cols() == 3 && "reconstruct needs setBasis()'s m' by 3 Z");
+  spectral::reconstructInterleaved(m_basis, m_rest, Z, m_positions);
 }
 
 void CompactProxy::updateNormals() { vertexNormals(m_positions, m_indices, m_normals); }

@@ -1,8 +1,7 @@
 #pragma once
 // CompactProxy: the interactive proxy of a dense mesh (MeshViewport::setInteractiveProxy) as a small mesh of its
 // own, so that a frame of a moving shape touches only the proxy's vertices: their positions are gathered from the
-// mesh, or reconstructed by the spectral kernel on their rows of the basis, and their normals come from the proxy's
-// triangles.
+// mesh, or reconstructed from their rows of the basis, and their normals come from the proxy's triangles.
 
 #include "spectral/reconstruction_kernel.h"
 
@@ -49,13 +48,20 @@ class CompactProxy {
   /// Tints of the proxy's vertices from the mesh's. @param[in] meshRgba 4·meshVertices bytes. Cost: O(#P).
   void gatherTints(std::span<const std::uint8_t> meshRgba);
 
-  /// Positions X̂' + K·Z of the proxy's vertices: the spectral kernel on their rows of the mesh's K, read in place
-  /// (spectral::reconstructRowsInterleaved; no copy of K is kept). Normals: updateNormals().
-  /// @param[in] K  meshVertices by m basis (e.g. the shown level's). @param[in] rest  3·meshVertices floats.
-  /// @param[in] Z  m by 3 (asserted).
-  /// Cost: O(#P·m): a tenth of the mesh's reconstruction for the 20k-triangle proxy (10k vertices) of the 100k
+  /// Keeps the proxy's rows of K and of the rest positions for reconstruct(). The one partial copy of a shown
+  /// level's K (#P of its rows, a tenth for the 100k dragon): the kernel on these contiguous rows takes 0.6 ms per
+  /// frame where the same rows read in place, scattered over K, take 3.3 ms (shapecast-bench-viewport, llvmpipe VM).
+  /// @param[in] K  meshVertices by m' basis (m' any, e.g. padded to a multiple of 4).
+  /// @param[in] rest  3·meshVertices floats. Cost: O(#P·m') time and memory.
+  void setBasis(const spectral::RowMatrixXf& K, std::span<const float> rest);
+  void clearBasis();
+  [[nodiscard]] bool hasBasis() const { return m_basis.cols() > 0; }
+  /// Positions rest + K·Z of the proxy's vertices (spectral::reconstructInterleaved on its rows; normals:
+  /// updateNormals()).
+  /// @param[in] Z  m' by 3, m' = setBasis()'s K columns (asserted). Needs hasBasis().
+  /// Cost: O(#P·m'): a tenth of the mesh's reconstruction for the 20k-triangle proxy (10k vertices) of the 100k
   /// dragon.
-  void reconstruct(const spectral::RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z);
+  void reconstruct(const Eigen::MatrixXf& Z);
 
  private:
   std::vector<std::int32_t> m_compactOf;    // per mesh vertex: its proxy number, or −1
@@ -64,6 +70,8 @@ class CompactProxy {
   std::vector<float> m_positions;
   std::vector<float> m_normals;
   std::vector<std::uint8_t> m_tints;
+  spectral::RowMatrixXf m_basis;  // #P by m'
+  std::vector<float> m_rest;      // 3·#P
 };
 
 }  // namespace sc::app

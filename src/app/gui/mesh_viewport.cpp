@@ -135,6 +135,9 @@ void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
   }
   m_buffers.setProxy(triangles.size() > 0 ? CompactProxy(triangles, m_vertexCount) : CompactProxy(),
                      flatIndices(triangles));
+  if (!m_shown.empty() && triangles.size() > 0) {
+    m_buffers.writeProxyVertices().setBasis(m_shown.K(), m_buffers.rest());
+  }
   m_cpu.refreshProxy(m_shown, m_buffers);
   m_buffers.gatherProxyTints();
   m_proxyShowsSelection = m_selection.shownBy(m_buffers.proxy());
@@ -178,7 +181,7 @@ void MeshViewport::dropLevel() {
 // proxy's vertices while the next frame may draw the proxy; the GPU path only widens the camera bounds.
 void MeshViewport::applyFrame() {
   if (m_path == ReconstructionPath::Cpu) {
-    const bool proxyOnly = !m_buffers.proxy().empty() && proxyMayDraw();
+    const bool proxyOnly = m_buffers.proxy().hasBasis() && proxyMayDraw();
     const HostStageTimes times = m_cpu.showFrame(m_shown, m_buffers, proxyOnly);
     m_frameTimes.reconstructMs = times.reconstructMs;
     m_frameTimes.normalsMs = times.normalsMs;

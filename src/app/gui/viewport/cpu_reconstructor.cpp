@@ -23,7 +23,7 @@ HostStageTimes CpuReconstructor::showFrame(const ShownLevel& shown, ViewportBuff
   if (proxyOnly) {
     m_positionsStale = m_normalsStale = true;
     CompactProxy& proxy = buffers.writeProxyVertices();
-    proxy.reconstruct(shown.K(), buffers.rest(), shown.Z());
+    proxy.reconstruct(shown.Z());
     times.reconstructMs = lapMs(timer);
     proxy.updateNormals();
     times.normalsMs = lapMs(timer);
@@ -71,8 +71,8 @@ void CpuReconstructor::refreshProxy(const ShownLevel& shown, ViewportBuffers& bu
     return;
   }
   CompactProxy& proxy = buffers.writeProxyVertices();
-  if (shown.showing() && m_positionsStale) {
-    proxy.reconstruct(shown.K(), buffers.rest(), shown.Z());
+  if (shown.showing() && m_positionsStale && proxy.hasBasis()) {
+    proxy.reconstruct(shown.Z());
   } else {
     proxy.gatherPositions(buffers.positions());
   }
