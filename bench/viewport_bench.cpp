@@ -1,11 +1,13 @@
 // shapecast-bench-viewport: per-frame cost of showing a client's deformation frames in the real MeshViewport.
 //
 // Opens a MeshViewport of the given size (a top-level window; run under xvfb-run on a headless machine) on each
-// mesh, gives it a synthetic m-column basis (smooth sines of the rest coordinates: the cost does not depend on K's
-// values) and, for each reconstruction path, applies a new Z every frame: setCoefficients(Z), a synchronous
-// repaint() and glFinish(). Prints median and p90 of every stage (FrameTimes) and of the whole frame, with
-// "compose" = frame − host stages − paintGL stages (the QOpenGLWidget composition into the window and the swap,
-// i.e. the Xvfb blit). Baselines: "empty" (no mesh: background only) and "static" (mesh, no new positions).
+// mesh, shows it as a display level with a synthetic m-column basis (smooth sines of the rest coordinates: the cost
+// does not depend on K's values) and, for each reconstruction path, shows a new Z every frame: showFrame(), a
+// synchronous repaint() and glFinish(). This file is the viewport's timing probe: the widget only exposes frameTimes(),
+// paintCount() and a stage hook (MeshViewport::setStageHook()) that --profile fills with glFinish(). Prints median and
+// p90 of every stage (FrameTimes) and of the whole frame, with "compose" = frame − host stages − paintGL stages (the
+// QOpenGLWidget composition into the window and the swap, i.e. the Xvfb blit). Baselines: "empty" (no mesh: background
+// only) and "static" (mesh, no new positions).
 //
 // Usage: shapecast-bench-viewport [--frames 30] [--size 1024x768] [--m 100] [--profile] [--proxy-only] [MESH ...]
 //   --profile  glFinish() after each GL stage (attributes the rasteriser's work to its stage; slower overall).
@@ -17,7 +19,7 @@
 #include "experiments/report/machine_info.h"
 #include "model/mesh_loader.h"
 #include "model/mesh_proxy.h"
-#include "spectral/reconstruction_kernel.h"
+#include "spectral/display_level.h"
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -157,7 +159,9 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile,
   }
   const auto& mesh = std::get<sc::model::LoadedMesh>(loaded);
   MeshViewport viewport;
-  viewport.setProfiling(profile);
+  if (profile) {  // each GL stage ends with glFinish(): FrameTimes attributes the rasteriser's work to its stage
+    viewport.setStageHook([] { QOpenGLContext::currentContext()->functions()->glFinish(); });
+  }
   viewport.resize(size);
   viewport.show();
   if (!waitForFirstPaint(viewport)) {
@@ -175,13 +179,14 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile,
   if (!proxyOnly) {
     runFrames(viewport, frames, [](int) {}).print("static");
   }
-  const std::vector<float> rest = sc::spectral::interleavedPositions(mesh.V);
-  viewport.setReconstructionBasis(syntheticBasis(mesh.V, m, 0.004f), rest);
+  viewport.setDisplayLevel(sc::spectral::makeDisplayLevel({mesh.V, mesh.F, {}, syntheticBasis(mesh.V, m, 0.004f)}));
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   Eigen::MatrixXf Z0(m, 3);
   for (Eigen::Index i = 0; i < Z0.size(); ++i) Z0.data()[i] = u(rng);
-  const auto frame = [&](int f) { viewport.setCoefficients(Z0 * std::sin(0.3f * static_cast<float>(f))); };
+  const auto frame = [&](int f) {
+    viewport.showFrame({static_cast<std::uint32_t>(f + kWarmupFrames), Z0 * std::sin(0.3f * static_cast<float>(f))});
+  };
   // Both paths with the mesh's own triangles, then (a dense mesh) with the interactive proxy the app builds.
   const bool dense = mesh.F.rows() > InteractiveProxyBuilder::kMinTriangles;
   for (const bool proxy : {false, true}) {
@@ -245,7 +250,7 @@ int main(int argc, char** argv) {
       "renderer  %s; LP_NUM_THREADS=%s; QThread::idealThreadCount %d\n", qPrintable(MeshViewport::rendererName()),
       qEnvironmentVariableIsSet("LP_NUM_THREADS") ? qPrintable(qEnvironmentVariable("LP_NUM_THREADS")) : "unset",
       QThread::idealThreadCount());
-  std::printf("per stage: median/p90 ms; frame = setCoefficients + repaint + glFinish%s\n",
+  std::printf("per stage: median/p90 ms; frame = showFrame + repaint + glFinish%s\n",
               parser.isSet(QStringLiteral("profile")) ? " (profiling: glFinish after each GL stage)" : "");
   for (const QString& mesh : meshes) {
     benchMesh(mesh, QSize(size[0].toInt(), size[1].toInt()), m, frames, parser.isSet(QStringLiteral("profile")),

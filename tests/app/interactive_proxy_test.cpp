@@ -144,7 +144,7 @@ TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
   EXPECT_EQ(viewport.proxyTriangleCount(), 0);
 }
 
-// A client's frames on the CPU path (setCoefficients()): interactive frames draw the proxy, the mesh's positions
+// A client's frames on the CPU path (showFrame()): interactive frames draw the proxy, the mesh's positions
 // follow when asked for (hostPositions()), and the idle frame draws the mesh at the latest coefficients: the
 // same picture as a viewport that never had a proxy.
 TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMeshAtTheLatestCoefficients) {
@@ -168,13 +168,13 @@ TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMesh
     view.setAdaptiveResolution(true);
     view.setPaintBudget(1e6);  // full pixel resolution: only the triangles change
     view.setReconstructionPath(sc::app::ReconstructionPath::Cpu);
-    view.setReconstructionBasis(K, rest);
+    view.setDisplayLevel(sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, K}));
     view.show();
     return QTest::qWaitForWindowExposed(&view);
   };
   MeshViewport reference;
   ASSERT_TRUE(prepare(reference));
-  reference.setCoefficients(Z);
+  reference.showFrame({1, Z});
   QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
   const QImage expectedImage = reference.grabFramebuffer();
 
@@ -183,7 +183,7 @@ TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMesh
   viewport.setInteractiveProxy(sc::model::proxyTriangles(sphere.V, sphere.F, 2000));
   viewport.grabFramebuffer();
   for (int i = 1; i <= 3; ++i) {  // frames of a moving shape, right after each other
-    viewport.setCoefficients(Z * static_cast<float>(i) / 3.0f);
+    viewport.showFrame({static_cast<std::uint32_t>(i), Z * static_cast<float>(i) / 3.0f});
     viewport.grabFramebuffer();
     EXPECT_EQ(viewport.frameTimes().triangles, viewport.proxyTriangleCount()) << "frame " << i;
   }

@@ -1,6 +1,7 @@
-// Tests for src/app/gui/mesh_viewport_gpu.cpp: the GPU reconstruction path X' = X̂' + K·Z agrees with the CPU
-// kernel, draws the same silhouette, keeps picking on the reconstructed shape, and its timing against the CPU
-// path (needs an X server with GL; skipped otherwise).
+// Tests for the viewport's two reconstruction paths (src/app/gui/viewport/gpu_reconstructor.cpp and
+// cpu_reconstructor.cpp): the GPU path X' = X̂' + K·Z agrees with the CPU kernel, draws the same silhouette and keeps
+// picking on the reconstructed shape; the viewport holds the shared display level (needs an X server with GL;
+// skipped otherwise).
 
 #include "app/gui/mesh_viewport.h"
 
@@ -76,6 +77,11 @@ class MeshViewportReconstructionTest : public ::testing::Test {
     m_background = m_viewport.grabFramebuffer();
   }
 
+  // The display level of the sphere with basis K, as a session hands it to the viewport.
+  sc::spectral::SharedDisplayLevel levelWith(const sc::spectral::RowMatrixXf& K) const {
+    return sc::spectral::makeDisplayLevel({m_sphere.V, m_sphere.F, {}, K});
+  }
+
   // The CPU kernel's positions for (K, Z).
   std::vector<float> cpuPositions(const sc::spectral::RowMatrixXf& K, const Eigen::MatrixXf& Z) const {
     std::vector<float> out(m_rest.size());
@@ -94,10 +100,10 @@ TEST_F(MeshViewportReconstructionTest, GpuAgreesWithCpuWithin1e5OfTheDiagonal) {
   for (const int m : {100, 7, 1}) {  // 7 and 1: K padded to a multiple of 4 columns
     const auto K = syntheticBasis(m_sphere.V, m, 0.05f);
     const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 11U + static_cast<unsigned>(m));
-    m_viewport.setReconstructionBasis(K, m_rest);
+    m_viewport.setDisplayLevel(levelWith(K));
     m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
     ASSERT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Gpu);
-    m_viewport.setCoefficients(Z);
+    m_viewport.showFrame({1, Z});
     const std::vector<float> expected = cpuPositions(K, Z);
     const std::vector<float> gpu = m_viewport.gpuReconstructedPositions();
     ASSERT_EQ(gpu.size(), expected.size()) << "m = " << m;
@@ -116,8 +122,8 @@ TEST_F(MeshViewportReconstructionTest, BothPathsDrawTheSameSilhouette) {
   const int m = 40;
   const auto K = syntheticBasis(m_sphere.V, m, 0.08f);
   const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 3U);
-  m_viewport.setReconstructionBasis(K, m_rest);
-  m_viewport.setCoefficients(Z);
+  m_viewport.setDisplayLevel(levelWith(K));
+  m_viewport.showFrame({1, Z});
   const QImage cpu = m_viewport.grabFramebuffer();
   m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
   ASSERT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Gpu);
@@ -152,9 +158,9 @@ TEST_F(MeshViewportReconstructionTest, BothPathsDrawTheSameSilhouette) {
 TEST_F(MeshViewportReconstructionTest, PositionsReplaceCoefficientsAndSetMeshDropsTheBasis) {
   const int m = 12;
   const auto K = syntheticBasis(m_sphere.V, m, 0.1f);
-  m_viewport.setReconstructionBasis(K, m_rest);
+  m_viewport.setDisplayLevel(levelWith(K));
   m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
-  m_viewport.setCoefficients(randomCoefficients(m, 1.0f, 5U));
+  m_viewport.showFrame({1, randomCoefficients(m, 1.0f, 5U)});
   m_viewport.setPositionsInterleaved(m_rest);
   EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "explicit positions win";
   EXPECT_TRUE(m_viewport.hasReconstructionBasis());
@@ -166,27 +172,35 @@ TEST_F(MeshViewportReconstructionTest, PositionsReplaceCoefficientsAndSetMeshDro
 TEST_F(MeshViewportReconstructionTest, TooLargeABasisFallsBackToTheCpu) {
   const int m = MeshViewport::kMaxGpuBasisSize + 4;
   const auto K = syntheticBasis(m_sphere.V, m, 0.01f);
-  m_viewport.setReconstructionBasis(K, m_rest);
+  m_viewport.setDisplayLevel(levelWith(K));
   m_viewport.setReconstructionPath(ReconstructionPath::Gpu);
   EXPECT_EQ(m_viewport.reconstructionPath(), ReconstructionPath::Cpu);
   const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 9U);
-  m_viewport.setCoefficients(Z);
+  m_viewport.showFrame({1, Z});
   EXPECT_LE(maxDifference(m_viewport.hostPositions(), cpuPositions(K, Z)), 1e-6);
 }
 
-TEST_F(MeshViewportReconstructionTest, FasterPathIsMeasuredOnceAndCached) {
-  const int m = 20;
-  m_viewport.setReconstructionBasis(syntheticBasis(m_sphere.V, m, 0.05f), m_rest);
-  m_viewport.setCoefficients(randomCoefficients(m, 1.0f, 1U));
-  EXPECT_FALSE(m_viewport.reconstructionTimings().has_value());
-  const ReconstructionPath before = m_viewport.reconstructionPath();  // the default: renderer or environment
-  const ReconstructionPath faster = m_viewport.fasterPath();
-  ASSERT_TRUE(m_viewport.reconstructionTimings().has_value());
-  const auto timings = *m_viewport.reconstructionTimings();
-  EXPECT_TRUE(std::isfinite(timings.cpuMs));
-  EXPECT_TRUE(std::isfinite(timings.gpuMs));
-  EXPECT_EQ(faster, timings.faster());
-  EXPECT_EQ(m_viewport.reconstructionPath(), before) << "measuring restores the path";
+TEST_F(MeshViewportReconstructionTest, HoldsTheSharedLevelAndReadsItsKInPlace) {
+  const int m = 9;
+  const auto level = levelWith(syntheticBasis(m_sphere.V, m, 0.05f));
+  const float* K = level->level.K.data();
+  m_viewport.setDisplayLevel(level);
+  EXPECT_EQ(m_viewport.displayLevel(), level) << "held by pointer, not copied";
+  EXPECT_EQ(m_viewport.displayLevel()->level.K.data(), K);
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "the rest shape before the first frame";
+  const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 4U);
+  for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
+    m_viewport.setReconstructionPath(path);
+    m_viewport.showFrame({2, Z});
+    EXPECT_LE(maxDifference(m_viewport.hostPositions(), cpuPositions(level->level.K, Z)), 1e-5);
+    m_viewport.showFrame({3, Eigen::MatrixXf()});
+    EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "an empty Z shows the rest shape";
+  }
+  m_viewport.showFrame({4, Eigen::MatrixXf::Ones(m + 1, 3)});
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "a Z of another size is ignored";
+  m_viewport.setDisplayLevel(nullptr);
+  EXPECT_EQ(m_viewport.vertexCount(), 0);
+  EXPECT_EQ(level.use_count(), 1) << "the viewport let go of the level";
 }
 
 }  // namespace

@@ -1,64 +1,46 @@
-// MeshViewport, the data side: host buffers (positions, normals, indices), scene bounds, the selection with its
-// vertex tints and the QPainter overlay (brush outline, drag hint). The GL side (context resources, the
-// shaded/wireframe passes, depth read-back for picking) is in mesh_viewport_render.cpp, the vertex arrays and buffer
-// uploads in mesh_viewport_buffers.cpp, the GPU reconstruction in mesh_viewport_gpu.cpp, the mouse side in
-// mesh_viewport_input.cpp.
+// MeshViewport, the data side: the mesh and its shown level, frames on the two reconstruction paths, scene bounds,
+// the selection with its vertex tints, and the view's answers to its input (ViewportInput::View). The GL side
+// (context resources, the passes, depth read-back, GPU read-back) is in mesh_viewport_render.cpp.
 
 #include "app/gui/mesh_viewport.h"
 
-#include "app/gui/drag_gesture.h"
 #include "app/gui/vertex_normals.h"
-
-#include <QOpenGLFramebufferObject>  // complete types for the unique_ptr members (constructor, destructor)
-#include <QOpenGLShaderProgram>
-#include <QPainter>
+#include "app/gui/viewport/lap_timer.h"
+#include "app/gui/viewport/vertex_arrays.h"
 
 #include <algorithm>
 #include <cassert>
-#include <limits>
 
 namespace sc::app {
 
-namespace {
-
-constexpr std::uint8_t kHandleTint[4] = {255, 72, 20, 230};   // orange-red
-constexpr std::uint8_t kAnchorTint[4] = {40, 110, 255, 210};  // blue
-
-}  // namespace
-
-MeshViewport::MeshViewport(QWidget* parent) : QOpenGLWidget(parent) {
+MeshViewport::MeshViewport(QWidget* parent)
+    : QOpenGLWidget(parent), m_policy(defaultAdaptiveResolution()), m_input(*this) {
   setSampleCount(defaultSampleCount());
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // the brush outline follows the cursor
-  m_hintTimer.setSingleShot(true);
-  m_hintTimer.setInterval(kHintMilliseconds);
-  connect(&m_hintTimer, &QTimer::timeout, this, [this] {
-    m_visibleHint.clear();
-    update();
-  });
-  m_adaptive = defaultAdaptiveResolution();
   m_path = defaultReconstructionPath();
   m_restoreTimer.setSingleShot(true);
   m_restoreTimer.setInterval(kIdleRestoreMs + kIdleRestoreMs / 10);  // the next paint is no longer interactive
   connect(&m_restoreTimer, &QTimer::timeout, this, qOverload<>(&MeshViewport::update));
   connect(this, &QOpenGLWidget::frameSwapped, this, [this] {
-    if (m_sinceLastPaint.isValid()) {
-      m_frameTimes.composeMs = static_cast<double>(m_sinceLastPaint.nsecsElapsed()) * 1e-6;
+    if (const double ms = m_policy.msSincePaint(); ms >= 0.0) {
+      m_frameTimes.composeMs = ms;
     }
   });
+  connect(&m_input, &ViewportInput::handlePainted, this, &MeshViewport::handlePainted);
+  connect(&m_input, &ViewportInput::anchorsPainted, this, &MeshViewport::anchorsPainted);
+  connect(&m_input, &ViewportInput::dragStarted, this, &MeshViewport::dragStarted);
+  connect(&m_input, &ViewportInput::dragMoved, this, &MeshViewport::dragMoved);
+  connect(&m_input, &ViewportInput::dragFinished, this, &MeshViewport::dragFinished);
 }
 
 MeshViewport::~MeshViewport() { cleanup(); }
 
-double MeshViewport::lapMs(QElapsedTimer& timer) {
-  const double ms = static_cast<double>(timer.nsecsElapsed()) * 1e-6;
-  timer.start();
-  return ms;
-}
-
 QSize MeshViewport::minimumSizeHint() const { return {200, 150}; }
 
 QSize MeshViewport::sizeHint() const { return {960, 720}; }
+
+// ---------------------------------------------------------------------------------------------------- plain mesh
 
 void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   assert(V.cols() == 3 && F.cols() == 3 && "V and F must be #V by 3 and #F by 3");
@@ -66,24 +48,13 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     clearMesh();
     return;
   }
-  endGesture();
-  dropBasis();
-  const Eigen::RowVector3d lo = V.colwise().minCoeff();
-  const Eigen::RowVector3d hi = V.colwise().maxCoeff();
-  m_origin = 0.5 * (lo + hi);
+  m_input.endGesture();
+  dropLevel();
+  m_origin = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
   m_vertexCount = static_cast<int>(V.rows());
-  m_proxyIndices.clear();
-  m_proxy = CompactProxy();
-  m_indices.resize(static_cast<std::size_t>(F.size()));
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    for (Eigen::Index c = 0; c < 3; ++c) {
-      m_indices[static_cast<std::size_t>(3 * f + c)] = static_cast<std::uint32_t>(F(f, c));
-    }
-  }
-  m_indicesDirty = true;
+  m_buffers.setIndices(flatIndices(F));
   setPositions(V);
-  m_handles.clear();
-  m_anchors.clear();
+  m_selection.clear();
   rebuildTints();
   emit meshChanged();
   resetView();
@@ -94,16 +65,14 @@ void MeshViewport::setPositions(const Eigen::MatrixXd& V) {
   if (V.rows() != m_vertexCount || V.cols() != 3 || m_vertexCount == 0) {
     return;
   }
-  m_showingCoefficients = false;
-  m_hostPositionsStale = false;
-  m_frameTimes.reconstructMs = 0.0;
-  m_positions.resize(static_cast<std::size_t>(3 * V.rows()));
+  std::vector<float>& positions = m_buffers.writePositions();
+  positions.resize(static_cast<std::size_t>(3 * V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     for (Eigen::Index k = 0; k < 3; ++k) {
-      m_positions[static_cast<std::size_t>(3 * i + k)] = static_cast<float>(V(i, k) - m_origin(k));
+      positions[static_cast<std::size_t>(3 * i + k)] = static_cast<float>(V(i, k) - m_origin(k));
     }
   }
-  positionsChanged();
+  positionsGiven();
 }
 
 void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
@@ -112,69 +81,47 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
   if (xyz.size() != 3 * n || n == 0) {
     return;
   }
-  m_showingCoefficients = false;
-  m_hostPositionsStale = false;
-  m_frameTimes.reconstructMs = 0.0;
-  const float origin[3] = {static_cast<float>(m_origin(0)), static_cast<float>(m_origin(1)),
-                           static_cast<float>(m_origin(2))};
-  m_positions.resize(3 * n);
-  for (std::size_t i = 0; i < 3 * n; ++i) {
-    m_positions[i] = xyz[i] - origin[i % 3];
-  }
-  positionsChanged();
+  shifted(xyz, -m_origin, m_buffers.writePositions());
+  positionsGiven();
 }
 
-// m_positions changed: recompute the normals (the mesh's and the proxy's) and the scene bounds, mark the upload and
-// repaint.
-void MeshViewport::positionsChanged() {
+// Explicit positions were written: they replace any shown frame; recompute the normals (the mesh's and the
+// proxy's) and the scene bounds, and repaint.
+void MeshViewport::positionsGiven() {
+  m_shown.stopShowing();
+  m_cpu.reset();
+  m_frameTimes.reconstructMs = 0.0;
   QElapsedTimer timer;
   timer.start();
-  m_normals.resize(m_positions.size());
-  vertexNormals(m_positions, m_indices, m_normals);
-  m_normalsStale = false;
-  refreshProxyPositions();
+  std::vector<float>& normals = m_buffers.writeNormals();
+  normals.resize(m_buffers.positions().size());
+  vertexNormals(m_buffers.positions(), m_buffers.indices(), normals);
+  m_cpu.refreshProxy(m_shown, m_buffers);
   m_frameTimes.normalsMs = lapMs(timer);
   updateBounds();
   m_frameTimes.boundsMs = lapMs(timer);
-  m_vertexDataDirty = true;
   markMoved();
 }
 
-// The camera's scene bounds from m_positions (exact), or while they lag the coefficients (GPU path, proxy-only
-// frames) from the rest bounds widened by
-// max_i ‖K_i‖·‖Z_c‖ ≥ |(K·Z)_ic| per coordinate (Cauchy–Schwarz), which needs no reconstruction.
+// The camera's scene bounds from the host positions (exact), or while they lag a shown frame (GPU path, proxy-only
+// frames) from ShownLevel::bounds(), which needs no reconstruction.
 void MeshViewport::updateBounds() {
-  if (m_showingCoefficients && m_hostPositionsStale) {
-    const Eigen::Vector3f reach = m_basisMaxRowNorm * m_coefficients.colwise().norm().transpose();
-    const Eigen::Vector3f lo = m_restLo - reach;
-    const Eigen::Vector3f hi = m_restHi + reach;
-    m_camera.setSceneBounds(QVector3D(lo.x(), lo.y(), lo.z()), QVector3D(hi.x(), hi.y(), hi.z()));
+  if (m_shown.showing() && m_cpu.positionsStale()) {
+    const auto [lo, hi] = m_shown.bounds();
+    m_camera.setSceneBounds(lo, hi);
     return;
   }
-  QVector3D lo(std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max());
-  QVector3D hi = -lo;
-  for (std::size_t i = 0; i < m_positions.size(); i += 3) {
-    const QVector3D p(m_positions[i], m_positions[i + 1], m_positions[i + 2]);
-    lo = QVector3D(std::min(lo.x(), p.x()), std::min(lo.y(), p.y()), std::min(lo.z(), p.z()));
-    hi = QVector3D(std::max(hi.x(), p.x()), std::max(hi.y(), p.y()), std::max(hi.z(), p.z()));
-  }
+  const auto [lo, hi] = boundsOf(m_buffers.positions());
   m_camera.setSceneBounds(lo, hi);
 }
 
 void MeshViewport::clearMesh() {
-  endGesture();
-  dropBasis();
-  m_positions.clear();
-  m_normals.clear();
-  m_indices.clear();
-  m_proxyIndices.clear();
-  m_proxy = CompactProxy();
-  m_handles.clear();
-  m_anchors.clear();
+  m_input.endGesture();
+  dropLevel();
+  m_buffers.clear();
+  m_selection.clear();
   m_vertexCount = 0;
   rebuildTints();
-  m_vertexDataDirty = true;
-  m_indicesDirty = true;
   emit meshChanged();
   update();
 }
@@ -186,79 +133,132 @@ void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
   if (!valid) {
     return;
   }
-  m_proxyIndices.resize(static_cast<std::size_t>(triangles.size()));
-  for (Eigen::Index f = 0; f < triangles.rows(); ++f) {
-    for (Eigen::Index c = 0; c < 3; ++c) {
-      m_proxyIndices[static_cast<std::size_t>(3 * f + c)] = static_cast<std::uint32_t>(triangles(f, c));
-    }
+  m_buffers.setProxy(triangles.size() > 0 ? CompactProxy(triangles, m_vertexCount) : CompactProxy(),
+                     flatIndices(triangles));
+  if (!m_shown.empty() && triangles.size() > 0) {
+    m_buffers.writeProxyVertices().setBasis(m_shown.K(), m_buffers.rest());
   }
-  m_proxy = triangles.size() > 0 ? CompactProxy(triangles, m_vertexCount) : CompactProxy();
-  if (!m_proxy.empty()) {
-    if (hasReconstructionBasis()) {
-      m_proxy.setBasis(m_basis, m_rest);
-    }
-    refreshProxyPositions();
-    m_proxy.gatherTints(m_tints);
-  }
-  m_indicesDirty = true;
-  m_proxyIndicesDirty = true;
-  m_proxyTintsDirty = true;
-  updateProxySelection();
+  m_cpu.refreshProxy(m_shown, m_buffers);
+  m_buffers.gatherProxyTints();
+  m_proxyShowsSelection = m_selection.shownBy(m_buffers.proxy());
   update();
 }
 
-// The proxy's positions and normals for the current picture: reconstructed from its rows of K while the picture is
-// rest + K·Z with the mesh's positions lagging (m_positions may be stale), else gathered from m_positions.
-void MeshViewport::refreshProxyPositions() {
-  if (m_proxy.empty()) {
+// ---------------------------------------------------------------------------------------------------- display level
+
+void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
+  if (!level) {
+    clearMesh();
     return;
   }
-  if (m_showingCoefficients && m_hostPositionsStale && m_proxy.hasBasis()) {
-    m_proxy.reconstruct(m_coefficients);
-  } else {
-    m_proxy.gatherPositions(m_positions);
+  setMesh(level->level.restV, level->level.F);
+  const spectral::RowMatrixXf& K = level->level.K;
+  if (m_vertexCount == 0 || K.rows() != m_vertexCount || K.cols() == 0 ||
+      level->rest.size() != 3 * static_cast<std::size_t>(K.rows())) {
+    return;  // shown as a plain mesh
   }
-  m_proxy.updateNormals();
-  m_proxyDataDirty = true;
+  shifted(level->rest, -m_origin, m_buffers.writeRest());
+  m_shown.hold(std::move(level), m_buffers.rest());
+  m_buffers.mark(ViewportBuffers::kBasis);
+  if (m_path == ReconstructionPath::Gpu && m_glReady && !gpuReconstructionAvailable()) {
+    m_path = ReconstructionPath::Cpu;
+  }
 }
 
-void MeshViewport::updateProxySelection() {
-  const auto shown = [this](const std::vector<int>& group) {
-    return group.empty() || std::any_of(group.begin(), group.end(), [this](int v) { return m_proxy.uses(v); });
-  };
-  m_proxyShowsSelection = m_proxy.empty() || (shown(m_handles) && shown(m_anchors));
+void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
+  if (m_shown.show(frame.Z)) {
+    applyFrame();
+  }
+}
+
+void MeshViewport::dropLevel() {
+  m_shown.clear();
+  m_buffers.writeRest().clear();
+  m_cpu.reset();
+}
+
+// Shows the shown level's frame on the current path: the CPU path reconstructs (and computes normals) now, only the
+// proxy's vertices while the next frame may draw the proxy; the GPU path only widens the camera bounds.
+void MeshViewport::applyFrame() {
+  if (m_path == ReconstructionPath::Cpu) {
+    const bool proxyOnly = m_buffers.proxy().hasBasis() && proxyMayDraw();
+    const HostStageTimes times = m_cpu.showFrame(m_shown, m_buffers, proxyOnly);
+    m_frameTimes.reconstructMs = times.reconstructMs;
+    m_frameTimes.normalsMs = times.normalsMs;
+  } else {
+    m_cpu.frameDrawnElsewhere();
+    m_frameTimes.reconstructMs = m_frameTimes.normalsMs = 0.0;
+  }
+  QElapsedTimer timer;
+  timer.start();
+  updateBounds();
+  m_frameTimes.boundsMs = lapMs(timer);
+  markMoved();
+}
+
+// Before drawing the full mesh from the mesh VAO: the positions and normals that proxy-only frames or the GPU path
+// left behind (their times are this frame's reconstruct and normals stages).
+void MeshViewport::ensureFullVertexData() {
+  if (gpuDrawing() || !m_cpu.lagging()) {
+    return;
+  }
+  const bool reconstructs = m_cpu.positionsStale();
+  const HostStageTimes times = m_cpu.ensureVertexData(m_shown, m_buffers);
+  if (reconstructs) {
+    m_frameTimes.reconstructMs = times.reconstructMs;
+  }
+  m_frameTimes.normalsMs = times.normalsMs;
+}
+
+std::span<const float> MeshViewport::pickPositions() {
+  m_cpu.ensurePositions(m_shown, m_buffers);
+  return m_buffers.positions();
+}
+
+std::vector<float> MeshViewport::hostPositions() {
+  std::vector<float> xyz;
+  shifted(pickPositions(), m_origin, xyz);
+  return xyz;
+}
+
+void MeshViewport::setReconstructionPath(ReconstructionPath path) {
+  if (path == ReconstructionPath::Gpu && m_glReady && hasReconstructionBasis() && !gpuReconstructionAvailable()) {
+    path = ReconstructionPath::Cpu;
+  }
+  const bool changed = path != m_path;
+  m_path = path;
+  if (changed && m_shown.showing()) {
+    applyFrame();
+  }
+}
+
+bool MeshViewport::gpuReconstructionAvailable() const {
+  return m_glReady && m_buffers.basisTexture() != 0 && m_gpu.available(m_vertexCount, m_shown.basisSize());
+}
+
+bool MeshViewport::gpuDrawing() const {
+  return m_shown.showing() && m_path == ReconstructionPath::Gpu && gpuReconstructionAvailable();
+}
+
+// ---------------------------------------------------------------------------------------------------- frames
+
+// Whether a frame of a moving shape may draw the interactive proxy (see setInteractiveProxy()).
+bool MeshViewport::proxyMayDraw() const {
+  return m_policy.proxyMayDraw({.singleSampled = format().samples() <= 0,
+                                .hasProxy = !m_buffers.proxyIndices().empty(),
+                                .wireframe = m_wireframe,
+                                .painting = m_input.painting(),
+                                .showsSelection = m_proxyShowsSelection});
 }
 
 void MeshViewport::markMoved() {
-  m_moved = true;
+  m_policy.markMoved();
   update();
 }
 
-void MeshViewport::setSelection(std::vector<int> handles, std::vector<int> anchors) {
-  for (std::vector<int>* set : {&handles, &anchors}) {
-    std::erase_if(*set, [this](int i) { return i < 0 || i >= m_vertexCount; });
-    std::sort(set->begin(), set->end());
-    set->erase(std::unique(set->begin(), set->end()), set->end());
-  }
-  m_handles = std::move(handles);
-  m_anchors = std::move(anchors);
-  rebuildTints();
+void MeshViewport::setAdaptiveResolution(bool on) {
+  m_policy.setAdaptive(on);
   update();
-}
-
-void MeshViewport::rebuildTints() {
-  m_tints.assign(4 * static_cast<std::size_t>(m_vertexCount), 0);
-  for (const auto& [set, tint] : {std::pair{&m_anchors, kAnchorTint}, std::pair{&m_handles, kHandleTint}}) {
-    for (const int v : *set) {
-      std::copy(tint, tint + 4, m_tints.begin() + 4 * static_cast<std::ptrdiff_t>(v));
-    }
-  }
-  m_tintsDirty = true;
-  if (!m_proxy.empty()) {
-    m_proxy.gatherTints(m_tints);
-    m_proxyTintsDirty = true;
-  }
-  updateProxySelection();
 }
 
 void MeshViewport::setWireframe(bool on) {
@@ -267,43 +267,49 @@ void MeshViewport::setWireframe(bool on) {
 }
 
 void MeshViewport::resetView() {
-  ensureHostPositions();
+  const std::span<const float> positions = pickPositions();
   std::vector<QVector3D> points(static_cast<std::size_t>(m_vertexCount));
   for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i] = QVector3D{m_positions[3 * i], m_positions[3 * i + 1], m_positions[3 * i + 2]};
+    points[i] = QVector3D{positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
   }
   m_camera.setViewportSize(width(), height());
   m_camera.frame(points);
   update();
 }
 
-// QPainter over the GL picture: the brush outline and the drag hint. Skipped (no QPainter) when neither shows.
-void MeshViewport::drawOverlay() {
-  const bool brush =
-      (m_tool == ViewportTool::HandleBrush || m_tool == ViewportTool::AnchorBrush) && m_cursor.has_value();
-  if (!brush && m_visibleHint.isEmpty()) {
-    return;
-  }
-  QPainter painter(this);
-  painter.setRenderHint(QPainter::Antialiasing);
-  if (brush) {
-    const QColor color = m_tool == ViewportTool::HandleBrush ? QColor(255, 110, 60) : QColor(90, 150, 255);
-    painter.setPen(QPen(color, 1.5));
-    painter.setBrush(Qt::NoBrush);
-    painter.drawEllipse(*m_cursor, m_brushRadius, m_brushRadius);
-  }
-  if (!m_visibleHint.isEmpty()) {
-    QFont font = painter.font();
-    font.setPointSizeF(font.pointSizeF() * 1.2);
-    painter.setFont(font);
-    const QRect text = painter.fontMetrics().boundingRect(m_visibleHint).adjusted(-12, -7, 12, 7);
-    const QRect box(QPoint((width() - text.width()) / 2, height() - text.height() - 16), text.size());
-    painter.setPen(Qt::NoPen);
-    painter.setBrush(QColor(20, 20, 24, 200));
-    painter.drawRoundedRect(box, 6, 6);
-    painter.setPen(QColor(245, 245, 245));
-    painter.drawText(box, Qt::AlignCenter, m_visibleHint);
-  }
+// ---------------------------------------------------------------------------------------------------- selection
+
+void MeshViewport::setSelection(std::vector<int> handles, std::vector<int> anchors) {
+  m_selection.set(std::move(handles), std::move(anchors), m_vertexCount);
+  selectionEdited();
 }
+
+void MeshViewport::selectionEdited() {
+  rebuildTints();
+  update();
+}
+
+void MeshViewport::rebuildTints() {
+  m_selection.paintTints(m_buffers, m_vertexCount);
+  m_proxyShowsSelection = m_selection.shownBy(m_buffers.proxy());
+}
+
+// ---------------------------------------------------------------------------------------------------- input
+
+void MeshViewport::setTool(ViewportTool tool) { m_input.setTool(tool); }
+
+void MeshViewport::setBrushRadius(double pixels) { m_input.setBrushRadius(pixels); }
+
+void MeshViewport::setDragAllowed(bool allowed, const QString& hint) { m_input.setDragAllowed(allowed, hint); }
+
+void MeshViewport::mousePressEvent(QMouseEvent* event) { m_input.press(event); }
+
+void MeshViewport::mouseMoveEvent(QMouseEvent* event) { m_input.move(event); }
+
+void MeshViewport::mouseReleaseEvent(QMouseEvent* event) { m_input.release(event); }
+
+void MeshViewport::mouseDoubleClickEvent(QMouseEvent* /*event*/) { resetView(); }
+
+void MeshViewport::wheelEvent(QWheelEvent* event) { m_input.wheel(event); }
 
 }  // namespace sc::app

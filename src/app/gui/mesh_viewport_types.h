@@ -11,25 +11,15 @@ enum class ViewportTool {
   Drag,         ///< left drag on the mesh moves the handle (Ctrl: rotates it); off the mesh it orbits.
 };
 
-/// Where X' = X̂' + K·Z is evaluated for setCoefficients(): on the CPU (spectral::reconstructInterleaved, then CPU
-/// vertex normals and a position/normal upload) or in the vertex shader (K in a GL_RGBA32F texture buffer, Z in a
+/// Where X' = X̂' + K·Z is evaluated for MeshViewport::showFrame(): on the CPU (spectral::reconstructInterleaved, then
+/// CPU vertex normals and a position/normal upload) or in the vertex shader (K in a GL_RGBA32F texture buffer, Z in a
 /// uniform array, rest positions as the vertex attribute; no per-vertex upload per frame). See MeshViewport.
 enum class ReconstructionPath { Cpu, Gpu };
 
-/// Median per-frame times of the two reconstruction paths (setCoefficients + repaint + glFinish), in ms; a path
-/// that cannot run here is +∞.
-struct ReconstructionTimings {
-  double cpuMs = 0.0;
-  double gpuMs = 0.0;
-  [[nodiscard]] ReconstructionPath faster() const {
-    return gpuMs < cpuMs ? ReconstructionPath::Gpu : ReconstructionPath::Cpu;
-  }
-};
-
 /// Wall-clock cost of the stages of the latest frame, in milliseconds (QElapsedTimer), for the status bar and
-/// shapecast-bench-viewport. The host stages (reconstruct, normals, bounds) run in setCoefficients() /
-/// setPositions*(); the GL stages in paintGL(). Without MeshViewport::setProfiling() the GL stages only count the
-/// time to issue the commands (the rasteriser may still be busy); with it each GL stage ends with glFinish().
+/// shapecast-bench-viewport. The host stages (reconstruct, normals, bounds) run in showFrame() / setPositions*();
+/// the GL stages in paintGL(). The GL stages count the time to issue the commands (the rasteriser may still be
+/// busy) unless a MeshViewport::setStageHook() observer waits for it (the benchmark's --profile: glFinish()).
 struct FrameTimes {
   double reconstructMs = 0.0;  ///< X' = X̂' + K·Z on the CPU (0 on the GPU path and for explicit positions)
   double normalsMs = 0.0;      ///< CPU vertex normals (0 where the shader computes them)

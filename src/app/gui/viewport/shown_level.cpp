@@ -1,0 +1,48 @@
+#include "app/gui/viewport/shown_level.h"
+
+#include <utility>
+
+namespace sc::app {
+
+void ShownLevel::hold(spectral::SharedDisplayLevel level, std::span<const float> rest) {
+  m_level = std::move(level);
+  const spectral::RowMatrixXf& K = m_level->level.K;
+  m_maxRowNorm = K.rows() > 0 && K.cols() > 0 ? K.rowwise().norm().maxCoeff() : 0.0f;
+  Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> R(
+      rest.data(), static_cast<Eigen::Index>(rest.size() / 3), 3);
+  m_restLo = R.rows() > 0 ? Eigen::Vector3f(R.colwise().minCoeff().transpose()) : Eigen::Vector3f::Zero();
+  m_restHi = R.rows() > 0 ? Eigen::Vector3f(R.colwise().maxCoeff().transpose()) : Eigen::Vector3f::Zero();
+  m_Z = Eigen::MatrixXf::Zero(K.cols(), 3);
+  m_showing = false;
+}
+
+void ShownLevel::clear() {
+  m_level.reset();
+  m_Z.resize(0, 0);
+  m_showing = false;
+  m_maxRowNorm = 0.0f;
+}
+
+bool ShownLevel::show(const Eigen::MatrixXf& Z) {
+  if (!m_level) {
+    return false;
+  }
+  if (Z.size() == 0) {
+    m_Z.setZero();
+  } else if (Z.rows() == m_Z.rows() && Z.cols() == 3) {
+    m_Z = Z;
+  } else {
+    return false;
+  }
+  m_showing = true;
+  return true;
+}
+
+std::pair<QVector3D, QVector3D> ShownLevel::bounds() const {
+  const Eigen::Vector3f reach = m_maxRowNorm * m_Z.colwise().norm().transpose();
+  const Eigen::Vector3f lo = m_restLo - reach;
+  const Eigen::Vector3f hi = m_restHi + reach;
+  return {QVector3D(lo.x(), lo.y(), lo.z()), QVector3D(hi.x(), hi.y(), hi.z())};
+}
+
+}  // namespace sc::app

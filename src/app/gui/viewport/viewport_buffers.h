@@ -1,0 +1,111 @@
+#pragma once
+// ViewportBuffers: MeshViewport's vertex data, host side and GL side, with one dirty mask (Polyscope's
+// ManagedBuffer habit): whoever writes a host array marks its bit (the write*() accessors do it), and upload(), in
+// paintGL(), sends exactly what is marked. No other class of the viewport holds a GL buffer of vertex data.
+
+#include "app/gui/compact_proxy.h"
+#include "spectral/resolution_level.h"
+
+#include <QOpenGLBuffer>
+#include <QOpenGLVertexArrayObject>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+class QOpenGLFunctions_3_3_Core;
+
+namespace sc::app {
+
+class ViewportBuffers {
+ public:
+  /// The dirty mask: one bit per GL buffer (group) whose host data changed since its last upload.
+  enum Bit : unsigned {
+    kPositions = 1U << 0,
+    kNormals = 1U << 1,
+    kTints = 1U << 2,
+    kIndices = 1U << 3,        ///< the mesh's triangles, then the proxy's over mesh vertices (the GPU path's)
+    kProxyVertices = 1U << 4,  ///< the compact proxy's positions and normals
+    kProxyTints = 1U << 5,     ///< the compact proxy's tints
+    kProxyIndices = 1U << 6,   ///< the compact proxy's triangles
+    kRest = 1U << 7,           ///< the GPU path's rest positions
+    kBasis = 1U << 8,          ///< the GPU path's K texture: uploaded only when upload() is given K
+    kAll = (1U << 9) - 1,
+  };
+
+  // === host side. Positions are relative to the viewport's origin (MeshViewport::setMesh()).
+  [[nodiscard]] const std::vector<float>& positions() const { return m_positions; }      ///< 3·#V
+  [[nodiscard]] const std::vector<float>& normals() const { return m_normals; }          ///< 3·#V
+  [[nodiscard]] const std::vector<std::uint8_t>& tints() const { return m_tints; }       ///< 4·#V, RGBA
+  [[nodiscard]] const std::vector<std::uint32_t>& indices() const { return m_indices; }  ///< 3·#F
+  /// 3·#P indices into the mesh's vertices: the proxy's triangles as the GPU path draws them.
+  [[nodiscard]] const std::vector<std::uint32_t>& proxyIndices() const { return m_proxyIndices; }
+  /// The proxy's own vertices, for the CPU path (empty: no proxy).
+  [[nodiscard]] const CompactProxy& proxy() const { return m_proxy; }
+  /// 3·#V rest positions of a shown display level (relative to the origin; empty for a plain mesh).
+  [[nodiscard]] const std::vector<float>& rest() const { return m_rest; }
+
+  std::vector<float>& writePositions() { return marked(kPositions, m_positions); }
+  std::vector<float>& writeNormals() { return marked(kNormals, m_normals); }
+  std::vector<std::uint8_t>& writeTints() { return marked(kTints, m_tints); }
+  std::vector<float>& writeRest() { return marked(kRest, m_rest); }
+  /// The proxy, for new positions or normals (marks kProxyVertices).
+  CompactProxy& writeProxyVertices() { return marked(kProxyVertices, m_proxy); }
+  /// The proxy's tints gathered from tints() (no proxy: nothing). Cost: O(#P).
+  void gatherProxyTints();
+  /// Replaces the mesh's triangles (3·#F) and drops the proxy.
+  void setIndices(std::vector<std::uint32_t> indices);
+  /// Replaces the proxy: `proxy` its compact vertices, `meshIndices` the same triangles over the mesh's vertices.
+  void setProxy(CompactProxy proxy, std::vector<std::uint32_t> meshIndices);
+  void mark(unsigned bits) { m_dirty |= bits; }
+  [[nodiscard]] bool isMarked(unsigned bits) const { return (m_dirty & bits) != 0; }
+  /// Empties every host array (marks everything).
+  void clear();
+
+  // === GL side: between create() and destroy(), with the context current.
+  /// Creates the vertex arrays (mesh, compact proxy, GPU path) and buffers; `basisTexture`: also the texture buffer
+  /// of K (when the GPU path's program exists). Marks everything for upload (a new context has empty buffers).
+  void create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture);
+  void destroy(QOpenGLFunctions_3_3_Core& gl);
+  /// Uploads what is marked and clears those bits. `K` (n' by m, the shown level's, read in place): the basis,
+  /// padded to 4·⌈m/4⌉ columns while it is written into the GL buffer (no host copy); nullptr leaves kBasis marked.
+  void upload(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf* K);
+  QOpenGLVertexArrayObject& meshVao() { return m_meshVao; }               ///< positions 0, normals 1, tints 2
+  QOpenGLVertexArrayObject& proxyVao() { return m_proxyVao; }             ///< the compact proxy's, same layout
+  QOpenGLVertexArrayObject& gpuVao() { return m_gpuVao; }                 ///< rest 0, tints 2, the mesh's indices
+  [[nodiscard]] unsigned basisTexture() const { return m_basisTexture; }  ///< GL_RGBA32F view of K (0: none)
+
+ private:
+  template <typename T>
+  T& marked(unsigned bit, T& value) {
+    m_dirty |= bit;
+    return value;
+  }
+  void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf& K);
+
+  unsigned m_dirty = kAll;
+  std::vector<float> m_positions;
+  std::vector<float> m_normals;
+  std::vector<std::uint8_t> m_tints;
+  std::vector<std::uint32_t> m_indices;
+  std::vector<std::uint32_t> m_proxyIndices;
+  CompactProxy m_proxy;
+  std::vector<float> m_rest;
+
+  QOpenGLVertexArrayObject m_meshVao;
+  QOpenGLVertexArrayObject m_proxyVao;
+  QOpenGLVertexArrayObject m_gpuVao;
+  QOpenGLBuffer m_positionBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_normalBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_tintBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_indexBuffer{QOpenGLBuffer::IndexBuffer};
+  QOpenGLBuffer m_proxyPositionBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyNormalBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyTintBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_proxyIndexBuffer{QOpenGLBuffer::IndexBuffer};
+  QOpenGLBuffer m_restBuffer{QOpenGLBuffer::VertexBuffer};
+  unsigned m_basisBuffer = 0;   // GL_TEXTURE_BUFFER storage of K
+  unsigned m_basisTexture = 0;  // GL_RGBA32F view of it
+};
+
+}  // namespace sc::app
