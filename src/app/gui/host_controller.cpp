@@ -236,8 +236,8 @@ double HostController::sentKbps(session::PeerId peer) const {
 
 QByteArray HostController::hostFingerprint() const { return m_host != nullptr ? m_host->fingerprint() : QByteArray(); }
 
-session::SessionHostCounters HostController::counters() const {
-  return m_host != nullptr ? m_host->counters() : session::SessionHostCounters{};
+session::HostEngineCounters HostController::counters() const {
+  return m_host != nullptr ? m_host->counters() : session::HostEngineCounters{};
 }
 
 std::uint32_t HostController::currentFrame() const { return m_host != nullptr ? m_host->currentFrame() : 0; }

@@ -17,7 +17,7 @@
 namespace sc::session {
 class SessionHost;
 struct HostModel;
-struct SessionHostCounters;
+struct HostEngineCounters;
 }  // namespace sc::session
 
 namespace sc::app {
@@ -60,7 +60,7 @@ class HostController final : public SessionController {
 
   // --- the host's own figures (diagnostics and tests)
   /// What the host accepted, refused and sent so far (zeros before it started).
-  [[nodiscard]] session::SessionHostCounters counters() const;
+  [[nodiscard]] session::HostEngineCounters counters() const;
   /// The number of the latest frame produced (0 before any).
   [[nodiscard]] std::uint32_t currentFrame() const;
   /// The deformer's mode (a saved session's, else the default).

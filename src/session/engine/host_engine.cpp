@@ -4,8 +4,6 @@
 
 #include "session/engine/host_engine.h"
 
-#include "session/engine/host_engine_peer.h"
-
 #include <algorithm>
 
 namespace sc::session {

@@ -30,6 +30,7 @@
 
 #include "session/engine/handshake_host.h"
 #include "session/engine/host_engine_actions.h"
+#include "session/engine/host_engine_peer.h"
 #include "session/engine/host_model.h"
 #include "session/engine/level_ladder.h"
 #include "session/engine/lock_arbiter.h"
@@ -161,7 +162,7 @@ class HostEngine {
   [[nodiscard]] std::optional<Micros> nextWakeUp() const;
 
  private:
-  struct Peer;
+  using Peer = HostEnginePeer;
 
   // host_engine.cpp: cadences
   void housekeeping(Micros now, HostActions& out);

@@ -3,8 +3,6 @@
 
 #include "session/engine/host_engine.h"
 
-#include "session/engine/host_engine_peer.h"
-
 #include <algorithm>
 
 namespace sc::session {

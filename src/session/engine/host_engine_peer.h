@@ -1,8 +1,12 @@
 #pragma once
-// HostEngine's per-connection bookkeeping, shared by the engine's translation units (host_engine*.cpp). Internal:
-// not part of the public API.
+// HostEngine's per-connection bookkeeping (HostEngine::Peer), shared by the engine's translation units
+// (host_engine*.cpp). Internal: not part of the public API. It needs only wire types and the clock, so it includes
+// nothing of the engine (no include loop with host_engine.h).
 
-#include "session/engine/host_engine.h"
+#include "session/wire/control_messages.h"
+#include "session/wire/lock_messages.h"
+
+#include <QtCore/QString>
 
 #include <cstdint>
 #include <optional>
@@ -10,7 +14,7 @@
 
 namespace sc::session {
 
-struct HostEngine::Peer {
+struct HostEnginePeer {
   PeerId id = kNoPeer;
   std::string address;   ///< the admission limits' key (e.g. the IP address as text)
   Millis acceptedAt{0};  ///< the handshake deadline counts from here

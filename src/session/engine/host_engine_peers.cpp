@@ -3,7 +3,6 @@
 
 #include "session/engine/host_engine.h"
 
-#include "session/engine/host_engine_peer.h"
 #include "session/wire/handle_transforms.h"
 
 #include <algorithm>
