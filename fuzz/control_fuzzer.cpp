@@ -14,10 +14,10 @@
 // receiver never holds more bytes than its transfer announced.
 
 #include "fuzz_support.h"
-#include "session/wire/control_frame.h"
-#include "session/wire/control_messages.h"
 #include "session/engine/handshake_client.h"
 #include "session/engine/handshake_host.h"
+#include "session/wire/control_frame.h"
+#include "session/wire/control_messages.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
 

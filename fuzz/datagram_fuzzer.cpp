@@ -11,8 +11,8 @@
 // names the fixed peer.
 
 #include "fuzz_support.h"
-#include "session/wire/coefficient_codec.h"
 #include "session/engine/frame_assembler.h"
+#include "session/wire/coefficient_codec.h"
 #include "session/wire/path_open.h"
 
 #include <QtCore/QByteArray>

@@ -2,9 +2,9 @@
 // SessionHost on 127.0.0.1 whose own user plays the scripted drag at 30 fps on command, measuring its own CPU time.
 
 #include "app/cli/session_setup.h"
-#include "model/decimating_level_builder.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_experiment.h"
+#include "model/decimating_level_builder.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
 #include "spectral/hausdorff.h"

@@ -3,8 +3,8 @@
 // seeding from a keyframe, and the client's drops by reason (also while closed). Set-up: datagram_session.h.
 #include "datagram_session.h"
 
-#include "session/wire/coefficient_codec.h"
 #include "session/engine/session_clock.h"
+#include "session/wire/coefficient_codec.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// Tests src/session/engine/distortion_probe.cpp: which displayed Z stands for a reference frame (hold-last at frame level,
-// rest before anything, serial wrap, eviction), the Hausdorff distortion against a brute-force max-min, and the
+// Tests src/session/engine/distortion_probe.cpp: which displayed Z stands for a reference frame (hold-last at frame
+// level, rest before anything, serial wrap, eviction), the Hausdorff distortion against a brute-force max-min, and the
 // summary accumulator.
 #include "session/engine/distortion_probe.h"
 

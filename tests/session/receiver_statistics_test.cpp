@@ -1,5 +1,5 @@
-// Tests src/session/engine/receiver_statistics.cpp: RFC 3550 extended sequence, loss fractions and jitter; rates, fps and
-// latency percentiles over synthetic streams with injected time.
+// Tests src/session/engine/receiver_statistics.cpp: RFC 3550 extended sequence, loss fractions and jitter; rates, fps
+// and latency percentiles over synthetic streams with injected time.
 #include "session/engine/receiver_statistics.h"
 
 #include <gtest/gtest.h>

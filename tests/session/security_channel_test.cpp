@@ -5,9 +5,9 @@
 // over loopback sockets. Fixture: security_fixture.h.
 #include "security_fixture.h"
 
-#include "session/wire/control_frame.h"
 #include "session/net/tls_known_hosts.h"
 #include "session/net/tls_server.h"
+#include "session/wire/control_frame.h"
 
 #include <QtCore/QTemporaryDir>
 #include <QtNetwork/QSslSocket>

@@ -1,12 +1,12 @@
-// Loopback tests of the still frame after a drag stops (src/session/engine/still_frame_schedule.h, session_host.cpp) and
-// of what an extrapolating client (frame_predictor.h) shows around it: one still frame after the last drag and then
+// Loopback tests of the still frame after a drag stops (src/session/engine/still_frame_schedule.h, session_host.cpp)
+// and of what an extrapolating client (frame_predictor.h) shows around it: one still frame after the last drag and then
 // only the idle refresh; the last real frame shown after the drag stops; without the still frame the prediction is
 // withdrawn in time. Real sockets on 127.0.0.1. Fixture: session_loopback_fixture.h.
 #include "session_loopback_fixture.h"
 
+#include "session/engine/session_clock.h"
 #include "session/net/client_datagram_channel.h"
 #include "session/net/host_datagram_channel.h"
-#include "session/engine/session_clock.h"
 
 #include <QtTest/QTest>
 

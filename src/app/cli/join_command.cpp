@@ -2,8 +2,8 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
-#include "session/net/distortion_meter.h"
 #include "session/engine/session_clock.h"
+#include "session/net/distortion_meter.h"
 #include "session/net/tls_identity.h"
 
 #include <QCoreApplication>

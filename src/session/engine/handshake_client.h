@@ -18,8 +18,8 @@
 //   - Challenge iterations are bounded by the decoder (1..kMaxPbkdf2Iterations), so answering costs at most
 //     kMaxPbkdf2Iterations PBKDF2 rounds, on the calling thread.
 
-#include "session/wire/control_messages.h"
 #include "session/engine/handshake_host.h"
+#include "session/wire/control_messages.h"
 
 #include <QtCore/QString>
 

@@ -1,8 +1,8 @@
 #include "session/net/client_datagram_channel.h"
 
+#include "session/engine/session_clock.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/wire/path_open.h"
-#include "session/engine/session_clock.h"
 
 #include <QtCore/QTimer>
 #include <QtCore/QVariant>

@@ -16,9 +16,9 @@
 
 #include "session/engine/frame_assembler.h"
 #include "session/engine/frame_predictor.h"
-#include "session/wire/lock_messages.h"
 #include "session/engine/network_impairment.h"
 #include "session/engine/receiver_statistics.h"
+#include "session/wire/lock_messages.h"
 
 #include <Eigen/Core>
 #include <QtCore/QByteArray>

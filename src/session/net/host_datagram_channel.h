@@ -11,10 +11,10 @@
 // PathOpenError (style.md item 6), never answered.
 // Not thread-safe: use from the thread that owns it (its socket's thread).
 
+#include "session/engine/receiver_statistics.h"
 #include "session/wire/coefficient_codec.h"
 #include "session/wire/lock_messages.h"
 #include "session/wire/path_open.h"
-#include "session/engine/receiver_statistics.h"
 
 #include <Eigen/Core>
 #include <QtCore/QByteArray>

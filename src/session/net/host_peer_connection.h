@@ -20,8 +20,8 @@
 //   - A control frame longer than kMaxControlMessageSize emits oversizeMessage() (then the usual refusal or
 //     protocolError(), and the connection is closed): the reader never buffers more than one maximum frame.
 
-#include "session/wire/control_frame.h"
 #include "session/engine/handshake_host.h"
+#include "session/wire/control_frame.h"
 #include "session/wire/model_transfer.h"
 
 #include <QtCore/QObject>
