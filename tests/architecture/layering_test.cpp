@@ -42,7 +42,9 @@ const std::vector<Layer>& layers() {
 
 TEST(Architecture, EveryFolderIncludesOnlyTheLayersBelowIt) {
   int checked = 0;
-  for (const auto& [file, written] : sourceGraph().includes) {
+  for (const auto& entry : sourceGraph().includes) {
+    const std::string& file = entry.first;  // not a structured binding: Clang 14 cannot capture one in a lambda
+    const std::vector<std::string>& written = entry.second;
     const auto layer =
         std::find_if(layers().begin(), layers().end(), [&file](const Layer& l) { return startsWith(file, l.folder); });
     ASSERT_NE(layer, layers().end()) << file << " is in no known layer: add its folder to layers()";
