@@ -40,10 +40,12 @@
 
 namespace {
 
+using sc::app::FramePolicy;
 using sc::app::FrameTimes;
 using sc::app::InteractiveProxyBuilder;
 using sc::app::MeshViewport;
 using sc::app::ReconstructionPath;
+using sc::app::RendererDefaults;
 
 constexpr unsigned long kFrameGapMs = 20;  // Qt defers a repaint() within one display frame of the last one
 constexpr int kWarmupFrames = 3;
@@ -215,7 +217,7 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile,
 }  // namespace
 
 int main(int argc, char** argv) {
-  QSurfaceFormat::setDefaultFormat(MeshViewport::preferredSurfaceFormat());
+  QSurfaceFormat::setDefaultFormat(RendererDefaults::preferredSurfaceFormat());
   QApplication app(argc, argv);
   QCommandLineParser parser;
   parser.addHelpOption();
@@ -244,10 +246,10 @@ int main(int argc, char** argv) {
               assets.filePath(QStringLiteral("dragon_vrip_res2.ply"))};
   }
   std::printf("machine   %s\n", qPrintable(sc::report::machineDescription()));
-  std::printf("adaptive resolution %s (paint budget %.0f ms)\n",
-              MeshViewport::defaultAdaptiveResolution() ? "on" : "off", MeshViewport::kPaintBudgetMs);
+  std::printf("adaptive resolution %s (paint budget %.0f ms)\n", RendererDefaults::adaptiveResolution() ? "on" : "off",
+              FramePolicy::kPaintBudgetMs);
   std::printf(
-      "renderer  %s; LP_NUM_THREADS=%s; QThread::idealThreadCount %d\n", qPrintable(MeshViewport::rendererName()),
+      "renderer  %s; LP_NUM_THREADS=%s; QThread::idealThreadCount %d\n", qPrintable(RendererDefaults::rendererName()),
       qEnvironmentVariableIsSet("LP_NUM_THREADS") ? qPrintable(qEnvironmentVariable("LP_NUM_THREADS")) : "unset",
       QThread::idealThreadCount());
   std::printf("per stage: median/p90 ms; frame = showFrame + repaint + glFinish%s\n",

@@ -50,7 +50,7 @@ TEST_F(InteractiveProxyTest, InteractiveFramesDrawTheProxyAndTheIdleFrameTheMesh
   viewport.setPaintBudget(1e6);  // keeps every frame at full pixel resolution: only the triangles change
   viewport.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   const QImage full = viewport.grabFramebuffer();
   EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
 
@@ -68,7 +68,7 @@ TEST_F(InteractiveProxyTest, InteractiveFramesDrawTheProxyAndTheIdleFrameTheMesh
   EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
 
   const int painted = viewport.paintCount();
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 3);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 3);
   EXPECT_GT(viewport.paintCount(), painted) << "the view redrew itself in full once idle";
   EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
 
@@ -175,7 +175,7 @@ TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMesh
   MeshViewport reference;
   ASSERT_TRUE(prepare(reference));
   reference.showFrame({1, Z});
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   const QImage expectedImage = reference.grabFramebuffer();
 
   MeshViewport viewport;
@@ -187,7 +187,7 @@ TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMesh
     viewport.grabFramebuffer();
     EXPECT_EQ(viewport.frameTimes().triangles, viewport.proxyTriangleCount()) << "frame " << i;
   }
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   const QImage idle = viewport.grabFramebuffer();
   EXPECT_EQ(viewport.frameTimes().triangles, sphere.F.rows());
   ASSERT_EQ(idle.size(), expectedImage.size());

@@ -170,7 +170,7 @@ TEST_F(MeshViewportReconstructionTest, PositionsReplaceCoefficientsAndSetMeshDro
 }
 
 TEST_F(MeshViewportReconstructionTest, TooLargeABasisFallsBackToTheCpu) {
-  const int m = MeshViewport::kMaxGpuBasisSize + 4;
+  const int m = sc::app::GpuReconstructor::kMaxBasisSize + 4;
   const auto K = syntheticBasis(m_sphere.V, m, 0.01f);
   m_viewport.setDisplayLevel(levelWith(K));
   m_viewport.setReconstructionPath(ReconstructionPath::Gpu);

@@ -1,8 +1,8 @@
 // Tests for src/app/gui/mesh_viewport_resolution.cpp (the adaptive render scale) and for MeshViewport's
 // reduced-resolution frames and their restoration to full resolution when idle (needs an X server with GL).
 
-#include "app/gui/mesh_viewport_resolution.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/viewport/adaptive_resolution.h"
 
 #include "app_test_support.h"
 #include "test_meshes.h"
@@ -102,10 +102,10 @@ TEST(MeshViewportAdaptiveResolution, ReducedWhileInteractiveAndFullWhenIdle) {
   EXPECT_EQ(smallest, AdaptiveResolution::kScales.back());
   // Idle: the restore timer repaints at full resolution by itself.
   const int painted = viewport.paintCount();
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 3);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 3);
   EXPECT_GT(viewport.paintCount(), painted) << "the view repainted itself";
   EXPECT_EQ(viewport.frameTimes().renderScale, 1.0);
-  QTest::qWait(MeshViewport::kIdleRestoreMs * 2);
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   const QImage full = viewport.grabFramebuffer();  // not interactive either: full resolution
   EXPECT_EQ(viewport.frameTimes().renderScale, 1.0);
   int covered = 0;
@@ -121,14 +121,14 @@ TEST(MeshViewportDefaults, SoftwareRenderersStartOnTheCpuPath) {
   if (!sc::testing::openGlAvailable()) {
     GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
   }
-  const QString renderer = MeshViewport::rendererName().toLower();
+  const QString renderer = sc::app::RendererDefaults::rendererName().toLower();
   if (!renderer.contains(QLatin1String("llvmpipe")) && !renderer.contains(QLatin1String("softpipe"))) {
     GTEST_SKIP() << "not a software renderer: " << renderer.toStdString();
   }
   if (qEnvironmentVariableIsSet("SHAPECAST_RECONSTRUCTION")) {
     GTEST_SKIP() << "SHAPECAST_RECONSTRUCTION overrides the default";
   }
-  EXPECT_EQ(MeshViewport::defaultReconstructionPath(), sc::app::ReconstructionPath::Cpu);
+  EXPECT_EQ(sc::app::RendererDefaults::reconstructionPath(), sc::app::ReconstructionPath::Cpu);
   const MeshViewport viewport;
   EXPECT_EQ(viewport.reconstructionPath(), sc::app::ReconstructionPath::Cpu);
 }

@@ -1,7 +1,7 @@
 // Entry point of app_tests: one QApplication for every test, created after GoogleTest has parsed its flags.
 
 #include "address_sanitizer.h"
-#include "app/gui/mesh_viewport.h"
+#include "app/gui/viewport/renderer_defaults.h"
 #include "keep_libraries_mapped.h"
 
 #include <gtest/gtest.h>
@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   if (qEnvironmentVariableIsEmpty("SHAPECAST_ADAPTIVE_RESOLUTION")) {
     qputenv("SHAPECAST_ADAPTIVE_RESOLUTION", "0");
   }
-  QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
+  QSurfaceFormat::setDefaultFormat(sc::app::RendererDefaults::preferredSurfaceFormat());
   QApplication app(argc, argv);
   const int result = RUN_ALL_TESTS();
   // Before the QApplication closes the display and with it the GL driver: see keep_libraries_mapped.h.

@@ -9,7 +9,7 @@
 
 #include "app/gui/demo.h"
 #include "app/gui/launch_options.h"
-#include "app/gui/mesh_viewport.h"
+#include "app/gui/viewport/renderer_defaults.h"
 #include "tools/screenshots/demo_screenshots.h"
 
 #include <QApplication>
@@ -28,7 +28,7 @@ void printError(const QString& message) { std::fprintf(stderr, "shapecast: %s\n"
 }  // namespace
 
 int main(int argc, char* argv[]) {
-  QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
+  QSurfaceFormat::setDefaultFormat(sc::app::RendererDefaults::preferredSurfaceFormat());
   QApplication app(argc, argv);
   sc::app::LaunchParser parser;  // the application's names and command line: the same settings as shapecast's
   const std::optional<sc::app::LaunchOptions> parsed =

@@ -17,6 +17,7 @@
 #include "app/gui/launch_options.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/viewport/renderer_defaults.h"
 
 #include <QApplication>
 #include <QImage>
@@ -112,7 +113,7 @@ int main(int argc, char* argv[]) {
     return arg == "--help" || arg == "-h" || arg == "-?" || arg == "--help-all" || arg == "--version" || arg == "-v";
   });
   if (onlyPrints) qputenv("QT_QPA_PLATFORM", "offscreen");
-  QSurfaceFormat::setDefaultFormat(sc::app::MeshViewport::preferredSurfaceFormat());
+  QSurfaceFormat::setDefaultFormat(sc::app::RendererDefaults::preferredSurfaceFormat());
   QApplication app(argc, argv);
   sc::app::LaunchParser parser;
   const std::optional<sc::app::LaunchOptions> parsed =

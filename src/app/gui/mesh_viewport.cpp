@@ -1,11 +1,9 @@
-// MeshViewport, the data side: the mesh and its shown level, frames on the two reconstruction paths, scene bounds,
-// the selection with its vertex tints, and the view's answers to its input (ViewportInput::View). The GL side
-// (context resources, the passes, depth read-back, GPU read-back) is in mesh_viewport_render.cpp.
+// MeshViewport, the data side: the mesh and its shown level (frames: LevelFrames), scene bounds, the selection with
+// its vertex tints, and the view's answers to its input (ViewportInput::View). The GL side (context resources, the
+// paint, depth read-back, GPU read-back) is in mesh_viewport_render.cpp.
 
 #include "app/gui/mesh_viewport.h"
 
-#include "app/gui/vertex_normals.h"
-#include "app/gui/viewport/lap_timer.h"
 #include "app/gui/viewport/vertex_arrays.h"
 
 #include <algorithm>
@@ -14,13 +12,16 @@
 namespace sc::app {
 
 MeshViewport::MeshViewport(QWidget* parent)
-    : QOpenGLWidget(parent), m_policy(defaultAdaptiveResolution()), m_input(*this) {
-  setSampleCount(defaultSampleCount());
+    : QOpenGLWidget(parent),
+      m_frames(m_buffers, RendererDefaults::reconstructionPath()),
+      m_policy(RendererDefaults::adaptiveResolution()),
+      m_input(*this) {
+  setSampleCount(RendererDefaults::sampleCount());
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // the brush outline follows the cursor
-  m_path = defaultReconstructionPath();
   m_restoreTimer.setSingleShot(true);
-  m_restoreTimer.setInterval(kIdleRestoreMs + kIdleRestoreMs / 10);  // the next paint is no longer interactive
+  m_restoreTimer.setInterval(FramePolicy::kIdleRestoreMs +
+                             FramePolicy::kIdleRestoreMs / 10);  // the next paint is no longer interactive
   connect(&m_restoreTimer, &QTimer::timeout, this, qOverload<>(&MeshViewport::update));
   connect(this, &QOpenGLWidget::frameSwapped, this, [this] {
     if (const double ms = m_policy.msSincePaint(); ms >= 0.0) {
@@ -49,7 +50,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
     return;
   }
   m_input.endGesture();
-  dropLevel();
+  m_frames.drop();
   m_origin = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
   m_vertexCount = static_cast<int>(V.rows());
   m_buffers.setIndices(flatIndices(F));
@@ -88,36 +89,23 @@ void MeshViewport::setPositionsInterleaved(std::span<const float> xyz) {
 // Explicit positions were written: they replace any shown frame; recompute the normals (the mesh's and the
 // proxy's) and the scene bounds, and repaint.
 void MeshViewport::positionsGiven() {
-  m_shown.stopShowing();
-  m_cpu.reset();
-  m_frameTimes.reconstructMs = 0.0;
+  m_frames.positionsGiven(m_frameTimes);
+  updateBounds();
+}
+
+// The camera's scene bounds (LevelFrames::bounds()), timed as the frame's bounds stage; then a repaint.
+void MeshViewport::updateBounds() {
   QElapsedTimer timer;
   timer.start();
-  std::vector<float>& normals = m_buffers.writeNormals();
-  normals.resize(m_buffers.positions().size());
-  vertexNormals(m_buffers.positions(), m_buffers.indices(), normals);
-  m_cpu.refreshProxy(m_shown, m_buffers);
-  m_frameTimes.normalsMs = lapMs(timer);
-  updateBounds();
+  const auto [lo, hi] = m_frames.bounds();
+  m_camera.setSceneBounds(lo, hi);
   m_frameTimes.boundsMs = lapMs(timer);
   markMoved();
 }
 
-// The camera's scene bounds from the host positions (exact), or while they lag a shown frame (GPU path, proxy-only
-// frames) from ShownLevel::bounds(), which needs no reconstruction.
-void MeshViewport::updateBounds() {
-  if (m_shown.showing() && m_cpu.positionsStale()) {
-    const auto [lo, hi] = m_shown.bounds();
-    m_camera.setSceneBounds(lo, hi);
-    return;
-  }
-  const auto [lo, hi] = boundsOf(m_buffers.positions());
-  m_camera.setSceneBounds(lo, hi);
-}
-
 void MeshViewport::clearMesh() {
   m_input.endGesture();
-  dropLevel();
+  m_frames.drop();
   m_buffers.clear();
   m_selection.clear();
   m_vertexCount = 0;
@@ -135,10 +123,10 @@ void MeshViewport::setInteractiveProxy(const Eigen::MatrixXi& triangles) {
   }
   m_buffers.setProxy(triangles.size() > 0 ? CompactProxy(triangles, m_vertexCount) : CompactProxy(),
                      flatIndices(triangles));
-  if (!m_shown.empty() && triangles.size() > 0) {
-    m_buffers.writeProxyVertices().setBasis(m_shown.K(), m_buffers.rest());
+  if (hasReconstructionBasis() && triangles.size() > 0) {
+    m_buffers.writeProxyVertices().setBasis(m_frames.shown().K(), m_buffers.rest());
   }
-  m_cpu.refreshProxy(m_shown, m_buffers);
+  m_frames.refreshProxy();
   m_buffers.gatherProxyTints();
   m_proxyShowsSelection = m_selection.shownBy(m_buffers.proxy());
   update();
@@ -158,61 +146,19 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
     return;  // shown as a plain mesh
   }
   shifted(level->rest, -m_origin, m_buffers.writeRest());
-  m_shown.hold(std::move(level), m_buffers.rest());
-  m_buffers.mark(ViewportBuffers::kBasis);
-  if (m_path == ReconstructionPath::Gpu && m_glReady && !gpuReconstructionAvailable()) {
-    m_path = ReconstructionPath::Cpu;
-  }
+  m_frames.hold(std::move(level));
 }
 
 void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
-  if (m_shown.show(frame.Z)) {
+  if (m_frames.show(frame.Z)) {
     applyFrame();
   }
 }
 
-void MeshViewport::dropLevel() {
-  m_shown.clear();
-  m_buffers.writeRest().clear();
-  m_cpu.reset();
-}
-
-// Shows the shown level's frame on the current path: the CPU path reconstructs (and computes normals) now, only the
-// proxy's vertices while the next frame may draw the proxy; the GPU path only widens the camera bounds.
+// Shows the held level's frame on the current path (LevelFrames::apply()), then the bounds and a repaint.
 void MeshViewport::applyFrame() {
-  if (m_path == ReconstructionPath::Cpu) {
-    const bool proxyOnly = m_buffers.proxy().hasBasis() && proxyMayDraw();
-    const HostStageTimes times = m_cpu.showFrame(m_shown, m_buffers, proxyOnly);
-    m_frameTimes.reconstructMs = times.reconstructMs;
-    m_frameTimes.normalsMs = times.normalsMs;
-  } else {
-    m_cpu.frameDrawnElsewhere();
-    m_frameTimes.reconstructMs = m_frameTimes.normalsMs = 0.0;
-  }
-  QElapsedTimer timer;
-  timer.start();
+  m_frames.apply(proxyMayDraw(), m_frameTimes);
   updateBounds();
-  m_frameTimes.boundsMs = lapMs(timer);
-  markMoved();
-}
-
-// Before drawing the full mesh from the mesh VAO: the positions and normals that proxy-only frames or the GPU path
-// left behind (their times are this frame's reconstruct and normals stages).
-void MeshViewport::ensureFullVertexData() {
-  if (gpuDrawing() || !m_cpu.lagging()) {
-    return;
-  }
-  const bool reconstructs = m_cpu.positionsStale();
-  const HostStageTimes times = m_cpu.ensureVertexData(m_shown, m_buffers);
-  if (reconstructs) {
-    m_frameTimes.reconstructMs = times.reconstructMs;
-  }
-  m_frameTimes.normalsMs = times.normalsMs;
-}
-
-std::span<const float> MeshViewport::pickPositions() {
-  m_cpu.ensurePositions(m_shown, m_buffers);
-  return m_buffers.positions();
 }
 
 std::vector<float> MeshViewport::hostPositions() {
@@ -222,22 +168,9 @@ std::vector<float> MeshViewport::hostPositions() {
 }
 
 void MeshViewport::setReconstructionPath(ReconstructionPath path) {
-  if (path == ReconstructionPath::Gpu && m_glReady && hasReconstructionBasis() && !gpuReconstructionAvailable()) {
-    path = ReconstructionPath::Cpu;
-  }
-  const bool changed = path != m_path;
-  m_path = path;
-  if (changed && m_shown.showing()) {
+  if (m_frames.setPath(path)) {
     applyFrame();
   }
-}
-
-bool MeshViewport::gpuReconstructionAvailable() const {
-  return m_glReady && m_buffers.basisTexture() != 0 && m_gpu.available(m_vertexCount, m_shown.basisSize());
-}
-
-bool MeshViewport::gpuDrawing() const {
-  return m_shown.showing() && m_path == ReconstructionPath::Gpu && gpuReconstructionAvailable();
 }
 
 // ---------------------------------------------------------------------------------------------------- frames

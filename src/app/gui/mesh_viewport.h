@@ -9,12 +9,11 @@
 
 #include "app/gui/mesh_viewport_types.h"
 #include "app/gui/orbit_camera.h"
-#include "app/gui/viewport/cpu_reconstructor.h"
 #include "app/gui/viewport/frame_policy.h"
-#include "app/gui/viewport/gpu_reconstructor.h"
+#include "app/gui/viewport/lap_timer.h"
+#include "app/gui/viewport/level_frames.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "app/gui/viewport/scene_passes.h"
-#include "app/gui/viewport/shown_level.h"
 #include "app/gui/viewport/viewport_buffers.h"
 #include "app/gui/viewport/viewport_input.h"
 #include "app/gui/viewport/viewport_selection.h"
@@ -22,7 +21,6 @@
 
 #include <Eigen/Core>
 
-#include <QElapsedTimer>
 #include <QOpenGLFunctions>
 #include <QOpenGLWidget>
 #include <QString>
@@ -63,18 +61,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   Q_DISABLE_COPY_MOVE(MeshViewport)
 
  public:
-  static constexpr double kDefaultBrushRadius = ViewportInput::kDefaultBrushRadius;  ///< pixels.
-  static constexpr int kHintMilliseconds = ViewportInput::kHintMilliseconds;         ///< how long a drag hint stays up.
-
-  /// Largest m the GPU reconstruction path handles (Z lives in a uniform array of 3·⌈m/4⌉ vec4).
-  static constexpr int kMaxGpuBasisSize = 256;
-
-  /// The format this widget needs: pass it to QSurfaceFormat::setDefaultFormat() before the QApplication exists.
-  static QSurfaceFormat preferredSurfaceFormat() { return RendererDefaults::preferredSurfaceFormat(); }
-
-  /// Samples a new MeshViewport asks for (RendererDefaults::sampleCount()).
-  static int defaultSampleCount() { return RendererDefaults::sampleCount(); }
-  static QString rendererName() { return RendererDefaults::rendererName(); }
+  // The defaults of a new viewport (surface format, samples, path, adaptive resolution) are RendererDefaults'; the
+  // brush and hint constants ViewportInput's; the frame budget and idle delay FramePolicy's.
 
   /// Multisample count of this widget's framebuffer; takes effect only before the widget is first shown.
   void setSampleCount(int samples);
@@ -131,44 +119,33 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   /// shader does the rest.
   void showFrame(const spectral::DisplayFrame& frame);
   /// The level setDisplayLevel() shows (nullptr: a plain mesh, or none).
-  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_shown.level(); }
+  [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_frames.shown().level(); }
   /// Whether frames are reconstructed here (a display level with basis columns is shown).
-  [[nodiscard]] bool hasReconstructionBasis() const { return !m_shown.empty(); }
+  [[nodiscard]] bool hasReconstructionBasis() const { return !m_frames.shown().empty(); }
 
-  /// The path a new viewport starts with (RendererDefaults::reconstructionPath(): on a software rasteriser the CPU
-  /// path is the faster, as shapecast-bench-viewport measures).
-  static ReconstructionPath defaultReconstructionPath() { return RendererDefaults::reconstructionPath(); }
-  /// Chooses where showFrame() frames are reconstructed (default defaultReconstructionPath()). Gpu falls back to
-  /// Cpu where the context cannot do it (shader failed, m > kMaxGpuBasisSize, K larger than
-  /// GL_MAX_TEXTURE_BUFFER_SIZE).
+  /// Chooses where showFrame() frames are reconstructed (default RendererDefaults::reconstructionPath()). Gpu falls
+  /// back to Cpu where the context cannot do it (GpuReconstructor::available()).
   void setReconstructionPath(ReconstructionPath path);
-  [[nodiscard]] ReconstructionPath reconstructionPath() const { return m_path; }
+  [[nodiscard]] ReconstructionPath reconstructionPath() const { return m_frames.path(); }
   /// Whether the GPU path can draw the current basis (false until the GL context exists).
-  [[nodiscard]] bool gpuReconstructionAvailable() const;
+  [[nodiscard]] bool gpuReconstructionAvailable() const { return m_frames.gpuAvailable(); }
 
   /// Stage times of the latest frame (see FrameTimes); the host stages are those of the latest position change.
   [[nodiscard]] const FrameTimes& frameTimes() const { return m_frameTimes; }
   /// An observer called at the end of each GL stage of paintGL() (upload, background, mesh, overlay) with the
   /// context current, before the stage's time is taken; e.g. shapecast-bench-viewport's glFinish() that attributes
   /// the rasteriser's work to its stage. Empty: none (the default).
-  void setStageHook(std::function<void()> hook) { m_stageHook = std::move(hook); }
+  void setStageHook(std::function<void()> hook) { m_stages.setHook(std::move(hook)); }
 
-  /// Paint time (upload, background and mesh passes, resolve) that adaptive resolution keeps frames within, ms.
-  static constexpr double kPaintBudgetMs = FramePolicy::kPaintBudgetMs;
-  /// A paint less than this long after the previous one is interactive; one this long after it, or the repaint
-  /// that follows this long without paints, is drawn at full resolution.
-  static constexpr int kIdleRestoreMs = FramePolicy::kIdleRestoreMs;
-  /// Adaptive resolution (default defaultAdaptiveResolution()): interactive frames render into an offscreen
-  /// framebuffer of AdaptiveResolution::scale() times the widget's pixels, stretched onto it, the scale following
-  /// the measured paint time against kPaintBudgetMs (FramePolicy); the idle repaint is full resolution. Needs a
-  /// single-sampled framebuffer. Also enables the interactive proxy (setInteractiveProxy()).
+  /// Adaptive resolution (default RendererDefaults::adaptiveResolution()): interactive frames render into an
+  /// offscreen framebuffer of AdaptiveResolution::scale() times the widget's pixels, stretched onto it, the scale
+  /// following the measured paint time against FramePolicy::kPaintBudgetMs; the idle repaint is full resolution.
+  /// Needs a single-sampled framebuffer. Also enables the interactive proxy (setInteractiveProxy()).
   void setAdaptiveResolution(bool on);
   [[nodiscard]] bool adaptiveResolution() const { return m_policy.adaptive(); }
-  /// Replaces kPaintBudgetMs for this viewport (ms > 0; e.g. tests, or a client that must leave time for other
-  /// work) and starts again from full resolution.
+  /// Replaces FramePolicy::kPaintBudgetMs for this viewport (ms > 0; e.g. tests, or a client that must leave time for
+  /// other work) and starts again from full resolution.
   void setPaintBudget(double ms) { m_policy.setPaintBudget(ms); }
-  /// The default of setAdaptiveResolution() for new viewports (RendererDefaults::adaptiveResolution()).
-  static bool defaultAdaptiveResolution() { return RendererDefaults::adaptiveResolution(); }
 
   /// Positions the GPU path computes for the current Z, read back through transform feedback (3·#V floats, in
   /// the coordinates given to setMesh()); empty without a basis, coefficients, context or GPU path support.
@@ -193,7 +170,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   [[nodiscard]] double brushRadius() const { return m_input.brushRadius(); }
 
   /// Whether the Drag tool may move the handle (e.g. while this peer holds the edit lock). When not allowed, a
-  /// left press with the Drag tool emits nothing and shows `hint` over the view for kHintMilliseconds.
+  /// left press with the Drag tool emits nothing and shows `hint` over the view for ViewportInput::kHintMilliseconds.
   /// Revoking it during a drag ends that drag with dragFinished().
   void setDragAllowed(bool allowed, const QString& hint = {});
   [[nodiscard]] bool dragAllowed() const { return m_input.dragAllowed(); }
@@ -251,26 +228,21 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   // ViewportInput::View.
   QWidget& widget() override { return *this; }
   OrbitCamera& viewCamera() override { return m_camera; }
-  std::span<const float> pickPositions() override;
+  std::span<const float> pickPositions() override { return m_frames.currentPositions(); }
   DepthImage renderDepth() override;
   std::vector<int>& selection(bool handles) override { return m_selection.group(handles); }
   void selectionEdited() override;
   void cameraMoved() override { markMoved(); }
 
-  // Data side (mesh_viewport.cpp).
   void positionsGiven();
   void updateBounds();
-  void dropLevel();
   void applyFrame();
-  void ensureFullVertexData();
   void rebuildTints();
   void markMoved();
-  [[nodiscard]] bool gpuDrawing() const;
   [[nodiscard]] bool proxyMayDraw() const;
-  // GL side (mesh_viewport_render.cpp).
-  void drawScene(const FramePolicy::Frame& frame);
   [[nodiscard]] MeshPass meshPass(bool wireframe, bool proxy) const;
-  void endStage(double& ms, QElapsedTimer& timer);
+  [[nodiscard]] const spectral::RowMatrixXf* gpuBasis() const;  // K when the GPU path draws, else nullptr
+  [[nodiscard]] QSize pixelSize() const;
 
   OrbitCamera m_camera;
   // Positions are stored relative to m_origin (the bounding-box centre at setMesh()) so that float precision is
@@ -278,10 +250,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   Eigen::RowVector3d m_origin = Eigen::RowVector3d::Zero();
   int m_vertexCount = 0;
   ViewportBuffers m_buffers;
-  ShownLevel m_shown;
-  CpuReconstructor m_cpu;
-  GpuReconstructor m_gpu;
-  ReconstructionPath m_path = ReconstructionPath::Cpu;
+  LevelFrames m_frames;
   FramePolicy m_policy;
   QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
   ViewportInput m_input;
@@ -289,12 +258,11 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached
   bool m_wireframe = false;
   FrameTimes m_frameTimes;
-  std::function<void()> m_stageHook;
+  StageClock m_stages;
 
   // GL side (valid between initializeGL() and cleanup()).
   ScenePasses m_passes;
   QOpenGLFunctions_3_3_Core* m_gl33 = nullptr;  // owned by the context
-  bool m_glReady = false;
   int m_paintCount = 0;
 };
 

@@ -4,7 +4,7 @@
 // separately for frames of the mesh and of its interactive proxy) and, when the shape or the camera moved, as the
 // interactive proxy; once idle the view is redrawn at full resolution. Pure rules over a clock; no GL, no widget.
 
-#include "app/gui/mesh_viewport_resolution.h"
+#include "app/gui/viewport/adaptive_resolution.h"
 
 #include <QElapsedTimer>
 

@@ -50,6 +50,7 @@ bool GpuReconstructor::available(long long vertices, int basisSize) const {
   const int groups = groupsOf(basisSize);
   return basisSize == 0 || (groups <= shaders::kMaxGroups && vertices * groups <= m_maxTexels);
 }
+static_assert(GpuReconstructor::kMaxBasisSize == 4 * shaders::kMaxGroups);
 
 void GpuReconstructor::setUniforms(QOpenGLFunctions_3_3_Core& gl, unsigned basisTexture, const Eigen::MatrixXf& Z) {
   const int groups = groupsOf(Z.rows());

@@ -20,6 +20,9 @@ namespace sc::app {
 
 class GpuReconstructor {
  public:
+  /// Largest m the path handles (Z lives in a uniform array of 3·⌈m/4⌉ vec4, shaders::kMaxGroups of them).
+  static constexpr int kMaxBasisSize = 256;
+
   GpuReconstructor();
   ~GpuReconstructor();
   GpuReconstructor(const GpuReconstructor&) = delete;

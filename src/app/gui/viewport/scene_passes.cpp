@@ -2,6 +2,7 @@
 
 #include "app/gui/mesh_shaders.h"
 #include "app/gui/viewport/gpu_reconstructor.h"
+#include "app/gui/viewport/lap_timer.h"
 #include "app/gui/viewport/viewport_buffers.h"
 
 #include <QOpenGLFramebufferObject>
@@ -52,6 +53,32 @@ void ScenePasses::drawBackground(QOpenGLFunctions_3_3_Core& gl) {
   gl.glDrawArrays(GL_TRIANGLES, 0, 3);
   m_backgroundProgram->release();
   gl.glDepthMask(GL_TRUE);
+}
+
+void ScenePasses::drawFrame(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu,
+                            const spectral::RowMatrixXf* K, const MeshPass& pass, const FrameTarget& target,
+                            StageClock& clock, FrameTimes& times) {
+  clock.start();
+  times.uploadMs = 0.0;
+  if (meshReady()) {
+    buffers.upload(gl, K);
+    times.uploadMs = clock.lap();
+  }
+  const QSize reduced = (QSizeF(target.full) * target.scale).toSize().expandedTo(QSize(1, 1));
+  const bool offscreen = target.scale < 1.0 && reduced != target.full;
+  if (offscreen) {
+    beginReduced(gl, reduced);
+  }
+  drawBackground(gl);
+  times.backgroundMs = clock.lap();
+  times.triangles = drawMesh(gl, buffers, gpu, pass);
+  if (offscreen) {
+    endReduced(gl, target.framebuffer, reduced, target.full);
+  }
+  if (target.finish) {
+    gl.glFinish();
+  }
+  times.meshMs = clock.lap();
 }
 
 // The mesh's triangles, or with pass.proxy those of the interactive proxy (on the GPU path after them in the mesh's

@@ -4,7 +4,9 @@
 // frames, and the depth-only pass read back for picking. It owns the programs and framebuffers those need; the
 // vertex data comes from ViewportBuffers, the GPU path's program and uniforms from GpuReconstructor.
 
+#include "app/gui/mesh_viewport_types.h"
 #include "app/gui/vertex_picking.h"
+#include "spectral/display_level.h"
 
 #include <Eigen/Core>
 
@@ -21,6 +23,7 @@ class QOpenGLShaderProgram;
 namespace sc::app {
 
 class GpuReconstructor;
+class StageClock;
 class ViewportBuffers;
 
 /// One mesh pass: the camera, what to draw and on which path.
@@ -30,6 +33,14 @@ struct MeshPass {
   bool wireframe = false;                 ///< edges over the shaded triangles
   bool proxy = false;                     ///< the interactive proxy's triangles instead of the mesh's
   const Eigen::MatrixXf* gpuZ = nullptr;  ///< non-null: the GPU path draws X̂' + K·Z with this Z (m by 3)
+};
+
+/// Where and how one picture is drawn.
+struct FrameTarget {
+  unsigned framebuffer = 0;  ///< the widget's framebuffer object
+  QSize full;                ///< its size in device pixels
+  double scale = 1.0;        ///< internal resolution: below 1 through the reduced target, stretched onto it
+  bool finish = false;       ///< end with glFinish() (a measured frame: the rasteriser's time is part of it)
 };
 
 class ScenePasses {
@@ -51,6 +62,13 @@ class ScenePasses {
   void drawBackground(QOpenGLFunctions_3_3_Core& gl);
   /// Draws `pass` from `buffers` (uploaded). Returns the number of triangles drawn (0: no mesh).
   int drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu, const MeshPass& pass);
+
+  /// One picture into `target`: uploads the buffers (`K`: the GPU path's basis, or nullptr), draws the background,
+  /// then `pass`. Fills the GL stages of `times` (upload, background, mesh with the stretch and finish) and its
+  /// triangle count, each stage ended by `clock` (started here). Needs create().
+  void drawFrame(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu,
+                 const spectral::RowMatrixXf* K, const MeshPass& pass, const FrameTarget& target, StageClock& clock,
+                 FrameTimes& times);
 
   /// Binds an offscreen target of `reduced` device pixels (re-created when the size changes) and its viewport.
   void beginReduced(QOpenGLFunctions_3_3_Core& gl, QSize reduced);

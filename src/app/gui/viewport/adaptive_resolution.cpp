@@ -1,4 +1,4 @@
-#include "app/gui/mesh_viewport_resolution.h"
+#include "app/gui/viewport/adaptive_resolution.h"
 
 #include <algorithm>
 #include <cmath>
