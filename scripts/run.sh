@@ -5,7 +5,9 @@
 # --screenshot/--size first (./scripts/run.sh --screenshot shot.png) the default mesh is viewed and rendered.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-"$root/scripts/setup.sh"
+# Only what the window needs (and the command-line tool): the tests, fuzz seeds and benchmarks are the test
+# command's to build.
+SHAPECAST_BUILD_TARGETS="shapecast shapecast-cli" "$root/scripts/setup.sh"
 if [[ $# -gt 0 && ( "$1" == --screenshot* || "$1" == --size* ) ]]; then
   set -- "$root/assets/meshes/dragon_vrip_res3.ply" "$@"
 fi

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the app tests: GL availability, OFF writing, image comparison and position comparison.
 
+#include "app/gui/viewport/renderer_defaults.h"
+
 #include <Eigen/Core>
 
 #include <QFile>
@@ -22,15 +24,7 @@ namespace sc::testing {
 
 /// True when an OpenGL 3.3 core context can be created (an X server with GLX, e.g. Xvfb + Mesa llvmpipe).
 /// GL tests skip otherwise, so the suite still runs where there is no display.
-inline bool openGlAvailable() {
-  QOpenGLContext context;
-  context.setFormat(QSurfaceFormat::defaultFormat());
-  if (!context.create()) {
-    return false;
-  }
-  const QSurfaceFormat format = context.format();
-  return format.majorVersion() > 3 || (format.majorVersion() == 3 && format.minorVersion() >= 3);
-}
+inline bool openGlAvailable() { return sc::app::RendererDefaults::openGlProblem().isEmpty(); }
 
 /// Writes (V, F) as an ASCII OFF file; returns false if the file cannot be written.
 inline bool writeOff(const QString& path, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {

@@ -156,5 +156,18 @@ TEST_F(LaunchOptionsTest, UnknownOptionsAndMissingValuesAreErrors) {
   EXPECT_FALSE(error({QStringLiteral("--join")}).message.isEmpty());
 }
 
+TEST(ShieldedArguments, NameWithASpaceIsJoinedToItsValueAndTheRestIsKept) {
+  std::vector<std::string> given = {"shapecast", "--join", "127.0.0.1:47100", "--name", "bob", "--level", "full"};
+  std::vector<char*> argv;
+  for (std::string& argument : given) argv.push_back(argument.data());
+  EXPECT_EQ(shieldedArguments(argv),
+            (std::vector<std::string>{"shapecast", "--join", "127.0.0.1:47100", "--name=bob", "--level", "full"}));
+  // Already joined, or a trailing --name without a value (the parser then says what is missing): unchanged.
+  std::vector<std::string> other = {"shapecast", "--name=alice", "mesh.ply", "--name"};
+  std::vector<char*> otherArgv;
+  for (std::string& argument : other) otherArgv.push_back(argument.data());
+  EXPECT_EQ(shieldedArguments(otherArgv), other);
+}
+
 }  // namespace
 }  // namespace sc::app

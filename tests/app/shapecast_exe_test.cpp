@@ -8,10 +8,12 @@
 #include <gtest/gtest.h>
 
 #include <QDir>
+#include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
 #include <QProcess>
 #include <QProcessEnvironment>
+#include <QRegularExpression>
 #include <QTemporaryDir>
 
 namespace {
@@ -116,6 +118,74 @@ TEST_F(ShapecastExe, ScreenshotDirRunsTheScreenshotsTool) {
   for (const char* name :
        {"demo-host.png", "demo-client-full.png", "demo-client-low.png", "main-window-statistics.png"})
     EXPECT_FALSE(QImage(QDir(dir).filePath(QString::fromLatin1(name))).isNull()) << name;
+}
+
+TEST(ShapecastExeWithoutOpenGl, SaysWhatIsMissingAndExitsCleanly) {
+  // The "offscreen" platform has no OpenGL: before the check, QOpenGLWidget failed to create its context and the
+  // process died of a segmentation fault (exit status CrashExit, exit code -1 here).
+  QTemporaryDir dir;
+  ASSERT_TRUE(dir.isValid());
+  const QString mesh = dir.filePath(QStringLiteral("sphere.off"));
+  const auto sphere = sc::testing::icosphere(2);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, sphere.V, sphere.F));
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("QT_QPA_PLATFORM"), QStringLiteral("offscreen"));
+  const QString png = dir.filePath(QStringLiteral("shot.png"));
+  for (const QStringList& arguments : {QStringList{mesh, QStringLiteral("--screenshot"), png}, QStringList{mesh}}) {
+    const RunResult run = runShapecast(arguments, environment);
+    EXPECT_EQ(run.exitCode, 3) << run.standardError.toStdString();
+    EXPECT_TRUE(run.standardError.contains(QStringLiteral("OpenGL 3.3"))) << run.standardError.toStdString();
+  }
+  EXPECT_FALSE(QFileInfo::exists(png));
+}
+
+TEST_F(ShapecastExe, NameWithASpaceReachesTheHost) {
+  // X11's platform plugin took "--name bob" for itself, and the client joined as "guest".
+  const QString mesh = m_dir.filePath(QStringLiteral("torus.off"));
+  const auto torus = sc::testing::torus(30, 15);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, torus.V, torus.F));
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  QProcess host;
+  host.setProcessEnvironment(environment);
+  host.start(QStringLiteral(SHAPECAST_CLI_EXE),
+             {QStringLiteral("host"), mesh, QStringLiteral("--port"), QStringLiteral("0"), QStringLiteral("--m"),
+              QStringLiteral("20"), QStringLiteral("--seconds"), QStringLiteral("60")});
+  QString hostOutput;
+  const QRegularExpression portLine(QStringLiteral("TCP port (\\d+)"));
+  const QRegularExpression fingerprintLine(QStringLiteral("fingerprint \\(SHA-256\\), for joiners to compare: (\\S+)"));
+  QElapsedTimer waited;
+  waited.start();
+  while (!fingerprintLine.match(hostOutput).hasMatch() && waited.elapsed() < kTimeoutMs / 4 &&
+         host.state() != QProcess::NotRunning) {
+    host.waitForReadyRead(500);
+    hostOutput += QString::fromUtf8(host.readAllStandardOutput());
+  }
+  const QRegularExpressionMatch port = portLine.match(hostOutput);
+  const QRegularExpressionMatch fingerprint = fingerprintLine.match(hostOutput);
+  ASSERT_TRUE(port.hasMatch() && fingerprint.hasMatch()) << hostOutput.toStdString();
+
+  QProcess client;
+  client.setProcessEnvironment(environment);
+  client.start(QStringLiteral(SHAPECAST_EXE),
+               {QStringLiteral("--join"), QStringLiteral("127.0.0.1:") + port.captured(1), QStringLiteral("--name"),
+                QStringLiteral("bob"), QStringLiteral("--fingerprint"), fingerprint.captured(1)});
+  // The host prints each member's figures every 5 s, under the member's name.
+  const QRegularExpression memberLine(QStringLiteral("^  (\\S+) \\(\\d+ vertices\\)"),
+                                      QRegularExpression::MultilineOption);
+  waited.restart();
+  while (!memberLine.match(hostOutput).hasMatch() && waited.elapsed() < 30000 && host.state() != QProcess::NotRunning) {
+    host.waitForReadyRead(500);
+    hostOutput += QString::fromUtf8(host.readAllStandardOutput());
+  }
+  client.kill();
+  client.waitForFinished();
+  host.kill();
+  host.waitForFinished();
+  const QRegularExpressionMatch member = memberLine.match(hostOutput);
+  ASSERT_TRUE(member.hasMatch()) << hostOutput.toStdString();
+  EXPECT_EQ(member.captured(1).toStdString(), "bob");
 }
 
 TEST_F(ShapecastExe, MalformedFingerprintIsAUsageError) {

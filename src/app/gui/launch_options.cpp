@@ -182,4 +182,18 @@ std::optional<QSize> parseSize(const QString& text) {
   return size.width() > 0 && size.height() > 0 ? std::optional<QSize>(size) : std::nullopt;
 }
 
+std::vector<std::string> shieldedArguments(std::span<char* const> argv) {
+  std::vector<std::string> out;
+  out.reserve(argv.size());
+  for (std::size_t i = 0; i < argv.size(); ++i) {
+    const std::string_view arg(argv[i]);
+    if (i > 0 && arg == "--name" && i + 1 < argv.size()) {
+      out.push_back("--name=" + std::string(argv[++i]));
+    } else {
+      out.emplace_back(arg);
+    }
+  }
+  return out;
+}
+
 }  // namespace sc::app

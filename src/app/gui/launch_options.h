@@ -23,7 +23,10 @@
 #include <QStringList>
 
 #include <optional>
+#include <span>
+#include <string>
 #include <variant>
+#include <vector>
 
 namespace sc::app {
 
@@ -31,6 +34,7 @@ namespace sc::app {
 /// image could not be written, bad arguments (EX_USAGE).
 inline constexpr int kLaunchExitLoadFailed = 1;
 inline constexpr int kLaunchExitImageFailed = 2;
+inline constexpr int kLaunchExitNoOpenGl = 3;  ///< the display offers no OpenGL 3.3 core context
 inline constexpr int kLaunchExitUsage = 64;
 
 /// What shapecast was asked to do, checked (every field consistent with the others).
@@ -91,6 +95,12 @@ class LaunchParser {
   QCommandLineOption m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
       m_screenshotDir, m_after;
 };
+
+/// argv for QApplication with the options of ours that a Qt platform plugin would take first joined to their
+/// value: X11's plugin takes "--name NAME" (as "-name") for its window-manager class name before any parser of ours
+/// sees it, so "--name bob" becomes "--name=bob" (which the plugin leaves alone). Every other argument, argv[0]
+/// included, is kept as it is. Cost: O(argc).
+std::vector<std::string> shieldedArguments(std::span<char* const> argv);
 
 /// LaunchParser().parse(arguments): the testable whole of shapecast's argument handling.
 std::variant<LaunchOptions, LaunchError> parseLaunchArguments(const QStringList& arguments);

@@ -6,7 +6,8 @@
 // fetched mesh, else a generated torus) on port 47100 (any free port if taken) with a default handle and anchors,
 // the lock requested and the Drag tool active. --demo is demo.h. With MESH, the mesh is loaded (viewed) at start-up.
 // With --screenshot, the first rendered frame of the viewport is saved to FILE and the program exits: 0 on success, 1
-// when MESH could not be loaded, 2 when the image could not be written, 64 for bad arguments. Load errors then go to
+// when MESH could not be loaded, 2 when the image could not be written, 3 when the display offers no OpenGL 3.3 (said
+// on stderr, in any mode), 64 for bad arguments. Load errors then go to
 // stderr instead of a dialog. --demo --screenshot-dir runs the sibling executable shapecast-screenshots with the
 // same arguments (tools/screenshots/: README-screenshot automation is no part of the application): exit 0 when every
 // PNG was written, 2 otherwise (the reason on stderr), 2 also when shapecast-screenshots cannot be run.
@@ -27,6 +28,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -34,6 +36,7 @@ namespace {
 
 using sc::app::kLaunchExitImageFailed;
 using sc::app::kLaunchExitLoadFailed;
+using sc::app::kLaunchExitNoOpenGl;
 using sc::app::kLaunchExitUsage;
 constexpr int kFirstFrameTimeoutMs = 10000;
 
@@ -104,8 +107,6 @@ int runWindow(const sc::app::LaunchOptions& options) {
 }  // namespace
 
 int main(int argc, char* argv[]) {
-  // argv as given (QApplication takes out the options it knows), for shapecast-screenshots.
-  const std::vector<char*> given(argv + 1, argv + argc);
   // --help and --version print and exit inside QApplication's parser: they must work without a display too.
   const std::span<char*> arguments(argv, static_cast<std::size_t>(argc));
   const bool onlyPrints = std::any_of(arguments.begin() + 1, arguments.end(), [](const char* a) {
@@ -114,12 +115,25 @@ int main(int argc, char* argv[]) {
   });
   if (onlyPrints) qputenv("QT_QPA_PLATFORM", "offscreen");
   QSurfaceFormat::setDefaultFormat(sc::app::RendererDefaults::preferredSurfaceFormat());
-  QApplication app(argc, argv);
+  // Our options that a platform plugin would take first (X11: --name) are joined to their values. The strings live
+  // as long as the QApplication, which keeps pointers to them.
+  std::vector<std::string> shielded = sc::app::shieldedArguments(arguments);
+  std::vector<char*> shieldedArgv;
+  for (std::string& argument : shielded) shieldedArgv.push_back(argument.data());
+  shieldedArgv.push_back(nullptr);
+  // The arguments before QApplication takes out the options it knows, for shapecast-screenshots.
+  const std::vector<char*> given(shieldedArgv.begin() + 1, shieldedArgv.end() - 1);
+  int shieldedArgc = static_cast<int>(shielded.size());
+  QApplication app(shieldedArgc, shieldedArgv.data());
   sc::app::LaunchParser parser;
   const std::optional<sc::app::LaunchOptions> parsed =
       parser.processApplication(app, QStringLiteral(SHAPECAST_VERSION));
   if (!parsed) return kLaunchExitUsage;
   const sc::app::LaunchOptions& options = *parsed;
+  if (const QString problem = sc::app::RendererDefaults::openGlProblem(); !problem.isEmpty()) {
+    printError(problem);
+    return kLaunchExitNoOpenGl;
+  }
   if (options.screenshotDirectory) {
     printError(sc::app::execSibling(QStringLiteral("shapecast-screenshots"), given) +
                QStringLiteral(" (--screenshot-dir: build the target shapecast-screenshots, tools/screenshots/)"));

@@ -1,8 +1,10 @@
 #include "app/gui/viewport/renderer_defaults.h"
 
+#include <QGuiApplication>
 #include <QOffscreenSurface>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
+#include <QStringList>
 
 #include <algorithm>
 
@@ -26,6 +28,30 @@ QSurfaceFormat RendererDefaults::preferredSurfaceFormat() {
   format.setProfile(QSurfaceFormat::CoreProfile);
   format.setDepthBufferSize(24);
   return format;
+}
+
+QString RendererDefaults::openGlProblem() {
+  QOpenGLContext context;
+  context.setFormat(QSurfaceFormat::defaultFormat());
+  const QString platform = QGuiApplication::platformName();
+  const QString need = QStringLiteral(
+      "the 3D view needs OpenGL 3.3 (core profile); run shapecast on a desktop or X display with an OpenGL driver "
+      "(Mesa's llvmpipe is enough; on a machine without a display: xvfb-run)");
+  // Platforms without windows of their own cannot compose an OpenGL widget (Qt warns "QOpenGLWidget is not
+  // supported on this platform" and then crashes in its flush), even where they create a context.
+  const QStringList windowless = {QStringLiteral("offscreen"), QStringLiteral("minimal"), QStringLiteral("vnc"),
+                                  QStringLiteral("linuxfb")};
+  if (windowless.contains(platform) || !context.create()) {
+    return QStringLiteral("the \"%1\" display platform offers no OpenGL window: %2").arg(platform, need);
+  }
+  const QSurfaceFormat format = context.format();
+  if (format.majorVersion() < 3 || (format.majorVersion() == 3 && format.minorVersion() < 3)) {
+    return QStringLiteral("this display's OpenGL is %1.%2: %3")
+        .arg(format.majorVersion())
+        .arg(format.minorVersion())
+        .arg(need);
+  }
+  return {};
 }
 
 QString RendererDefaults::rendererName() {

@@ -13,6 +13,10 @@ namespace sc::app {
 struct RendererDefaults {
   /// OpenGL 3.3 core, 24-bit depth, no multisampling (each viewport asks for its own samples).
   static QSurfaceFormat preferredSurfaceFormat();
+  /// Empty when the display platform can show OpenGL widgets (not "offscreen", "minimal", "vnc" or "linuxfb") and an
+  /// OpenGL 3.3 core context can be created from the default format; otherwise what is missing, in a sentence for
+  /// the user.
+  static QString openGlProblem();
   /// The GL_RENDERER string of a probe context created from the default format (empty when none can be made).
   static QString rendererName();
   /// Whether rendererName() names a software rasteriser (llvmpipe, softpipe or "software").
