@@ -224,6 +224,15 @@ TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
   EXPECT_FALSE(hostWindow.session()->setNetworkConditions(0.1, 1.0, 0));  // a host has none
 }
 
+TEST(FirstStartName, GivenElseTheRememberedNameElseHost) {
+  // The first start named itself "host" even when the dialogs remembered the user's name.
+  sc::app::RecentSessions recent;
+  EXPECT_EQ(sc::app::firstStartName({}, recent).toStdString(), "host");
+  recent.names = {QStringLiteral("ada"), QStringLiteral("bob")};
+  EXPECT_EQ(sc::app::firstStartName({}, recent).toStdString(), "ada");
+  EXPECT_EQ(sc::app::firstStartName(QStringLiteral(" eve "), recent).toStdString(), "eve");
+}
+
 TEST_F(DemoTest, FirstStartPicksAMeshAndIsReadyToDrag) {
   // No fetched mesh in an empty folder: a generated torus; a folder with meshes: the dragon first, else by name.
   QTemporaryDir empty;

@@ -109,6 +109,12 @@ QString defaultMeshOrGenerated(const QStringList& folders, QString* error) {
   return writeGeneratedMesh(generated, error) ? generated : QString();
 }
 
+QString firstStartName(const QString& given, const RecentSessions& recent) {
+  if (const QString name = given.trimmed(); !name.isEmpty()) return name;
+  if (!recent.names.isEmpty() && !recent.names.front().trimmed().isEmpty()) return recent.names.front().trimmed();
+  return QStringLiteral("host");
+}
+
 quint16 availablePort(quint16 preferred) {
   QTcpServer probe;
   if (!probe.listen(QHostAddress::Any, preferred)) return 0;

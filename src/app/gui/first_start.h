@@ -6,6 +6,7 @@
 // default anchors (everything farther than 40% of the bounding-box diagonal), request the lock and switch to the
 // Drag tool, so that a left drag on the handle deforms the mesh at once.
 
+#include "app/gui/recent_sessions.h"
 #include "app/gui/session_settings.h"
 
 #include <Eigen/Core>
@@ -39,6 +40,10 @@ bool writeGeneratedMesh(const QString& path, QString* error = nullptr);
 /// findDefaultMesh(folders), else a generated torus written to the temporary folder
 /// (shapecast-default-torus.off). Empty, with the reason in *error, only when even that file cannot be written.
 [[nodiscard]] QString defaultMeshOrGenerated(const QStringList& folders, QString* error = nullptr);
+
+/// The first start's display name: `given` (--name, trimmed) when not empty, else the most recently used name of
+/// `recent` (the host and join dialogs remember it), else "host".
+[[nodiscard]] QString firstStartName(const QString& given, const RecentSessions& recent);
 
 /// `preferred` if a TCP server can listen on it now, else 0 (any free port; the status bar tells which).
 [[nodiscard]] quint16 availablePort(quint16 preferred = 47100);

@@ -22,6 +22,7 @@
 
 #include <QApplication>
 #include <QImage>
+#include <QSettings>
 #include <QSurfaceFormat>
 #include <QTimer>
 
@@ -82,7 +83,8 @@ int runWindow(const sc::app::LaunchOptions& options) {
     sc::app::HostSettings settings;
     settings.meshPath = sc::app::defaultMeshOrGenerated(sc::app::defaultMeshFolders(), &error);
     settings.port = sc::app::availablePort(settings.port);
-    settings.name = options.name.isEmpty() ? QStringLiteral("host") : options.name;
+    QSettings store;
+    settings.name = sc::app::firstStartName(options.name, sc::app::RecentSessions::load(store));
     if (settings.meshPath.isEmpty()) {
       std::fprintf(stderr, "shapecast: no default mesh: %s\n", qUtf8Printable(error));
     } else {
