@@ -10,6 +10,7 @@
 #include "session/engine/host_model.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
+#include "spectral/spectral_deformer.h"
 
 #include <QLocale>
 
@@ -189,6 +190,9 @@ bool HostController::sendConstraints(const spectral::FullVertexIds& handle, cons
 }
 
 bool HostController::sendPose(const spectral::HandleTransform& pose) {
+  // A pose out of range (non-finite, or a handle moved more than kMaxPoseTranslationDiagonals diagonals) is refused
+  // here, so the editor keeps its last good pose; the deformer refuses it too (members' drags). O(#V) per drag.
+  if (m_model == nullptr || !spectral::poseInRange(pose, spectral::maxPoseTranslation(m_model->V))) return false;
   return m_host->drag(std::span<const spectral::HandleTransform>(&pose, 1));
 }
 
