@@ -7,6 +7,7 @@
 #include <QJsonDocument>
 #include <QTextStream>
 
+#include <algorithm>
 #include <chrono>
 
 namespace sc::app {
@@ -85,7 +86,9 @@ std::optional<QString> readPasswordFile(const SubcommandParser& command, const Q
     command.error(QStringLiteral("cannot read the password file '%1': %2").arg(path, file.errorString()));
     return std::nullopt;
   }
-  QString password = QString::fromUtf8(file.readLine());
+  QByteArray line = file.readLine();
+  QString password = QString::fromUtf8(line);
+  line.fill('\0');  // the raw line is ours alone: overwritten before it is freed
   while (!password.isEmpty() && password.back().isSpace()) password.chop(1);
   if (password.isEmpty()) {
     command.error(QStringLiteral("the password file '%1' is empty (its first line is the password)").arg(path));
@@ -129,6 +132,11 @@ void printReport(const SubcommandParser& command, const QJsonObject& report,
     QTextStream(stdout) << QJsonDocument(report).toJson(QJsonDocument::Compact) << '\n';
   else
     printText(report);
+}
+
+void forgetPassword(std::optional<QString>& password) {
+  if (password && password->isDetached()) std::fill(password->begin(), password->end(), QChar(u'\0'));
+  password.reset();
 }
 
 }  // namespace sc::app

@@ -35,6 +35,7 @@ int runDriveCommand(const QStringList& arguments) {
   session::SessionClientOptions options;
   if (!peer.apply(command, options)) return kExitUsage;
   session::SessionClient client(options);
+  forgetPassword(options.password);  // the client keeps its own copy until its proof
   if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
   const Eigen::MatrixXd& rest = client.level()->restV;
   const std::variant<spectral::ConstraintSet, QString> resolved = resolveConstraints(script, rest);

@@ -156,10 +156,11 @@ int runJoinCommand(const QStringList& arguments) {
   SubcommandParser command(QStringLiteral("join"), QStringLiteral("Join a ShapeCast session headless."),
                            SubcommandKind::Peer);
   int exitCode = kExitOk;
-  const std::optional<JoinArguments> args = parseJoinArguments(command, arguments, exitCode);
+  std::optional<JoinArguments> args = parseJoinArguments(command, arguments, exitCode);
   if (!args) return exitCode;
 
   session::SessionClient client(args->client);
+  forgetPassword(args->client.password);  // the client keeps its own copy until its proof
   session::DistortionMeter meter(client, session::DistortionMeter::Mode::Live, &client);
   // --level N: the host serves the rung closest to N (by exact counts where built); once the host's level list is
   // complete, ask for the closest exact level should that be another one (at most once).
