@@ -7,7 +7,6 @@
 #include <QJsonDocument>
 #include <QTextStream>
 
-#include <algorithm>
 #include <chrono>
 
 namespace sc::app {
@@ -132,11 +131,6 @@ void printReport(const SubcommandParser& command, const QJsonObject& report,
     QTextStream(stdout) << QJsonDocument(report).toJson(QJsonDocument::Compact) << '\n';
   else
     printText(report);
-}
-
-void forgetPassword(std::optional<QString>& password) {
-  if (password && password->isDetached()) std::fill(password->begin(), password->end(), QChar(u'\0'));
-  password.reset();
 }
 
 }  // namespace sc::app

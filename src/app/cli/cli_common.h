@@ -100,11 +100,6 @@ spectral::BasisComputation basisOrReport(const SubcommandParser& command, const 
 /// `command.error()` and returns nullopt (exit code kExitUsage).
 std::optional<QString> readPasswordFile(const SubcommandParser& command, const QString& path);
 
-/// Drops the command's copy of a password once it was handed over (to SessionHost, which derives its key at
-/// start(), or to SessionClient): overwritten in place when no one else shares its buffer, then reset. Another
-/// holder's copy (the session's own) is left to that holder. O(length).
-void forgetPassword(std::optional<QString>& password);
-
 /// Prints a finished report: one compact JSON line on stdout when the command was given --json, else through
 /// `printText` (the subcommand's human-readable layout).
 void printReport(const SubcommandParser& command, const QJsonObject& report,

@@ -3,6 +3,7 @@
 #include "app/cli/drag_script.h"
 #include "app/cli/peer_arguments.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 

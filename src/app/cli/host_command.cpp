@@ -2,6 +2,7 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "model/decimating_level_builder.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"

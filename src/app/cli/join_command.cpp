@@ -3,6 +3,7 @@
 #include "app/cli/peer_arguments.h"
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "session/engine/session_clock.h"
 #include "session/net/distortion_meter.h"
 

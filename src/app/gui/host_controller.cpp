@@ -2,6 +2,7 @@
 // saved session's state, the host's display (its full level once, a frame per new Z) and its figures.
 #include "app/gui/host_controller.h"
 
+#include "app/common/password_memory.h"
 #include "app/gui/host_preparation.h"
 #include "app/gui/saved_deformation.h"
 #include "app/gui/vertex_id_lists.h"
@@ -87,7 +88,10 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   if (m_saved) options.deformer.mode = m_saved->mode;
   m_host = new session::SessionHost(m_model, options, this);
   QString error;
-  if (!m_host->start(&error)) {
+  const bool started = m_host->start(&error);  // derives the password's key
+  forgetPassword(options.password);
+  forgetPassword(m_settings.password);
+  if (!started) {
     fail(tr("Could not host on TCP port %1: %2").arg(m_settings.port).arg(error));
     return;
   }
