@@ -5,6 +5,7 @@
 
 #include "fuzz_support.h"
 #include "mesh_files.h"
+#include "model/session_file.h"
 #include "session/wire/coefficient_codec.h"
 #include "session/wire/control_messages.h"
 #include "session/wire/model_transfer.h"
@@ -12,6 +13,8 @@
 #include "spectral/basis_cache.h"
 #include "spectral/resolution_level.h"
 #include "test_meshes.h"
+
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <cstdio>
@@ -186,6 +189,46 @@ void basisCacheSeeds(const fs::path& root) {
   fs::remove(file);
 }
 
+/// Sessions of a small torus: without and with a current state and a history whose states share their lists
+/// ("same as previous"), each whole (mode 0) and as a payload to be sealed (mode 1).
+void sessionFileSeeds(const fs::path& root) {
+  const SeedWriter seeds(root, "session_file");
+  const sc::testing::GeneratedMesh mesh = sc::testing::torus(8, 6);
+  sc::model::SessionFile file;
+  file.V = mesh.V;
+  file.F = mesh.F;
+  file.m = 6;
+  file.Z = coefficients(file.m);
+  const auto payload = [](const QByteArray& bytes) { return bytes.mid(20, bytes.size() - 20 - 32); };
+  const QByteArray plain = sc::model::encodeSessionFile(file);
+  seeds.write("torus-plain", 0, plain);
+  seeds.write("torus-plain-payload", 1, payload(plain));
+
+  sc::model::SavedDeformation rest;
+  rest.handle = {0, 1, 2};
+  rest.anchors = {20, 21, 22, 23, 30};
+  sc::model::SavedDeformation moved = rest;
+  moved.translation = Eigen::Vector3d(0.1, 0.2, -0.1);
+  sc::model::SavedDeformation turned = moved;
+  turned.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  sc::model::SavedDeformation other;
+  other.handle = {5};
+  other.anchors = {40, 41};
+  file.mode = sc::spectral::DeformationMode::Rigid;
+  file.current = turned;
+  file.history = {{rest, moved}, {moved, turned}, {turned, other}};
+  file.historyIndex = 2;
+  const QByteArray history = sc::model::encodeSessionFile(file);
+  seeds.write("torus-history", 0, history);
+  seeds.write("torus-history-payload", 1, payload(history));
+  // An anchor list longer than the mesh (ids repeated), repeated by every later state: refused as it is read
+  // (issue 14; before, such lists were copied for every "same as previous" before any check).
+  for (int i = 0; i < 2 * static_cast<int>(file.V.rows()); ++i) other.anchors.push_back(i % 40);
+  file.history.back().after = other;
+  file.history.push_back({other, other});
+  seeds.write("torus-long-list", 0, sc::model::encodeSessionFile(file));
+}
+
 void meshSeeds(const fs::path& root) {
   using sc::testing::FileFormat;
   const SeedWriter seeds(root, "mesh");
@@ -223,5 +266,6 @@ int main(int argc, char** argv) {
   levelSeeds(root);
   basisCacheSeeds(root);
   meshSeeds(root);
+  sessionFileSeeds(root);
   return 0;
 }

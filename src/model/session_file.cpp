@@ -1,16 +1,18 @@
 #include "model/session_file.h"
 
-#include <QCryptographicHash>
 #include <QFile>
 #include <QSaveFile>
 #include <QtEndian>
 
+#include <openssl/evp.h>
 #include <Eigen/Dense>
 
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
+#include <utility>
 
 namespace sc::model {
 
@@ -19,7 +21,6 @@ namespace {
 constexpr qsizetype kMagicBytes = sizeof(kSessionFileMagic);
 constexpr qsizetype kHeaderBytes = kMagicBytes + 4 + 8;  // magic, version, payload length
 constexpr qsizetype kChecksumBytes = 32;                 // SHA-256
-constexpr qint64 kMaxFileBytes = qint64{1} << 31;        // 2 GiB: far beyond any mesh we host
 constexpr double kRotationTolerance = 1e-6;              // |RᵀR − I| and |det R − 1|
 
 // ---------------------------------------------------------------------------------------------------- writing
@@ -67,7 +68,27 @@ class Writer {
 
 // ---------------------------------------------------------------------------------------------------- reading
 
-/// Bounds-checked little-endian reader of the payload; the first failure sticks (error()).
+/// An id list as read: shared by every "same as previous" reference to it (nothing is copied while parsing).
+using IdList = std::shared_ptr<const std::vector<int>>;
+
+/// A deformation as read, its lists still shared (expanded into a SavedDeformation only once the whole file is
+/// counted).
+struct ParsedDeformation {
+  IdList handle;
+  IdList anchors;
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+
+  [[nodiscard]] SavedDeformation expanded() const {
+    const auto copy = [](const IdList& list) { return list ? *list : std::vector<int>{}; };
+    return SavedDeformation{copy(handle), copy(anchors), translation, rotation};
+  }
+};
+
+/// Bounds-checked little-endian reader of the payload; the first failure sticks (error()). Id lists are checked as
+/// they are read, before anything is expanded: an explicit list holds at most as many ids as the mesh has vertices,
+/// and every list, explicit or "the same as the previous one", is counted against kMaxSessionFileIds (a "same"
+/// list shares the earlier one: nothing is copied until the whole file is counted, see parsePayload()).
 class Reader {
  public:
   explicit Reader(QByteArrayView data) : m_data(data) {}
@@ -96,23 +117,36 @@ class Reader {
   std::uint64_t u64() { return qFromLittleEndian(take<std::uint64_t>()); }
   double f64() { return std::bit_cast<double>(u64()); }
 
-  std::vector<int> ids(std::optional<std::vector<int>>& previous, const char* what) {
+  /// The mesh's vertex count, the most ids an explicit list may hold.
+  void setVertexCount(std::uint32_t vertices) { m_vertices = vertices; }
+
+  IdList ids(IdList& previous, const char* what) {
     const std::uint8_t kind = u8();
     if (!ok()) return {};
     if (kind == 0) {
-      if (!previous)
+      if (!previous) {
         fail(QStringLiteral("corrupted: a %1 list refers to an earlier one that is not there")
                  .arg(QLatin1StringView(what)));
-      return previous.value_or(std::vector<int>{});
+        return {};
+      }
+      if (!spend(previous->size())) return {};
+      return previous;
     }
     if (kind != 1) {
       fail(QStringLiteral("corrupted: unknown %1 list kind %2").arg(QLatin1StringView(what)).arg(kind));
       return {};
     }
     const std::uint32_t count = u32();
-    if (!fits(count, 4, what)) return {};
-    std::vector<int> out(count);
-    for (int& id : out) {
+    if (ok() && count > m_vertices) {
+      fail(QStringLiteral("a %1 list has %2 ids, more than the mesh's %3 vertices")
+               .arg(QLatin1StringView(what))
+               .arg(count)
+               .arg(m_vertices));
+      return {};
+    }
+    if (!fits(count, 4, what) || !spend(count)) return {};
+    auto out = std::make_shared<std::vector<int>>(count);
+    for (int& id : *out) {
       const std::uint32_t v = u32();
       id = v > static_cast<std::uint32_t>(std::numeric_limits<int>::max()) ? -1 : static_cast<int>(v);
     }
@@ -120,8 +154,8 @@ class Reader {
     return out;
   }
 
-  SavedDeformation deformation() {
-    SavedDeformation d;
+  ParsedDeformation deformation() {
+    ParsedDeformation d;
     d.handle = ids(m_lastHandle, "handle");
     d.anchors = ids(m_lastAnchors, "anchor");
     for (int i = 0; i < 3; ++i) d.translation(i) = f64();
@@ -144,14 +178,34 @@ class Reader {
     return v;
   }
 
+  /// Counts `count` more ids against kMaxSessionFileIds; fails once the file's lists would exceed it.
+  bool spend(std::uint64_t count) {
+    m_ids += count;
+    if (m_ids <= static_cast<std::uint64_t>(kMaxSessionFileIds)) return true;
+    fail(QStringLiteral("its constraint lists expand to more than %1 vertex ids").arg(kMaxSessionFileIds));
+    return false;
+  }
+
   QByteArrayView m_data;
   qsizetype m_at = 0;
   QString m_error;
-  std::optional<std::vector<int>> m_lastHandle;
-  std::optional<std::vector<int>> m_lastAnchors;
+  std::uint32_t m_vertices = 0;
+  std::uint64_t m_ids = 0;  ///< ids in all lists so far, "same as previous" ones counted again
+  IdList m_lastHandle;
+  IdList m_lastAnchors;
 };
 
-QByteArray sha256(QByteArrayView bytes) { return QCryptographicHash::hash(bytes, QCryptographicHash::Sha256); }
+/// SHA-256 through OpenSSL (EVP_Digest); empty only if OpenSSL fails.
+QByteArray sha256(QByteArrayView bytes) {
+  QByteArray digest(kChecksumBytes, Qt::Uninitialized);
+  unsigned int size = 0;
+  if (EVP_Digest(bytes.data(), static_cast<std::size_t>(bytes.size()), reinterpret_cast<unsigned char*>(digest.data()),
+                 &size, EVP_sha256(), nullptr) != 1 ||
+      size != static_cast<unsigned int>(kChecksumBytes)) {
+    return {};
+  }
+  return digest;
+}
 
 /// Empty when `d` is a usable state of a mesh with `n` vertices, else the problem (prefixed with `what`).
 QString validateDeformation(const SavedDeformation& d, int n, const QString& what) {
@@ -180,6 +234,7 @@ SessionFile parsePayload(Reader& in) {
   SessionFile file;
   const std::uint32_t vertices = in.u32();
   const std::uint32_t faces = in.u32();
+  in.setVertexCount(vertices);
   if (in.fits(vertices, 24, "vertices")) {
     file.V.resize(vertices, 3);
     for (Eigen::Index i = 0; i < file.V.rows(); ++i)
@@ -200,7 +255,8 @@ SessionFile parsePayload(Reader& in) {
   file.mode = mode == 1 ? spectral::DeformationMode::Rigid : spectral::DeformationMode::Linear;
   const std::uint8_t hasCurrent = in.u8();
   if (hasCurrent > 1) in.fail(QStringLiteral("corrupted: current-state flag %1").arg(hasCurrent));
-  if (hasCurrent == 1) file.current = in.deformation();
+  std::optional<ParsedDeformation> current;
+  if (hasCurrent == 1) current = in.deformation();
   const std::uint32_t zRows = in.u32();
   const std::uint32_t zCols = in.u32();
   if (zCols > 3) in.fail(QStringLiteral("Z has %1 columns (3 expected)").arg(zCols));
@@ -212,16 +268,21 @@ SessionFile parsePayload(Reader& in) {
   const std::uint32_t count = in.u32();
   const std::uint32_t index = in.u32();
   // each drag takes at least 2 × (2 list kinds + 12 doubles) = 196 bytes
+  std::vector<std::pair<ParsedDeformation, ParsedDeformation>> history;
   if (in.fits(count, 2 * (2 + 12 * 8), "drags")) {
-    file.history.resize(count);
-    for (SavedDrag& drag : file.history) {
-      drag.before = in.deformation();
-      drag.after = in.deformation();
-      if (!in.ok()) break;
+    history.reserve(count);
+    for (std::uint32_t i = 0; i < count && in.ok(); ++i) {
+      ParsedDeformation before = in.deformation();
+      history.emplace_back(std::move(before), in.deformation());
     }
   }
   file.historyIndex = static_cast<int>(std::min<std::uint32_t>(index, std::numeric_limits<int>::max()));
   if (in.ok() && in.left() != 0) in.fail(QStringLiteral("corrupted: %1 unexplained bytes at the end").arg(in.left()));
+  if (!in.ok()) return file;
+  // Every list was counted against kMaxSessionFileIds: the copies below are bounded.
+  if (current) file.current = current->expanded();
+  file.history.reserve(history.size());
+  for (const auto& drag : history) file.history.push_back(SavedDrag{drag.first.expanded(), drag.second.expanded()});
   return file;
 }
 
@@ -301,6 +362,9 @@ QByteArray encodeSessionFile(const SessionFile& file) {
 }
 
 SessionFileResult decodeSessionFile(const QByteArray& bytes) {
+  if (bytes.size() > kMaxSessionFileBytes) {
+    return error(QStringLiteral("it is too large (%1 bytes, at most %2)").arg(bytes.size()).arg(kMaxSessionFileBytes));
+  }
   if (bytes.size() < kMagicBytes || std::memcmp(bytes.constData(), kSessionFileMagic, kMagicBytes) != 0) {
     return error(QStringLiteral("it does not start with the session file signature (another kind of file?)"));
   }
@@ -357,8 +421,11 @@ SessionFileResult readSessionFile(const QString& path) {
   if (!in.open(QIODevice::ReadOnly)) {
     return SessionFileError{QStringLiteral("Cannot read %1: %2").arg(path, in.errorString())};
   }
-  if (in.size() > kMaxFileBytes) {
-    return SessionFileError{QStringLiteral("%1 is too large (%2 bytes) for a session file").arg(path).arg(in.size())};
+  if (in.size() > kMaxSessionFileBytes) {
+    return SessionFileError{QStringLiteral("%1 is too large (%2 bytes, at most %3) for a session file")
+                                .arg(path)
+                                .arg(in.size())
+                                .arg(kMaxSessionFileBytes)};
   }
   SessionFileResult result = decodeSessionFile(in.readAll());
   if (auto* failure = std::get_if<SessionFileError>(&result))

@@ -18,6 +18,7 @@
 //   deformation: id list handle, id list anchors, 3 f64 translation, 9 f64 rotation (row-major);
 //   id list: u8 0 = "the same as the previous list of this kind" or 1 = u32 count, count × u32 ids.
 //   (Consecutive states usually share the anchors: thousands of ids are written once, not twice per drag.)
+// The SHA-256 is computed with OpenSSL (EVP_sha256), as the session's other digests.
 
 #include "spectral/spectral_deformer.h"
 
@@ -35,6 +36,11 @@ namespace sc::model {
 inline constexpr char kSessionFileMagic[8] = {'S', 'H', 'A', 'P', 'E', 'C', 'S', 'T'};
 inline constexpr std::uint32_t kSessionFileVersion = 1;
 inline constexpr const char* kSessionFileSuffix = "shapecast";
+/// The largest session file read (a 100k-vertex mesh with a long history is ≈ 10 MB).
+inline constexpr qint64 kMaxSessionFileBytes = qint64{256} << 20;
+/// The most vertex ids all the states of one file may hold once "same as previous" lists are expanded (256 MiB of
+/// ids; ≈ 1000 drags of a 100k-vertex mesh with 60k anchors).
+inline constexpr qint64 kMaxSessionFileIds = qint64{1} << 26;
 
 /// One state of the host user's deformer: the constraint set (full-resolution vertex ids; anchors exclude the
 /// handle) and the handle's pose about its rest centroid.
@@ -86,15 +92,18 @@ using SessionFileResult = std::variant<SessionFile, SessionFileError>;
 [[nodiscard]] QByteArray encodeSessionFile(const SessionFile& file);
 
 /// Parses and validates bytes from encodeSessionFile(). Never throws or crashes on any input: foreign data, a newer
-/// version, a truncated or corrupted file (SHA-256 mismatch), counts larger than the data, ids out of range or
-/// non-finite numbers give a SessionFileError. Cost: O(size).
+/// version, a truncated or corrupted file (SHA-256 mismatch), more than kMaxSessionFileBytes, counts larger than
+/// the data, an id list longer than the mesh's vertex count, lists whose "same as previous" copies would hold more
+/// than kMaxSessionFileIds ids (refused while counting, before copying), ids out of range or non-finite numbers give
+/// a SessionFileError. Cost: O(size + kMaxSessionFileIds) time, O(size + kMaxSessionFileIds) memory at most.
 [[nodiscard]] SessionFileResult decodeSessionFile(const QByteArray& bytes);
 
 /// Writes encodeSessionFile(file) to `path` through QSaveFile (a temporary file renamed over `path` only once
 /// complete, so an existing file is never left half-written). nullopt on success, else the reason.
 [[nodiscard]] std::optional<QString> writeSessionFile(const QString& path, const SessionFile& file);
 
-/// Reads and decodes `path`; an unreadable file (or one over 2 GiB) is a SessionFileError too.
+/// Reads and decodes `path`; an unreadable file (or one over kMaxSessionFileBytes, refused unread) is a
+/// SessionFileError too.
 [[nodiscard]] SessionFileResult readSessionFile(const QString& path);
 
 /// True when `path` starts with the session file magic (a cheap test to tell a session file from a mesh).

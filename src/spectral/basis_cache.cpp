@@ -1,10 +1,15 @@
 #include "spectral/basis_cache.h"
 
+#include <unistd.h>
+
 #include <array>
 #include <bit>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <string>
 #include <vector>
 
 namespace sc::spectral {
@@ -117,16 +122,28 @@ bool writeBasisCache(const std::filesystem::path& file, const BasisCacheKey& key
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   if (ec) return false;
   const std::vector<std::byte> bytes = serialize(key, basis);
-  std::filesystem::path temporary = file;
-  temporary += ".tmp";
-  {
-    std::ofstream stream(temporary, std::ios::binary | std::ios::trunc);
-    if (!stream.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
-      return false;
+  // A unique temporary beside the file, created exclusively (mkstemp: O_CREAT | O_EXCL, mode 0600), so two writers
+  // never share one and a file or link already there is never followed.
+  std::string pattern = file.string() + ".XXXXXX";
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0) return false;
+  const std::filesystem::path temporary = pattern;
+  bool written = true;
+  for (std::size_t done = 0; written && done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    written = n > 0;
+    if (written) done += static_cast<std::size_t>(n);
   }
-  std::filesystem::rename(temporary, file, ec);
-  if (ec) std::filesystem::remove(temporary, ec);
-  return !ec;
+  written = ::fsync(fd) == 0 && written;
+  written = ::close(fd) == 0 && written;
+  if (written) std::filesystem::rename(temporary, file, ec);
+  if (!written || ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
+    return false;
+  }
+  return true;
 }
 
 const char* toString(CacheReadStatus status) {

@@ -16,8 +16,9 @@
 //   40+8m+8nm     8      u64 checksum of every byte before it (checksum64)
 //
 // A file that is short, long, has another magic or version, or fails its checksum is Corrupt; a valid file
-// for another mesh, size or shift is Mismatch. Writes go to a temporary file renamed into place, so a crash
-// mid-write never leaves a truncated cache behind.
+// for another mesh, size or shift is Mismatch. Writes go to a unique temporary file beside the cache (mkstemp,
+// created exclusively: concurrent writers never share one, a planted link is never followed), flushed to disk and
+// renamed into place, so a crash mid-write never leaves a truncated cache behind.
 
 #include "spectral/harmonic_basis.h"
 
@@ -57,7 +58,8 @@ std::filesystem::path basisCacheFileName(const BasisCacheKey& key);
 /// Reads a cached basis; `basis` is written only on Hit. Never throws. Cost: O(n·m) read and checksum.
 CacheReadStatus readBasisCache(const std::filesystem::path& file, const BasisCacheKey& expected, HarmonicBasis& basis);
 
-/// Writes a basis atomically (temporary file + rename), creating parent folders. Returns false on any I/O error.
+/// Writes a basis atomically (unique temporary "<file>.XXXXXX", mode 0600, fsync, rename), creating parent folders.
+/// Returns false on any I/O error, leaving no temporary behind.
 /// Cost: O(n·m).
 bool writeBasisCache(const std::filesystem::path& file, const BasisCacheKey& key, const HarmonicBasis& basis);
 

@@ -2,6 +2,8 @@
 
 #include "spectral/rigid_subspace.h"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,6 +23,20 @@ bool validConstraints(const ConstraintSet& constraints, Eigen::Index vertexCount
 
 }  // namespace
 
+bool poseInRange(const HandleTransform& pose, double maxTranslation) {
+  if (!pose.translation.allFinite() || !pose.rotation.allFinite()) return false;
+  if (!(pose.translation.norm() <= maxTranslation)) return false;
+  const double orthogonality =
+      (pose.rotation.transpose() * pose.rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  return orthogonality <= kPoseRotationTolerance &&
+         std::abs(pose.rotation.determinant() - 1.0) <= kPoseRotationTolerance;
+}
+
+double maxPoseTranslation(const Eigen::MatrixXd& rest) {
+  const double diagonal = rest.rows() > 0 ? (rest.colwise().maxCoeff() - rest.colwise().minCoeff()).norm() : 0.0;
+  return kMaxPoseTranslationDiagonals * std::max(diagonal, 1e-12);
+}
+
 HandleTransform composeHandleTransforms(const HandleTransform& base, const HandleTransform& delta) {
   return {base.translation + delta.translation, delta.rotation * base.rotation};
 }
@@ -32,6 +48,7 @@ SpectralDeformer::SpectralDeformer(const HarmonicBasis& basis, const LaplaceOper
       m_rest(rest),
       m_options(options),
       m_Z(Eigen::MatrixXd::Zero(basis.size(), 3)) {
+  m_maxTranslation = maxPoseTranslation(rest);
   setConstraints({});
 }
 
@@ -94,13 +111,26 @@ Eigen::MatrixXd SpectralDeformer::constraintRightHandSide(std::span<const Handle
 }
 
 const Eigen::MatrixXd& SpectralDeformer::solve(std::span<const HandleTransform> transforms) {
-  const Eigen::MatrixXd rhs = constraintRightHandSide(transforms);
-  if (m_options.mode == DeformationMode::Linear) {
-    m_Z = m_factor.solve(rhs);
+  const std::size_t used = std::min(transforms.size(), m_groupMoments.size());
+  const auto inRange = [this](const HandleTransform& T) { return poseInRange(T, m_maxTranslation); };
+  if (!std::all_of(transforms.begin(), transforms.begin() + static_cast<std::ptrdiff_t>(used), inRange)) {
+    ++m_rejectedSolves;
     return m_Z;
   }
-  for (int iteration = 0; iteration < m_options.rigidIterations; ++iteration)
-    m_Z = m_factor.solve(rhs + m_rigid->rotationRightHandSide(m_Z));
+  const Eigen::MatrixXd rhs = constraintRightHandSide(transforms);
+  Eigen::MatrixXd Z;
+  if (m_options.mode == DeformationMode::Linear) {
+    Z = m_factor.solve(rhs);
+  } else {
+    Z = m_Z;
+    for (int iteration = 0; iteration < m_options.rigidIterations; ++iteration)
+      Z = m_factor.solve(rhs + m_rigid->rotationRightHandSide(Z));
+  }
+  if (!Z.allFinite()) {
+    ++m_rejectedSolves;
+    return m_Z;
+  }
+  m_Z = std::move(Z);
   return m_Z;
 }
 

@@ -34,6 +34,20 @@ struct HandleTransform {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
 };
 
+/// How far a pose may move a handle: this many diagonals of the rest mesh's bounding box (a drag beyond it is no
+/// edit but garbage, and 1e300 would overflow the coefficients and every reconstruction).
+inline constexpr double kMaxPoseTranslationDiagonals = 1e3;
+/// How far a pose's rotation may be from orthonormal (max |RᵀR − I|, |det R − 1|); wire quantisation is ~1e-7.
+inline constexpr double kPoseRotationTolerance = 1e-3;
+
+/// Whether `pose` is one the deformer accepts: every number finite, |t| ≤ `maxTranslation`, R a rotation within
+/// kPoseRotationTolerance. Pure; O(1).
+[[nodiscard]] bool poseInRange(const HandleTransform& pose, double maxTranslation);
+
+/// kMaxPoseTranslationDiagonals times the bounding-box diagonal of `rest` (#V by 3): the `maxTranslation` of the
+/// deformer of that mesh. Cost: O(#V).
+[[nodiscard]] double maxPoseTranslation(const Eigen::MatrixXd& rest);
+
 /// A drag `delta` measured about the handle's current centroid c₀ (x ↦ R(x − c₀) + c₀ + t), applied after the
 /// pose `base` = (R₀, t₀) about the rest centroid c, as one pose about c: (R·R₀, t₀ + t). Exact when
 /// c₀ = c + t₀ (the handle sits on its target).
@@ -88,8 +102,15 @@ class SpectralDeformer {
   bool setConstraints(const ConstraintSet& constraints);
 
   /// Solves one frame: one transform per handle group (fewer: missing groups stay at rest; extra ones ignored).
+  /// A used transform out of range (poseInRange() with maxTranslation()) or a solve that is not finite is rejected:
+  /// Z stays the previous one (counted in rejectedSolves()), so Z is always finite.
   /// @return Z, m by 3 displacement coefficients (what is streamed). Zero transforms give Z = 0.
   const Eigen::MatrixXd& solve(std::span<const HandleTransform> transforms);
+
+  /// The largest handle translation solve() accepts: kMaxPoseTranslationDiagonals rest bounding-box diagonals.
+  double maxTranslation() const { return m_maxTranslation; }
+  /// How many solve() calls were rejected (a pose out of range or a non-finite result).
+  int rejectedSolves() const { return m_rejectedSolves; }
 
   /// The last Z returned by solve() (zero before any solve).
   const Eigen::MatrixXd& coefficients() const { return m_Z; }
@@ -122,6 +143,8 @@ class SpectralDeformer {
   Eigen::MatrixXd m_Z;
   std::unique_ptr<RigidSubspace> m_rigid;  ///< clusters and rotation terms, built on first use of the rigid mode
   int m_factorizations = 0;
+  double m_maxTranslation = 0.0;
+  int m_rejectedSolves = 0;
 };
 
 }  // namespace sc::spectral

@@ -16,8 +16,12 @@
 
 #include <Eigen/Geometry>
 
+#include <sys/resource.h>
+
+#include <bit>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <variant>
 
 namespace sc::model {
@@ -75,6 +79,89 @@ QByteArray sealed(const QByteArray& payload) {
 }
 
 QByteArray payloadOf(const QByteArray& bytes) { return bytes.mid(kHeaderBytes, bytes.size() - kHeaderBytes - 32); }
+
+/// Little-endian payload bytes written by hand (for files encodeSessionFile() would never write, or only from an
+/// expanded SessionFile too large to build in a test).
+class PayloadWriter {
+ public:
+  void u8(std::uint8_t v) { m_bytes.append(static_cast<char>(v)); }
+  void u32(std::uint32_t v) {
+    const std::uint32_t le = qToLittleEndian(v);
+    m_bytes.append(reinterpret_cast<const char*>(&le), 4);
+  }
+  void f64(double v) {
+    const std::uint64_t le = qToLittleEndian(std::bit_cast<std::uint64_t>(v));
+    m_bytes.append(reinterpret_cast<const char*>(&le), 8);
+  }
+  void mesh(const sc::testing::GeneratedMesh& mesh) {
+    u32(static_cast<std::uint32_t>(mesh.V.rows()));
+    u32(static_cast<std::uint32_t>(mesh.F.rows()));
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+      for (int c = 0; c < 3; ++c) f64(mesh.V(i, c));
+    for (Eigen::Index i = 0; i < mesh.F.rows(); ++i)
+      for (int c = 0; c < 3; ++c) u32(static_cast<std::uint32_t>(mesh.F(i, c)));
+  }
+  /// An explicit id list.
+  void ids(const std::vector<int>& ids) {
+    u8(1);
+    u32(static_cast<std::uint32_t>(ids.size()));
+    for (int id : ids) u32(static_cast<std::uint32_t>(id));
+  }
+  /// Handle and anchors both "the same as the previous list", the identity pose.
+  void sameDeformation() {
+    u8(0);
+    u8(0);
+    pose();
+  }
+  void pose() {
+    for (int i = 0; i < 3; ++i) f64(0.0);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) f64(r == c ? 1.0 : 0.0);
+  }
+  /// m, linear mode, Z = 0 (m × 3).
+  void modeAndZ(std::uint32_t m) {
+    u8(0);
+    u32(m);
+    u32(3);
+    for (std::uint32_t i = 0; i < 3 * m; ++i) f64(0.0);
+  }
+  const QByteArray& bytes() const { return m_bytes; }
+
+ private:
+  QByteArray m_bytes;
+};
+
+/// A valid-looking session of `mesh` whose current state has `handle` and `anchors` written once, followed by
+/// `drags` drags whose states all say "the same lists as before": small on disk, each drag expanding to two
+/// copies of both lists in memory.
+QByteArray expandingSession(const sc::testing::GeneratedMesh& mesh, const std::vector<int>& handle,
+                            const std::vector<int>& anchors, std::uint32_t drags) {
+  PayloadWriter w;
+  w.mesh(mesh);
+  w.u32(10);  // m
+  w.u8(0);    // linear
+  w.u8(1);    // has a current state
+  w.ids(handle);
+  w.ids(anchors);
+  w.pose();
+  w.u32(10);
+  w.u32(3);
+  for (int i = 0; i < 30; ++i) w.f64(0.0);
+  w.u32(drags);
+  w.u32(0);  // history index
+  for (std::uint32_t i = 0; i < drags; ++i) {
+    w.sameDeformation();
+    w.sameDeformation();
+  }
+  return sealed(w.bytes());
+}
+
+/// The process's peak resident set so far, in KiB (Linux: ru_maxrss).
+long peakKiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
 
 TEST(SessionFileTest, RoundTripThroughBytesAndAFile) {
   const SessionFile file = sampleSession();
@@ -209,6 +296,52 @@ TEST(SessionFileTest, ValidChecksumButBadContentIsAnError) {
   // the unchanged payload, sealed again, still reads (sealed() is right)
   EXPECT_TRUE(std::holds_alternative<SessionFile>(decodeSessionFile(sealed(payload))));
   EXPECT_FALSE(errorOf(decodeSessionFile(sealed(payload + QByteArray(1, '\0')))).message.isEmpty());
+}
+
+// Issue 14, item 9: an id list is checked where it is written (ids in range, no more ids than vertices), before
+// any "same as previous" copies it.
+TEST(SessionFileTest, AnIdListLongerThanTheMeshIsRefusedBeforeItIsCopied) {
+  const sc::testing::GeneratedMesh mesh = sc::testing::torus(12, 8);
+  const auto n = static_cast<int>(mesh.V.rows());
+  std::vector<int> anchors;
+  for (int i = 0; i < 4 * n; ++i) anchors.push_back(1 + i % (n - 1));  // every id valid, each four times
+  const QString why = errorOf(decodeSessionFile(expandingSession(mesh, {0}, anchors, 3))).message;
+  EXPECT_TRUE(why.contains(QStringLiteral("anchor list has %1 ids").arg(anchors.size()))) << why.toStdString();
+  EXPECT_TRUE(why.contains(QStringLiteral("%1 vertices").arg(n))) << why.toStdString();
+}
+
+// Issue 14, item 9: a small valid file whose "same as previous" lists would expand to more ids than
+// kMaxSessionFileIds is refused while counting, before the copies are made: peak memory stays near the file's size.
+TEST(SessionFileTest, SameAsPreviousListsCannotExpandPastTheBound) {
+  const sc::testing::GeneratedMesh mesh = sc::testing::torus(256, 256);  // 65536 vertices
+  const auto n = static_cast<int>(mesh.V.rows());
+  std::vector<int> anchors(static_cast<std::size_t>(n - 1));
+  std::iota(anchors.begin(), anchors.end(), 1);
+  // each drag repeats the anchors twice: (1 + 2·drags)·(n − 1) ids, just past the bound
+  const auto drags = static_cast<std::uint32_t>(kMaxSessionFileIds / (2 * (n - 1)) + 10);
+  const QByteArray bytes = expandingSession(mesh, {0}, anchors, drags);
+  const double expandedMiB = (1.0 + 2.0 * drags) * (n - 1) * sizeof(int) / (1 << 20);
+  ASSERT_LT(bytes.size(), 4 << 20);  // ≈ 3.5 MB on disk (the mesh is most of it) …
+  ASSERT_GT(expandedMiB, 256.0);     // … more than 256 MiB of ids once expanded
+  const long before = peakKiB();
+  const QString why = errorOf(decodeSessionFile(bytes)).message;
+  const long grownKiB = peakKiB() - before;
+  EXPECT_TRUE(why.contains(QStringLiteral("more than %1 vertex ids").arg(kMaxSessionFileIds))) << why.toStdString();
+  EXPECT_LT(grownKiB, 64 * 1024) << "peak memory grew by " << grownKiB / 1024 << " MiB for a " << bytes.size()
+                                 << "-byte file (expanded: " << expandedMiB << " MiB)";
+}
+
+// Issue 14, item 9: a file over the size bound is refused before it is read.
+TEST(SessionFileTest, FilesOverTheSizeBoundAreRefusedUnread) {
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("huge.shapecast"));
+  QFile out(path);
+  ASSERT_TRUE(out.open(QIODevice::WriteOnly));
+  out.write(kSessionFileMagic, sizeof(kSessionFileMagic));
+  ASSERT_TRUE(out.resize(kMaxSessionFileBytes + 1));  // sparse: no disk space used
+  out.close();
+  const QString why = errorOf(readSessionFile(path)).message;
+  EXPECT_TRUE(why.contains(QStringLiteral("too large"))) << why.toStdString();
 }
 
 TEST(SessionFileTest, SavingNeverLeavesABrokenFile) {

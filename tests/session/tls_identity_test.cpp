@@ -57,6 +57,33 @@ TEST(TlsIdentity, StoredOnFirstUseWithOwnerOnlyPermissionsAndReused) {
   EXPECT_FALSE(error.isEmpty());
 }
 
+// Issue 14, item 11: one file of a stored identity missing is reported, never repaired by generating a new identity
+// (that would silently change the fingerprint every client pinned, and overwrite the remaining file).
+TEST(TlsIdentity, AMissingCertificateOrKeyFileIsReportedNotRegenerated) {
+  for (const QString& missing : {QStringLiteral("host-cert.pem"), QStringLiteral("host-key.pem")}) {
+    QTemporaryDir temp;
+    ASSERT_TRUE(temp.isValid());
+    const QString dir = temp.filePath(QStringLiteral("tls"));
+    QString error;
+    ASSERT_TRUE(loadOrCreateTlsIdentity(dir, &error)) << error.toStdString();
+    const QString kept = dir + (missing == QStringLiteral("host-key.pem") ? QStringLiteral("/host-cert.pem")
+                                                                          : QStringLiteral("/host-key.pem"));
+    QFile keptFile(kept);
+    ASSERT_TRUE(keptFile.open(QIODevice::ReadOnly));
+    const QByteArray keptBytes = keptFile.readAll();
+    keptFile.close();
+    ASSERT_TRUE(QFile::remove(dir + QLatin1Char('/') + missing));
+
+    error.clear();
+    EXPECT_FALSE(loadOrCreateTlsIdentity(dir, &error)) << missing.toStdString();
+    EXPECT_TRUE(error.contains(missing)) << error.toStdString();
+    EXPECT_TRUE(error.contains(QStringLiteral("missing"))) << error.toStdString();
+    EXPECT_FALSE(QFile::exists(dir + QLatin1Char('/') + missing)) << "regenerated " << missing.toStdString();
+    ASSERT_TRUE(keptFile.open(QIODevice::ReadOnly));
+    EXPECT_EQ(keptFile.readAll(), keptBytes) << kept.toStdString() << " was overwritten";
+  }
+}
+
 TEST(TlsIdentity, FingerprintsFormatAndParse) {
   const QByteArray fingerprint =
       QByteArray::fromHex("00112233445566778899aabbccddeeff00112233445566778899aabbccddeeff");

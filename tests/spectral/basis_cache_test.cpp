@@ -6,7 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
+#include <string>
 
 namespace sc::spectral {
 namespace {
@@ -42,6 +44,30 @@ TEST_F(BasisCache, MissThenWriteThenHitRoundTripsExactly) {
   EXPECT_EQ(read.eigenvalues, m_basis.eigenvalues);
   EXPECT_EQ(read.shift, m_basis.shift);
   EXPECT_FALSE(std::filesystem::exists(file().string() + ".tmp")) << "the temporary file must be renamed away";
+}
+
+// Issue 14, item 11: the temporary file has a unique name, created exclusively. A file or link already at the old
+// fixed name "<cache>.tmp" (another writer's, or a link planted to redirect the write) is neither followed nor
+// touched, and the write still succeeds; no temporary is left behind.
+TEST_F(BasisCache, TheTemporaryFileIsUniqueAndNeverFollowsALink) {
+  const std::filesystem::path victim = m_dir / "victim.txt";
+  {
+    std::ofstream out(victim);
+    out << "precious";
+  }
+  const std::filesystem::path planted = file().string() + ".tmp";
+  std::filesystem::create_symlink(victim, planted);
+  ASSERT_TRUE(writeBasisCache(file(), m_key, m_basis));
+  std::ifstream in(victim);
+  const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_TRUE(content == "precious") << "the write followed the planted link (" << content.size() << " bytes now)";
+  EXPECT_TRUE(std::filesystem::is_symlink(planted)) << "the planted link was renamed or removed";
+  EXPECT_FALSE(std::filesystem::is_symlink(file()));
+  HarmonicBasis read;
+  EXPECT_EQ(readBasisCache(file(), m_key, read), CacheReadStatus::Hit);
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(m_dir)) ++entries;
+  EXPECT_EQ(entries, 3u) << "the victim, the planted link and the cache only: no temporary left";
 }
 
 TEST_F(BasisCache, FlippedByteIsCorrupt) {

@@ -6,7 +6,10 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <cmath>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 namespace sc::spectral {
 namespace {
@@ -179,6 +182,49 @@ TEST(SpectralDeformer, RigidModeBendsABarWithAThirdOfTheLinearStretch) {
   const double rigidTurn = bentBarEdgeChange(DeformationMode::Rigid, true);
   RecordProperty("turning_linear_vs_rigid", std::to_string(linearTurn) + " vs " + std::to_string(rigidTurn));
   EXPECT_LE(2.0 * rigidTurn, linearTurn) << "turning handle: linear " << linearTurn << ", rigid " << rigidTurn;
+}
+
+// Issue 14, item 10: a pose out of range (finite but huge, non-finite, or a "rotation" that is not one) is refused:
+// solve() keeps and returns the previous Z, which stays finite, and a normal pose afterwards is solved as before.
+TEST(SpectralDeformer, HugeOrNonFinitePosesAreRejectedAndThePreviousZKept) {
+  const Scene scene(testing::torus(40, 16), 40);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<HandleTransform> bad = {translation(1e300, 0, 0), translation(0, -1e300, 1e300),
+                                      translation(0, std::nan(""), 0), translation(inf, 0, 0),
+                                      translation(0, 0, 2e3 * scene.diagonal)};
+  HandleTransform scaled;
+  scaled.rotation *= 1e300;
+  bad.push_back(scaled);
+  HandleTransform sheared;
+  sheared.rotation(0, 1) = 0.5;
+  bad.push_back(sheared);
+  HandleTransform notANumber;
+  notANumber.rotation(2, 2) = std::nan("");
+  bad.push_back(notANumber);
+  for (DeformationMode mode : {DeformationMode::Linear, DeformationMode::Rigid}) {
+    DeformerOptions options;
+    options.mode = mode;
+    SpectralDeformer deformer(scene.basis, scene.ops, scene.V, options);
+    ASSERT_TRUE(deformer.setConstraints({{{scene.within({1.3, 0, 0}, 0.3)}}, scene.within({-1.3, 0, 0}, 0.3)}));
+    const HandleTransform good[] = {translation(0, 0.2, 0)};
+    const Eigen::MatrixXd before = deformer.solve(good);
+    ASSERT_TRUE(before.allFinite());
+    ASSERT_GT(before.cwiseAbs().maxCoeff(), 1e-6);
+    for (std::size_t i = 0; i < bad.size(); ++i) {
+      const HandleTransform pose[] = {bad[i]};
+      const Eigen::MatrixXd after = deformer.solve(pose);
+      EXPECT_TRUE(after.allFinite()) << "pose " << i << ", mode " << static_cast<int>(mode);
+      EXPECT_EQ(after, before) << "pose " << i << ", mode " << static_cast<int>(mode);
+      EXPECT_EQ(deformer.coefficients(), before) << "pose " << i;
+      EXPECT_FALSE(poseInRange(bad[i], deformer.maxTranslation())) << "pose " << i;
+    }
+    EXPECT_EQ(deformer.rejectedSolves(), static_cast<int>(bad.size()));
+    const HandleTransform further[] = {translation(0, 0.3, 0)};  // a normal drag recovers
+    const Eigen::MatrixXd recovered = deformer.solve(further);
+    EXPECT_TRUE(recovered.allFinite());
+    EXPECT_GT((recovered - before).cwiseAbs().maxCoeff(), 1e-6);
+    EXPECT_TRUE(poseInRange(further[0], deformer.maxTranslation()));
+  }
 }
 
 TEST(ComposeHandleTransforms, EqualsApplyingTheDragAfterTheBasePoseAboutTheMovedCentroid) {

@@ -85,7 +85,9 @@ std::optional<QString> readPasswordFile(const SubcommandParser& command, const Q
     command.error(QStringLiteral("cannot read the password file '%1': %2").arg(path, file.errorString()));
     return std::nullopt;
   }
-  QString password = QString::fromUtf8(file.readLine());
+  QByteArray line = file.readLine();
+  QString password = QString::fromUtf8(line);
+  line.fill('\0');  // the raw line is ours alone: overwritten before it is freed
   while (!password.isEmpty() && password.back().isSpace()) password.chop(1);
   if (password.isEmpty()) {
     command.error(QStringLiteral("the password file '%1' is empty (its first line is the password)").arg(path));

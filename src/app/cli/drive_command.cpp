@@ -1,7 +1,9 @@
 #include "app/cli/drive_command.h"
 
 #include "app/cli/drag_script.h"
+#include "app/cli/peer_arguments.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
@@ -16,12 +18,8 @@ int runDriveCommand(const QStringList& arguments) {
                            SubcommandKind::Peer);
   const QCommandLineOption scriptOption(QStringLiteral("script"), QStringLiteral("drag script (docs/drag-script.md)"),
                                         QStringLiteral("file"));
-  const QCommandLineOption name(QStringLiteral("name"), QStringLiteral("display name (default: driver)"),
-                                QStringLiteral("name"), QStringLiteral("driver"));
-  const QCommandLineOption passwordFile(QStringLiteral("password-file"),
-                                        QStringLiteral("session password: the first line of this file"),
-                                        QStringLiteral("file"));
-  command.parser().addOptions({scriptOption, name, passwordFile});
+  const PeerArguments peer(command, QStringLiteral("driver"));
+  command.parser().addOption(scriptOption);
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
   if (!command.parser().isSet(scriptOption)) {
@@ -36,14 +34,9 @@ int runDriveCommand(const QStringList& arguments) {
   const DragScript& script = std::get<DragScript>(parsed);
 
   session::SessionClientOptions options;
-  options.host = command.peerHost();
-  options.port = command.peerPort();
-  options.name = command.parser().value(name);
-  if (command.parser().isSet(passwordFile)) {
-    options.password = readPasswordFile(command, command.parser().value(passwordFile));
-    if (!options.password) return kExitUsage;
-  }
+  if (!peer.apply(command, options)) return kExitUsage;
   session::SessionClient client(options);
+  forgetPassword(options.password);  // the client keeps its own copy until its proof
   if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
   const Eigen::MatrixXd& rest = client.level()->restV;
   const std::variant<spectral::ConstraintSet, QString> resolved = resolveConstraints(script, rest);

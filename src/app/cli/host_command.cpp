@@ -2,6 +2,7 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "model/decimating_level_builder.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"
@@ -103,7 +104,10 @@ int runHostCommand(const QStringList& arguments) {
 
   session::SessionHost host(model, options);
   QString error;
-  if (!host.start(&error)) {
+  const bool started = host.start(&error);  // derives the password's key
+  const bool passwordRequired = options.password.has_value();
+  forgetPassword(options.password);
+  if (!started) {
     command.error(QStringLiteral("cannot host: %1").arg(error));
     return kExitNetwork;
   }
@@ -115,7 +119,7 @@ int runHostCommand(const QStringList& arguments) {
              .arg(modeName)
              .arg(host.tcpPort())
              .arg(host.udpPort())
-             .arg(options.password ? QStringLiteral(", password required") : QString());
+             .arg(passwordRequired ? QStringLiteral(", password required") : QString());
   const QString fingerprint = session::formatFingerprint(host.fingerprint());
   out << QStringLiteral("TLS certificate fingerprint (SHA-256), for joiners to compare: %1\n").arg(fingerprint);
   out << QStringLiteral("join with: shapecast-cli join 127.0.0.1:%1 --name NAME --fingerprint %2\n")

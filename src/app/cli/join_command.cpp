@@ -1,10 +1,11 @@
 #include "app/cli/join_command.h"
 
+#include "app/cli/peer_arguments.h"
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
+#include "app/common/password_memory.h"
 #include "session/engine/session_clock.h"
 #include "session/net/distortion_meter.h"
-#include "session/net/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QFile>
@@ -26,11 +27,7 @@ struct JoinArguments {
 std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const QStringList& arguments,
                                                 int& exitCode) {
   QCommandLineParser& p = command.parser();
-  const QCommandLineOption name(QStringLiteral("name"), QStringLiteral("display name (default: client)"),
-                                QStringLiteral("name"), QStringLiteral("client"));
-  const QCommandLineOption passwordFile(QStringLiteral("password-file"),
-                                        QStringLiteral("session password: the first line of this file"),
-                                        QStringLiteral("file"));
+  const PeerArguments peer(command, QStringLiteral("client"));
   const QCommandLineOption level(QStringLiteral("level"),
                                  QStringLiteral("display resolution: full, or the level closest to N vertices"),
                                  QStringLiteral("full|N"), QStringLiteral("full"));
@@ -52,34 +49,14 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
       QStringLiteral("name"));
   const QCommandLineOption seconds(QStringLiteral("seconds"), QStringLiteral("leave after T seconds"),
                                    QStringLiteral("T"));
-  const QCommandLineOption fingerprint(
-      QStringLiteral("fingerprint"),
-      QStringLiteral("the host's certificate fingerprint (SHA-256, as the host prints it); without it the first "
-                     "one seen for this address is remembered and a different one later is refused"),
-      QStringLiteral("hex"));
   const QCommandLineOption statsJson(QStringLiteral("stats-json"), QStringLiteral("write the final figures here"),
                                      QStringLiteral("file"));
-  p.addOptions({name, passwordFile, level, loss, burst, seed, zeroFill, concealment, seconds, fingerprint, statsJson});
+  p.addOptions({level, loss, burst, seed, zeroFill, concealment, seconds, statsJson});
   if (!command.parse(arguments, exitCode)) return std::nullopt;
   exitCode = kExitUsage;
 
   JoinArguments args;
-  args.client.host = command.peerHost();
-  args.client.port = command.peerPort();
-  args.client.name = p.value(name);
-  args.client.trustOnFirstUse = true;
-  if (p.isSet(fingerprint)) {
-    const std::optional<QByteArray> pinned = session::parseFingerprint(p.value(fingerprint));
-    if (!pinned) {
-      command.error(QStringLiteral("--fingerprint takes 64 hex digits (colons allowed), as the host prints it"));
-      return std::nullopt;
-    }
-    args.client.fingerprint = *pinned;
-  }
-  if (p.isSet(passwordFile)) {
-    args.client.password = readPasswordFile(command, p.value(passwordFile));
-    if (!args.client.password) return std::nullopt;
-  }
+  if (!peer.apply(command, args.client)) return std::nullopt;
   bool ok = true;
   if (p.value(level) != QLatin1String("full")) {
     const uint vertices = p.value(level).toUInt(&ok);
@@ -180,10 +157,11 @@ int runJoinCommand(const QStringList& arguments) {
   SubcommandParser command(QStringLiteral("join"), QStringLiteral("Join a ShapeCast session headless."),
                            SubcommandKind::Peer);
   int exitCode = kExitOk;
-  const std::optional<JoinArguments> args = parseJoinArguments(command, arguments, exitCode);
+  std::optional<JoinArguments> args = parseJoinArguments(command, arguments, exitCode);
   if (!args) return exitCode;
 
   session::SessionClient client(args->client);
+  forgetPassword(args->client.password);  // the client keeps its own copy until its proof
   session::DistortionMeter meter(client, session::DistortionMeter::Mode::Live, &client);
   // --level N: the host serves the rung closest to N (by exact counts where built); once the host's level list is
   // complete, ask for the closest exact level should that be another one (at most once).

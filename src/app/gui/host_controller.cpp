@@ -2,6 +2,7 @@
 // saved session's state, the host's display (its full level once, a frame per new Z) and its figures.
 #include "app/gui/host_controller.h"
 
+#include "app/common/password_memory.h"
 #include "app/gui/host_preparation.h"
 #include "app/gui/saved_deformation.h"
 #include "app/gui/vertex_id_lists.h"
@@ -10,6 +11,7 @@
 #include "session/engine/host_model.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
+#include "spectral/spectral_deformer.h"
 
 #include <QLocale>
 
@@ -86,7 +88,10 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   if (m_saved) options.deformer.mode = m_saved->mode;
   m_host = new session::SessionHost(m_model, options, this);
   QString error;
-  if (!m_host->start(&error)) {
+  const bool started = m_host->start(&error);  // derives the password's key
+  forgetPassword(options.password);
+  forgetPassword(m_settings.password);
+  if (!started) {
     fail(tr("Could not host on TCP port %1: %2").arg(m_settings.port).arg(error));
     return;
   }
@@ -189,6 +194,9 @@ bool HostController::sendConstraints(const spectral::FullVertexIds& handle, cons
 }
 
 bool HostController::sendPose(const spectral::HandleTransform& pose) {
+  // A pose out of range (non-finite, or a handle moved more than kMaxPoseTranslationDiagonals diagonals) is refused
+  // here, so the editor keeps its last good pose; the deformer refuses it too (members' drags). O(#V) per drag.
+  if (m_model == nullptr || !spectral::poseInRange(pose, spectral::maxPoseTranslation(m_model->V))) return false;
   return m_host->drag(std::span<const spectral::HandleTransform>(&pose, 1));
 }
 

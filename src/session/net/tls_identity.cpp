@@ -129,9 +129,24 @@ std::optional<TlsIdentity> loadOrCreateTlsIdentity(const QString& directory, QSt
   const QString certificatePath = dir.filePath(kCertificateFile);
   QFile keyFile(keyPath);
   QFile certificateFile(certificatePath);
+  if (keyFile.exists() != certificateFile.exists()) {
+    // One half of a stored identity: never repaired by generating a new one (the fingerprint clients pinned would
+    // change silently, and the remaining file would be overwritten).
+    if (error) {
+      *error = QStringLiteral(
+                   "the host identity in %1 is incomplete: %2 is missing (restore it from a backup, or "
+                   "remove %3 as well to create a new identity with a new fingerprint)")
+                   .arg(directory, keyFile.exists() ? kCertificateFile : kKeyFile,
+                        keyFile.exists() ? kKeyFile : kCertificateFile);
+    }
+    return std::nullopt;
+  }
   if (keyFile.exists() && certificateFile.exists()) {
     if (!keyFile.open(QIODevice::ReadOnly) || !certificateFile.open(QIODevice::ReadOnly)) {
-      if (error) *error = QStringLiteral("cannot read the host identity in %1").arg(directory);
+      if (error) {
+        *error = QStringLiteral("cannot read the host identity in %1: %2")
+                     .arg(directory, keyFile.isOpen() ? certificateFile.errorString() : keyFile.errorString());
+      }
       return std::nullopt;
     }
     const QByteArray certificatePem = certificateFile.readAll();

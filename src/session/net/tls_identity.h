@@ -30,10 +30,11 @@ struct TlsIdentity {
 /// OpenSSL fails. Cost: one P-256 key generation and one signature.
 std::optional<TlsIdentity> generateTlsIdentity(const QString& commonName, QString* error = nullptr);
 
-/// Loads `directory`/host-key.pem and host-cert.pem; when either is missing (first use), generates an identity
+/// Loads `directory`/host-key.pem and host-cert.pem; only when both are absent (first use) generates an identity
 /// and stores both (the folder is created with 0700, the files are written atomically with 0600 permissions).
-/// Returns nullopt with `error` set when the files exist but do not hold a matching key and certificate, or the
-/// folder cannot be written. Cost: two small file reads, or one generation and two writes.
+/// Returns nullopt with `error` set (a readable sentence naming the file) when one of the two files is missing,
+/// when they cannot be read or do not hold a matching key and certificate, or the folder cannot be written: an
+/// existing identity is never replaced. Cost: two small file reads, or one generation and two writes.
 std::optional<TlsIdentity> loadOrCreateTlsIdentity(const QString& directory, QString* error = nullptr);
 
 /// Where the host keeps its identity: QStandardPaths::AppDataLocation + "/tls" (needs the application name set).

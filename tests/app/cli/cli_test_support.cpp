@@ -9,9 +9,11 @@ namespace sc::testing {
 
 namespace {
 
-CliRun runProgram(const QString& program, const QStringList& arguments, const QString& workingDirectory) {
+CliRun runProgram(const QString& program, const QStringList& arguments, const QString& workingDirectory,
+                  const QProcessEnvironment& environment = {}) {
   QProcess process;
   if (!workingDirectory.isEmpty()) process.setWorkingDirectory(workingDirectory);
+  if (!environment.isEmpty()) process.setProcessEnvironment(environment);
   process.start(program, arguments);
   EXPECT_TRUE(process.waitForFinished(120000));
   return {process.exitCode(), process.readAllStandardOutput(), process.readAllStandardError()};
@@ -19,8 +21,8 @@ CliRun runProgram(const QString& program, const QStringList& arguments, const QS
 
 }  // namespace
 
-CliRun runCli(const QStringList& arguments, const QString& workingDirectory) {
-  return runProgram(QStringLiteral(SHAPECAST_CLI), arguments, workingDirectory);
+CliRun runCli(const QStringList& arguments, const QString& workingDirectory, const QProcessEnvironment& environment) {
+  return runProgram(QStringLiteral(SHAPECAST_CLI), arguments, workingDirectory, environment);
 }
 
 CliRun runLab(const QStringList& arguments) { return runProgram(QStringLiteral(SHAPECAST_LAB), arguments, {}); }

@@ -5,6 +5,7 @@
 #include "test_meshes.h"
 
 #include <QByteArray>
+#include <QProcessEnvironment>
 #include <QString>
 #include <QStringList>
 
@@ -17,8 +18,9 @@ struct CliRun {
 };
 
 /// Runs the shapecast-cli executable (SHAPECAST_CLI) with `arguments` in `workingDirectory` (empty: this process's
-/// current folder) and waits up to two minutes for it.
-CliRun runCli(const QStringList& arguments, const QString& workingDirectory = {});
+/// current folder) and `environment` (empty: this process's) and waits up to two minutes for it.
+CliRun runCli(const QStringList& arguments, const QString& workingDirectory = {},
+              const QProcessEnvironment& environment = {});
 
 /// Runs the shapecast-lab executable (SHAPECAST_LAB) with `arguments` and waits up to two minutes for it.
 CliRun runLab(const QStringList& arguments);

@@ -6,11 +6,13 @@
 
 #include <gtest/gtest.h>
 #include <QDir>
+#include <QDirIterator>
 #include <QFile>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QProcess>
+#include <QProcessEnvironment>
 #include <QRegularExpression>
 #include <QTemporaryDir>
 #include <QThread>
@@ -95,6 +97,49 @@ TEST_F(SessionCommandsTest, WrongPasswordIsRefusedWithItsReason) {
   const CliRun right = runCli({QStringLiteral("join"), host.address(), QStringLiteral("--password-file"),
                                path("secret"), QStringLiteral("--seconds"), QStringLiteral("1")});
   EXPECT_EQ(right.exitCode, 0) << right.err.toStdString();
+}
+
+// Issue 14, item 4: `drive` trusts the host the way `join` does. A known-hosts entry (written by a first `join`
+// with the same home folder) that names another certificate makes `drive` refuse before its password proof: the
+// host never sees the driver, neither joined nor refused for a wrong password.
+TEST_F(SessionCommandsTest, DriveRefusesAChangedCertificateAndSendsNoProof) {
+  writeFile(path("secret"), "correct horse\n");
+  HostProcess host(m_mesh, {QStringLiteral("--password-file"), path("secret")});
+  ASSERT_NE(host.port(), 0);
+  QProcessEnvironment home = QProcessEnvironment::systemEnvironment();
+  home.insert(QStringLiteral("XDG_CONFIG_HOME"), path("config"));
+  const CliRun first = runCli({QStringLiteral("join"), host.address(), QStringLiteral("--password-file"),
+                               path("secret"), QStringLiteral("--seconds"), QStringLiteral("1")},
+                              {}, home);
+  ASSERT_EQ(first.exitCode, 0) << first.err.toStdString();
+  // The entry the first join remembered, changed to another fingerprint (an impostor's certificate).
+  QDirIterator files(path("config"), {QStringLiteral("*.conf")}, QDir::Files, QDirIterator::Subdirectories);
+  ASSERT_TRUE(files.hasNext()) << "join remembered no fingerprint";
+  const QString store = files.next();
+  QFile in(store);
+  ASSERT_TRUE(in.open(QIODevice::ReadOnly));
+  const QByteArray known = in.readAll();
+  in.close();
+  const QRegularExpression entry(QStringLiteral("=([0-9A-F]{2}(:[0-9A-F]{2}){31})"));
+  const QRegularExpressionMatch match = entry.match(QString::fromLatin1(known));
+  ASSERT_TRUE(match.hasMatch()) << known.toStdString();
+  const QString impostor = QStringLiteral("AB:").repeated(31) + QStringLiteral("AB");
+  ASSERT_NE(match.captured(1), impostor);
+  writeFile(store, QString::fromLatin1(known).replace(match.captured(1), impostor).toLatin1());
+
+  const QString script = path("drag.json");
+  writeFile(script, R"({"handles":[{"sphere":{"vertex":0,"radius_pct":5}}],
+                        "anchors":{"farther_than_pct":40,"from_vertex":0},
+                        "frames":[{"t":0},{"t":0.1,"translate_pct":[0,10,0]}]})");
+  const CliRun drive =
+      runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), script, QStringLiteral("--name"),
+              QStringLiteral("intruded"), QStringLiteral("--password-file"), path("secret")},
+             {}, home);
+  EXPECT_EQ(drive.exitCode, 4) << drive.err.toStdString();
+  EXPECT_TRUE(drive.err.contains("fingerprint changed")) << drive.err.toStdString();
+  const QString log = QString::fromUtf8(host.stop());
+  EXPECT_FALSE(log.contains(QStringLiteral("intruded"))) << log.toStdString();  // no proof reached the host
+  EXPECT_FALSE(log.contains(QStringLiteral("lock: held"))) << log.toStdString();
 }
 
 TEST_F(SessionCommandsTest, BadAddressesAreUsageErrors) {
