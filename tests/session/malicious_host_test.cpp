@@ -121,7 +121,6 @@ TEST_F(MaliciousHost, HugeCoefficientsAreNeverShown) {
   ASSERT_TRUE(admit(test::tinyLevelList(static_cast<std::uint32_t>(test::tinyPayload("").size()))));
   transfer(test::encoded(test::tinyLevel()));
   ASSERT_TRUE(waitFor(*client, SessionClient::State::Ready));
-  const std::uint64_t published = client->positionUpdates();
   // A Keyframe of 1e300 (finite in double, infinite in float32) and datagrams whose exponents make 1e40.
   host.send(Keyframe{1, std::vector<double>(3 * kRows, 1e300)});
   CoefficientEncoder encoder(welcome().datagramKey, kSelf);
@@ -132,7 +131,6 @@ TEST_F(MaliciousHost, HugeCoefficientsAreNeverShown) {
   EXPECT_TRUE(allFinite(client->positionsCoefficients()));
   EXPECT_TRUE(client->positionsCoefficients().isZero()) << "the first frame stays shown";
   for (const float x : client->positions()) ASSERT_TRUE(std::isfinite(x));
-  EXPECT_GE(client->positionUpdates(), published);
 }
 
 TEST_F(MaliciousHost, ARichTextRefusalReachesTheClientAsTheExactText) {
