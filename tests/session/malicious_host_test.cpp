@@ -97,7 +97,7 @@ TEST_F(MaliciousHost, AnOversizedAnnouncementIsRefusedBeforeTheClientAllocatesIt
   const int written = host.streamChunks(1, k512MiB, 1024);
   QTest::qWait(100);  // what the client could still read
   const std::uint64_t after = residentBytes();
-  ASSERT_TRUE(waitFor(*client, SessionClient::State::Failed));
+  EXPECT_TRUE(waitFor(*client, SessionClient::State::Failed));
   EXPECT_TRUE(client->errorText().contains(QStringLiteral("level list"))) << client->errorText().toStdString();
   EXPECT_LT(written, 1024) << "the client closed the connection";
   EXPECT_LT(after, before + (16u << 20)) << "resident memory grew by " << (after - before) / (1 << 20) << " MiB";
@@ -125,7 +125,7 @@ TEST_F(MaliciousHost, HugeCoefficientsAreNeverShown) {
   host.send(Keyframe{1, std::vector<double>(3 * kRows, 1e300)});
   CoefficientEncoder encoder(welcome().datagramKey, kSelf);
   ASSERT_TRUE(host.sendDatagrams(encoder.encodeFrame(2, Eigen::MatrixXd::Constant(kRows, 3, 1e40))));
-  ASSERT_TRUE(QTest::qWaitFor([&] { return client->peekStats().dropped >= 2; }, kHostileWaitMs))
+  EXPECT_TRUE(QTest::qWaitFor([&] { return client->peekStats().dropped >= 2; }, kHostileWaitMs))
       << "the Keyframe and the datagram frame are dropped and counted";
   QTest::qWait(50);
   EXPECT_TRUE(allFinite(client->positionsCoefficients()));
