@@ -20,8 +20,9 @@
 
 namespace sc::session {
 
-/// The host's default PBKDF2 count: 600,000 (OWASP's current guidance for PBKDF2-HMAC-SHA256). About 0.2 s to
-/// derive once per session on the host and once per join on the client (docs/security.md, "Hostile host").
+/// The host's default PBKDF2 count: 600,000 (OWASP's current guidance for PBKDF2-HMAC-SHA256). About 0.35 s to
+/// derive (shared 2-core machine) once per session on the host and once per join on the client (docs/security.md,
+/// "Hostile host").
 inline constexpr std::uint32_t kDefaultPbkdf2Iterations = 600000;
 /// The fewest PBKDF2 iterations a client accepts in a Challenge (ClientHandshakeConfig::minIterations): below it an
 /// impostor host would get a proof it can attack at nearly HMAC speed (1 iteration: ~257,000 guesses per second).
