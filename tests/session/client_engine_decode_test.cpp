@@ -7,11 +7,6 @@
 namespace sc::session::test {
 namespace {
 
-QByteArray encoded(const spectral::ResolutionLevel& level) {
-  const std::vector<std::byte> bytes = spectral::encodeResolutionLevel(level);
-  return QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
-}
-
 LevelJob jobFor(const QByteArray& payload) { return LevelJob{payload, sha256(payload), kRows, kVertices}; }
 
 TEST(ClientLevelDecode, AGoodPayloadBecomesADisplayLevel) {

@@ -6,6 +6,7 @@
 #include "session/wire/control_frame.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/display_level.h"
+#include "spectral/resolution_level.h"
 
 #include <gtest/gtest.h>
 
@@ -24,7 +25,7 @@ inline Welcome fakeWelcome() {
 
 inline ClientEngineConfig config(const char* name, std::uint32_t level = 0, std::optional<double> fraction = {},
                                  Millis hostTimeout = Millis{10000}) {
-  return ClientEngineConfig{QString::fromUtf8(name), std::nullopt, level, fraction, hostTimeout};
+  return ClientEngineConfig{QString::fromUtf8(name), std::nullopt, level, fraction, hostTimeout, kMinPbkdf2Iterations};
 }
 
 inline ControlDecodeResult message(ControlMessage m) { return ControlDecodeResult{ControlError::None, std::move(m)}; }
@@ -89,13 +90,34 @@ inline spectral::ResolutionLevel tinyLevel(float kScale = 1.0f) {
   return level;
 }
 
+/// tinyLevel() encoded: an honest payload of the fake session.
+inline QByteArray encoded(const spectral::ResolutionLevel& level) {
+  const std::vector<std::byte> bytes = spectral::encodeResolutionLevel(level);
+  return QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
+}
+
+/// A payload of exactly the size of an encoded tinyLevel() (what a LevelList of the fake session may announce),
+/// starting with `tag` so that tests can tell transfers apart.
+inline QByteArray tinyPayload(const char* tag) {
+  QByteArray payload = encoded(tinyLevel());
+  payload.replace(0, static_cast<qsizetype>(qstrlen(tag)), tag);
+  return payload;
+}
+
+/// The fake host's LevelList: one level (the full model, n' = n = 3, one face) of `payloadBytes`.
+inline LevelList tinyLevelList(std::uint32_t payloadBytes) {
+  return LevelList{1, {LevelInfo{0, kVertices, 1, payloadBytes}}};
+}
+
 inline DecodedLevel decodedLevel(float kScale = 1.0f) {
   return DecodedLevel{QByteArray("payload"), spectral::makeDisplayLevel(tinyLevel(kScale)), {}};
 }
 
-/// Sends `payload` as transfer `id` in chunks of `chunkBytes`; returns the actions of the last chunk.
+/// Lists a level of payload.size() bytes (tinyLevelList), then sends `payload` as transfer `id` in chunks of
+/// `chunkBytes`; returns the actions of the last chunk.
 inline ClientActions deliverTransfer(ClientEngine& engine, const QByteArray& payload, std::uint32_t id, Micros now,
                                      std::uint32_t chunkBytes = kMaxChunkBytes) {
+  engine.onMessage(message(tinyLevelList(static_cast<std::uint32_t>(payload.size()))), now);
   ModelSender sender(id, TransferKind::Level, kVertices, payload, chunkBytes);
   ClientActions last = engine.onMessage(message(sender.begin()), now);
   while (std::optional<ModelChunk> chunk = sender.nextChunk()) last = engine.onMessage(message(*chunk), now);

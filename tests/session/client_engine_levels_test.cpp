@@ -19,8 +19,8 @@ class ClientEngineLevels : public ::testing::Test {
 };
 
 TEST_F(ClientEngineLevels, ACompletedTransferIsDecodedWithTheSessionsShape) {
-  const QByteArray payload(70'000, 'x');
-  ClientActions out = deliverTransfer(engine, payload, 1, kT0, 65'536);
+  const QByteArray payload = tinyPayload("x");
+  ClientActions out = deliverTransfer(engine, payload, 1, kT0, 64);
   const LevelJob job = startedJob(out);
   EXPECT_EQ(job.payload, payload);
   EXPECT_EQ(job.sha256, sha256(payload));
@@ -28,14 +28,14 @@ TEST_F(ClientEngineLevels, ACompletedTransferIsDecodedWithTheSessionsShape) {
   EXPECT_EQ(job.vertexCount, kVertices);
   const auto progress = actionsOf<client_action::ModelProgress>(out);
   ASSERT_EQ(progress.size(), 1u);
-  EXPECT_EQ(progress[0].received, 70'000u);
-  EXPECT_EQ(progress[0].total, 70'000u);
+  EXPECT_EQ(progress[0].received, static_cast<std::uint32_t>(payload.size()));
+  EXPECT_EQ(progress[0].total, static_cast<std::uint32_t>(payload.size()));
   EXPECT_TRUE(engine.levelDecoding());
   EXPECT_EQ(engine.state(), ClientState::Loading) << "until the decoded level is installed";
 }
 
 TEST_F(ClientEngineLevels, InstallingALevelPublishesItsFirstFrameThenReady) {
-  startedJob(deliverTransfer(engine, "a", 1, kT0));
+  startedJob(deliverTransfer(engine, tinyPayload("a"), 1, kT0));
   const ClientActions out = engine.onLevelDecoded(decodedLevel());
   ASSERT_EQ(out.size(), 4u);
   EXPECT_EQ(std::get<client_action::Notify>(out[0]).notice, ClientNotice::LevelInstalled);
@@ -48,13 +48,13 @@ TEST_F(ClientEngineLevels, InstallingALevelPublishesItsFirstFrameThenReady) {
 }
 
 TEST_F(ClientEngineLevels, OneDecodeAtATimeAndTheLatestTransferSupersedes) {
-  startedJob(deliverTransfer(engine, "first", 1, kT0));
-  EXPECT_TRUE(actionsOf<client_action::StartDecode>(deliverTransfer(engine, "second", 2, kT0)).empty())
+  startedJob(deliverTransfer(engine, tinyPayload("first"), 1, kT0));
+  EXPECT_TRUE(actionsOf<client_action::StartDecode>(deliverTransfer(engine, tinyPayload("second"), 2, kT0)).empty())
       << "waits for the running decode";
-  EXPECT_TRUE(actionsOf<client_action::StartDecode>(deliverTransfer(engine, "third", 3, kT0)).empty());
+  EXPECT_TRUE(actionsOf<client_action::StartDecode>(deliverTransfer(engine, tinyPayload("third"), 3, kT0)).empty());
   // The first result comes back: dropped, superseded by the latest completed transfer (the second never runs).
   ClientActions out = engine.onLevelDecoded(decodedLevel(1.0f));
-  EXPECT_EQ(startedJob(out).payload, QByteArray("third"));
+  EXPECT_EQ(startedJob(out).payload, tinyPayload("third"));
   EXPECT_TRUE(actionsOf<client_action::LevelReady>(out).empty());
   EXPECT_EQ(engine.displayLevel(), nullptr);
   EXPECT_TRUE(engine.levelDecoding());
@@ -65,10 +65,10 @@ TEST_F(ClientEngineLevels, OneDecodeAtATimeAndTheLatestTransferSupersedes) {
 }
 
 TEST_F(ClientEngineLevels, ABadLevelIsReportedAndThePreviousOneStays) {
-  startedJob(deliverTransfer(engine, "good", 1, kT0));
+  startedJob(deliverTransfer(engine, tinyPayload("good"), 1, kT0));
   engine.onLevelDecoded(decodedLevel(1.0f));
   const spectral::SharedDisplayLevel shown = engine.displayLevel();
-  startedJob(deliverTransfer(engine, "bad", 2, kT0));
+  startedJob(deliverTransfer(engine, tinyPayload("bad"), 2, kT0));
   const ClientActions out = engine.onLevelDecoded(DecodedLevel{{}, nullptr, QStringLiteral("bad level payload: x")});
   EXPECT_EQ(actionsOf<client_action::LevelFailed>(out).at(0).reason, QStringLiteral("bad level payload: x"));
   EXPECT_EQ(engine.levelError(), QStringLiteral("bad level payload: x"));
@@ -77,23 +77,26 @@ TEST_F(ClientEngineLevels, ABadLevelIsReportedAndThePreviousOneStays) {
 }
 
 TEST_F(ClientEngineLevels, ResultsAfterLeaveOrFailureAreDropped) {
-  startedJob(deliverTransfer(engine, "a", 1, kT0));
+  startedJob(deliverTransfer(engine, tinyPayload("a"), 1, kT0));
   engine.leave();
   EXPECT_TRUE(engine.onLevelDecoded(decodedLevel()).empty());
   EXPECT_EQ(engine.displayLevel(), nullptr);
 
   ClientEngine failing{config("f")};
   joinSession(failing, kT0);
-  startedJob(deliverTransfer(failing, "a", 1, kT0));
-  deliverTransfer(failing, "b", 2, kT0);
+  startedJob(deliverTransfer(failing, tinyPayload("a"), 1, kT0));
+  deliverTransfer(failing, tinyPayload("b"), 2, kT0);
   failing.onClosed();
   EXPECT_TRUE(failing.onLevelDecoded(decodedLevel()).empty()) << "not even the waiting transfer starts";
   EXPECT_EQ(failing.displayLevel(), nullptr);
 }
 
 TEST_F(ClientEngineLevels, AnOutOfOrderChunkFailsTheTransferNotTheSession) {
-  engine.onMessage(message(ModelBegin{1, TransferKind::Level, kVertices, 10, sha256("0123456789")}), kT0);
-  const ClientActions out = engine.onMessage(message(ModelChunk{1, 4, 10, "456789"}), kT0);
+  const QByteArray payload = tinyPayload("0123456789");
+  const auto size = static_cast<std::uint32_t>(payload.size());
+  engine.onMessage(message(tinyLevelList(size)), kT0);
+  engine.onMessage(message(ModelBegin{1, TransferKind::Level, kVertices, size, sha256(payload)}), kT0);
+  const ClientActions out = engine.onMessage(message(ModelChunk{1, 4, size, payload.mid(4)}), kT0);
   EXPECT_TRUE(
       actionsOf<client_action::LevelFailed>(out).at(0).reason.startsWith(QStringLiteral("model transfer failed")));
   EXPECT_EQ(engine.state(), ClientState::Loading);
@@ -114,7 +117,7 @@ TEST_F(ClientEngineLevels, KeyframesOfThisSessionsShapeAreSeeded) {
 TEST_F(ClientEngineLevels, FrameChangesAreCoalescedIntoOnePublication) {
   engine.onFrameChanged(kT0);
   EXPECT_EQ(engine.nextWakeUp(), kT0 + ClientEngine::kSecond) << "before a level: installing publishes anyway";
-  startedJob(deliverTransfer(engine, "a", 1, kT0));
+  startedJob(deliverTransfer(engine, tinyPayload("a"), 1, kT0));
   engine.onLevelDecoded(decodedLevel());
   const Micros t = kT0 + Micros{300'000};
   for (int i = 0; i < 3; ++i) engine.onFrameChanged(t + Micros{i});

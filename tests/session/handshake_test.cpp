@@ -84,7 +84,7 @@ struct Link {
 };
 
 ClientHandshakeConfig clientConfig(std::optional<QString> password = std::nullopt) {
-  return ClientHandshakeConfig{QString::fromUtf8("Zoë"), std::move(password), {}};
+  return ClientHandshakeConfig{QString::fromUtf8("Zoë"), std::move(password), {}, kTestIterations};
 }
 
 void expectJoined(const Link& link) {
@@ -207,7 +207,7 @@ TEST(Handshake, SessionFullIsRefused) {
 
 TEST(Handshake, BlankOrControlCharacterNamesAreRefused) {
   for (const QString& name : {QStringLiteral("   "), QString(), QStringLiteral("a\nb"), QStringLiteral("x\u0007")}) {
-    Link link(hostConfig(), ClientHandshakeConfig{name, std::nullopt, {}});
+    Link link(hostConfig(), ClientHandshakeConfig{name, std::nullopt, {}, kTestIterations});
     link.run();
     expectRefused(link, RefuseReason::BadName);
   }

@@ -21,6 +21,7 @@ SessionClientOptions clientOptions(quint16 port, const QString& name, std::optio
   options.port = port;
   options.name = name;
   options.password = std::move(password);
+  options.minPbkdf2Iterations = kTestPbkdf2Iterations;  // the fixtures' hosts derive fast
   return options;
 }
 

@@ -316,12 +316,18 @@ void MainWindow::onSessionFailed(const QString& message) {
   if (!m_errorDialogsEnabled) return;
   if (m_session != nullptr && m_session->fingerprintRefused()) {
     QMessageBox box(QMessageBox::Critical, tr("Host fingerprint does not match"), message, QMessageBox::Ok, this);
+    box.setTextFormat(Qt::PlainText);  // the reason may quote the host: never rich text
     box.setObjectName(QStringLiteral("fingerprintRefusedBox"));
     box.setInformativeText(fingerprintRefusedAdvice());
     box.exec();
     return;
   }
-  QMessageBox::warning(this, tr("Session"), message);
+  // The reason is often the host's own Refused text: shown as plain text, never rich text (no links or images a
+  // hostile host could plant; docs/security.md, "Hostile host").
+  QMessageBox box(QMessageBox::Warning, tr("Session"), message, QMessageBox::Ok, this);
+  box.setTextFormat(Qt::PlainText);
+  box.setObjectName(QStringLiteral("sessionFailedBox"));
+  box.exec();
 }
 
 void MainWindow::onProgress(int percent, const QString& what) {

@@ -21,7 +21,8 @@ QString protocolError(const QString& what) { return QStringLiteral("protocol err
 }  // namespace
 
 ClientEngine::ClientEngine(ClientEngineConfig config)
-    : m_config(std::move(config)), m_handshake(ClientHandshakeConfig{m_config.name, m_config.password, {}}) {}
+    : m_config(std::move(config)),
+      m_handshake(ClientHandshakeConfig{m_config.name, m_config.password, {}, m_config.minPbkdf2Iterations}) {}
 
 // --- lifecycle
 
@@ -35,7 +36,8 @@ ClientActions ClientEngine::start() {
 
 ClientActions ClientEngine::onSecured(QByteArray channelBinding, Micros now) {
   ClientActions out;
-  m_handshake = ClientHandshake(ClientHandshakeConfig{m_config.name, m_config.password, std::move(channelBinding)});
+  m_handshake = ClientHandshake(
+      ClientHandshakeConfig{m_config.name, m_config.password, std::move(channelBinding), m_config.minPbkdf2Iterations});
   m_lastHeard = now;
   changeState(ClientState::Handshaking, out);
   send(m_handshake.start(), out);
@@ -137,7 +139,12 @@ void ClientEngine::handleHandshake(const HandshakeOutput& handshake, ClientActio
   if (m_handshake.state() == ClientHandshake::State::Refused) {
     fail(m_handshake.errorText(), out);
   } else if (m_handshake.state() == ClientHandshake::State::Joined && !m_session) {
-    m_session = m_handshake.session();
+    const Welcome& welcome = *m_handshake.session();
+    if (const QString absurd = checkSessionShape(welcome.rowCount, welcome.vertexCount); !absurd.isEmpty()) {
+      fail(protocolError(absurd), out);
+      return;
+    }
+    m_session = welcome;
     m_lock = std::make_unique<LockClient>(m_session->peerId);
     out.emplace_back(client_action::OpenDatagrams{*m_session});
   }
@@ -159,6 +166,12 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
       out.emplace_back(client_action::Notify{ClientNotice::PeersChanged});
       return;
     case MessageType::LevelList:
+      if (const QString absurd =
+              checkLevelList(std::get<LevelList>(message), m_session->rowCount, m_session->vertexCount);
+          !absurd.isEmpty()) {
+        fail(protocolError(absurd), out);
+        return;
+      }
       m_levels = std::get<LevelList>(message);
       out.emplace_back(client_action::Notify{ClientNotice::LevelsChanged});
       return;

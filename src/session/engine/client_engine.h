@@ -22,7 +22,12 @@
 //   - Levels: a completed transfer is decoded by the adapter, one at a time; a transfer completed while another
 //     decodes waits and supersedes it (the running one's result is dropped, only the latest is installed); a
 //     result arriving after leave or failure is dropped; a bad one emits LevelFailed and keeps the previous level.
-//   - Keyframes of this session's m are seeded (SeedKeyframe), others ignored.
+//   - A hostile host (docs/security.md, "Hostile host") fails the session with a readable reason: a Welcome whose
+//     model no transfer could carry, a LevelList whose sizes its counts do not imply (checkLevelList), a ModelBegin
+//     of a size no listed level has (checkAnnouncement), all before a byte of the transfer is kept. One transfer
+//     in flight: a ModelBegin frees the unfinished transfer and a completed one waiting to decode.
+//   - Keyframes of this session's m are seeded (SeedKeyframe), others ignored; absurd ones (not displayable()) are
+//     dropped and counted (framesRefused()), as are datagram frames the adapter asks admitFrame() about.
 //   - Frames: onFrameChanged() only marks the frame dirty and wakes at once; the next tick() publishes it once
 //     (PublishFrame), however many changes came before; installing a level publishes at once.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
@@ -53,6 +58,8 @@ struct ClientEngineConfig {
   std::uint32_t level = 0;              ///< wanted display resolution in vertices; 0 = full
   std::optional<double> levelFraction;  ///< overrides `level` once the Welcome tells n (see the rules above)
   Millis hostTimeout{10000};            ///< a host silent this long fails the session
+  /// The fewest PBKDF2 iterations a Challenge may ask for (ClientHandshakeConfig::minIterations).
+  std::uint32_t minPbkdf2Iterations = kMinPbkdf2Iterations;
 };
 
 /// The datagram receiver's figures for a StatsReport (ReceiverStatistics::report() starts a new loss interval:
@@ -93,6 +100,10 @@ class ClientEngine {
   ClientActions onLevelDecoded(DecodedLevel result);
   /// The datagram channel's displayed Z changed (coalesced: see the rules). Ignored before a level.
   void onFrameChanged(Micros now);
+  /// Whether the adapter may show the frame `Z` (what PublishFrame would show): false, and counted in
+  /// framesRefused(), when an entry is not finite or beyond kMaxAbsCoordinate (an overflowing exponent, a host
+  /// that sends garbage); the previous frame then stays shown. Cost: O(m).
+  bool admitFrame(const Eigen::MatrixXd& Z);
   /// Runs what is due at `now`: a pending PublishFrame, the per-second duties (sampling `sample` for the
   /// StatsReport), a lock renewal.
   ClientActions tick(Micros now, const ReceiverSampler& sample);
@@ -126,6 +137,9 @@ class ClientEngine {
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
   [[nodiscard]] bool levelDecoding() const { return m_decoding; }
   [[nodiscard]] std::uint64_t keyframesReceived() const { return m_keyframes; }
+  /// Frames not shown for absurd coefficients (admitFrame(), Keyframes): counted with the dropped datagrams in
+  /// the StatsReport.
+  [[nodiscard]] std::uint64_t framesRefused() const { return m_framesRefused; }
   /// The StatsReport the engine would send with `sample`: the displayed level's vertex count, setDistortion()'s
   /// figures; every double that is not finite and > 0 reads 0 (the wire's rule). Pure.
   [[nodiscard]] StatsReport statsReport(const ReceiverSample& sample) const;
@@ -168,6 +182,7 @@ class ClientEngine {
   bool m_decoding = false;
   std::optional<LevelJob> m_nextDecode;  ///< completed while another decodes: supersedes it
   std::uint64_t m_keyframes = 0;
+  std::uint64_t m_framesRefused = 0;
   // frames
   bool m_frameDirty = false;
   Micros m_dirtySince{0};

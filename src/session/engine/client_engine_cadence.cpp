@@ -54,7 +54,7 @@ StatsReport ClientEngine::statsReport(const ReceiverSample& sample) const {
   stats.received = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.received));
   stats.lost = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.cumulativeLost));
   stats.late = r.late;
-  stats.dropped = sample.dropped;
+  stats.dropped = sample.dropped + m_framesRefused;
   stats.lossFraction = figure(r.lossFraction);
   stats.jitterMs = figure(r.jitterMs);
   stats.payloadKbpsIn = figure(r.payloadKbps);

@@ -10,6 +10,13 @@ namespace sc::session {
 // --- level transfer and decode scheduling
 
 void ClientEngine::onModelBegin(const ModelBegin& begin, ClientActions& out) {
+  // Only a size the level list implies (checkLevelList() bounded it by n', f', m), and one transfer in flight: a
+  // new announcement frees the unfinished one (ModelReceiver::begin) and a completed one still waiting to decode.
+  if (const QString unlisted = checkAnnouncement(begin, m_levels); !unlisted.isEmpty()) {
+    fail(QStringLiteral("protocol error from the host: %1").arg(unlisted), out);
+    return;
+  }
+  m_nextDecode.reset();
   m_receiver.begin(begin);
   out.emplace_back(client_action::ModelProgress{0, begin.totalSize});
 }
@@ -80,12 +87,23 @@ void ClientEngine::install(DecodedLevel& decoded, ClientActions& out) {
 void ClientEngine::onKeyframe(const Keyframe& keyframe, ClientActions& out) {
   const auto m = static_cast<Eigen::Index>(keyframe.z.size() / 3);
   if (!m_session || m != m_session->rowCount) return;  // not this session's shape: ignore
+  const Eigen::Map<const Eigen::VectorXd> values(keyframe.z.data(), static_cast<Eigen::Index>(keyframe.z.size()));
+  if (!displayable(values)) {  // absurd coefficients: never shown, counted like a bad datagram
+    ++m_framesRefused;
+    return;
+  }
   Eigen::MatrixXd Z(m, 3);
   for (Eigen::Index r = 0; r < m; ++r) {
     for (Eigen::Index c = 0; c < 3; ++c) Z(r, c) = keyframe.z[static_cast<std::size_t>(3 * r + c)];
   }
   ++m_keyframes;
   out.emplace_back(client_action::SeedKeyframe{keyframe.frame, std::move(Z)});
+}
+
+bool ClientEngine::admitFrame(const Eigen::MatrixXd& Z) {
+  if (displayable(Z)) return true;
+  ++m_framesRefused;
+  return false;
 }
 
 void ClientEngine::onFrameChanged(Micros now) {

@@ -48,6 +48,13 @@ HandshakeOutput ClientHandshake::handleChallenge(const Challenge& challenge) {
     return fail(ClientFailure::PasswordRequired, QStringLiteral("this session is protected by a password; "
                                                                 "enter the password and join again"));
   }
+  if (challenge.iterations < m_config.minIterations) {
+    return fail(ClientFailure::WeakChallenge,
+                QStringLiteral("the host asked for a password proof with only %1 PBKDF2 iterations (at least %2 are "
+                               "required); it may be an impostor collecting passwords, so none was sent")
+                    .arg(challenge.iterations)
+                    .arg(m_config.minIterations));
+  }
   m_challenge = challenge;
   HandshakeOutput out;
   changeState(State::AwaitWelcome, out);

@@ -6,6 +6,7 @@
 // States and transitions (entry side effects in changeState()):
 //   SendHello               --start()-------------------------> AwaitChallengeOrWelcome (returns the Hello)
 //   AwaitChallengeOrWelcome --Challenge, password known-------> AwaitWelcome (entry: send the ChallengeResponse)
+//   AwaitChallengeOrWelcome --Challenge, < minIterations------> Refused (local: WeakChallenge; no proof is sent)
 //   AwaitChallengeOrWelcome --Challenge, no password----------> Refused (local: PasswordRequired)
 //   AwaitChallengeOrWelcome | AwaitWelcome --Welcome----------> Joined (session info stored)
 //   AwaitChallengeOrWelcome | AwaitWelcome --Refused----------> Refused (host's reason and text stored)
@@ -16,7 +17,8 @@
 // Contracts
 //   - Network input is never asserted on. The password is used only to answer a Challenge and never sent.
 //   - Challenge iterations are bounded by the decoder (1..kMaxPbkdf2Iterations), so answering costs at most
-//     kMaxPbkdf2Iterations PBKDF2 rounds, on the calling thread.
+//     kMaxPbkdf2Iterations PBKDF2 rounds, on the calling thread; and from below by minIterations
+//     (kMinPbkdf2Iterations): an impostor host asking for fewer gets no proof to crack at HMAC speed.
 
 #include "session/engine/handshake_host.h"
 #include "session/wire/control_messages.h"
@@ -31,6 +33,8 @@ struct ClientHandshakeConfig {
   QString displayName;              ///< ≤ kMaxNameBytes in UTF-8
   std::optional<QString> password;  ///< none: the user gave no password
   QByteArray channelBinding;        ///< SHA-256 of the certificate the host showed in the TLS handshake
+  /// The fewest PBKDF2 iterations answered (password_auth.h); only tests whose hosts use fewer lower it.
+  std::uint32_t minIterations = kMinPbkdf2Iterations;
 };
 
 /// Why the client ended in Refused.
@@ -39,6 +43,7 @@ enum class ClientFailure : std::uint8_t {
   RefusedByHost,     ///< the host sent Refused; see refusal()
   PasswordRequired,  ///< the host asked for a password and none was given
   ProtocolError,     ///< the host sent something unexpected or undecodable
+  WeakChallenge,     ///< the host's Challenge asked for fewer PBKDF2 iterations than minIterations
 };
 
 class ClientHandshake {

@@ -18,8 +18,12 @@ namespace sc::session {
 namespace {
 
 ClientEngineConfig engineConfig(const SessionClientOptions& options) {
-  return ClientEngineConfig{options.name, options.password, options.level, options.levelFraction,
-                            std::chrono::duration_cast<Millis>(options.hostTimeout)};
+  return ClientEngineConfig{options.name,
+                            options.password,
+                            options.level,
+                            options.levelFraction,
+                            std::chrono::duration_cast<Millis>(options.hostTimeout),
+                            options.minPbkdf2Iterations};
 }
 
 }  // namespace

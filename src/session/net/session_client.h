@@ -41,6 +41,8 @@
 //   dirty and wakes the timer at once, so every datagram already pending is decoded first and one update (one
 //   frameUpdated, then one positionsUpdated(frame)) serves them all; installing a level updates at once. Z is
 //   converted once per update, channel (double) → displayFrame().Z (float, in place), and passed by reference.
+//   A Z with an entry that is not finite or beyond kMaxAbsCoordinate is not shown (ClientEngine::admitFrame():
+//   the previous frame stays, the frame is counted as dropped in the StatsReport).
 //   positions() = X̂' + K·Z (float32, interleaved xyz) is a convenience for headless users (CLI, tests): it runs
 //   spectral::reconstruct on its first call after an update (O(n'·m)) and caches the result.
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
@@ -85,6 +87,9 @@ struct SessionClientOptions {
   Concealment concealment = Concealment::Extrapolate;
   std::optional<ImpairmentSettings> impairment;  ///< simulated network conditions on receive
   std::chrono::milliseconds hostTimeout{10000};  ///< a host silent this long fails the session
+  /// A Challenge asking for fewer PBKDF2 iterations is refused without a proof (password_auth.h): only tests
+  /// whose hosts use fewer lower it.
+  std::uint32_t minPbkdf2Iterations = kMinPbkdf2Iterations;
   QByteArray fingerprint;        ///< pinned SHA-256 of the host's certificate; empty: see trustOnFirstUse
   bool trustOnFirstUse = false;  ///< remember the first fingerprint per host:port (KnownHosts), refuse a change
   QString knownHostsFile;        ///< KnownHosts store; empty: the application's QSettings

@@ -32,7 +32,8 @@ void SessionClient::execute(client_action::PublishFrame) {
   const Eigen::MatrixXd& Z = m_channel->coefficients();
   const Eigen::Index m = level->basisSize();
   if (Z.rows() == m && Z.cols() == 3) {
-    m_frame.Z = Z.cast<float>();  // the one conversion (in place once sized)
+    if (!m_engine.admitFrame(Z)) return;  // absurd coefficients (e.g. an overflowing exponent): the last frame stays
+    m_frame.Z = Z.cast<float>();          // the one conversion (in place once sized)
   } else {
     m_frame.Z.setZero(m, 3);
   }

@@ -61,7 +61,8 @@ class ModelReceiver {
     BadChecksum,      ///< complete but the SHA-256 differs: transfer abandoned (add() only)
   };
 
-  /// Starts a transfer (memory for totalSize is reserved lazily, as chunks arrive, never trusted up front).
+  /// Starts a transfer, freeing an unfinished one (memory for totalSize is reserved lazily, as chunks arrive, never
+  /// trusted up front, and never more than totalSize: reservedBytes()).
   void begin(const ModelBegin& begin);
   /// Appends one chunk. Cost: O(chunk), plus one SHA-256 over the payload on the last chunk.
   Status add(const ModelChunk& chunk);
@@ -77,6 +78,8 @@ class ModelReceiver {
   const std::optional<ModelBegin>& current() const { return m_begin; }
   std::uint32_t receivedBytes() const { return static_cast<std::uint32_t>(m_bytes.size()); }
   std::uint32_t totalBytes() const { return m_begin ? m_begin->totalSize : 0; }
+  /// Bytes of memory held for the payload (its capacity): never more than totalBytes().
+  std::uint64_t reservedBytes() const { return static_cast<std::uint64_t>(m_bytes.capacity()); }
 
  private:
   Status append(const ModelChunk& chunk, bool verify);

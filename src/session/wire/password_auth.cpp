@@ -1,5 +1,6 @@
 #include "session/wire/password_auth.h"
 
+#include <openssl/crypto.h>
 #include <openssl/evp.h>
 #include <QtCore/QCryptographicHash>
 #include <QtCore/QMessageAuthenticationCode>
@@ -46,11 +47,7 @@ bool verifyChallengeResponse(QByteArrayView key, const Challenge& challenge, QBy
 
 bool constantTimeEquals(QByteArrayView a, QByteArrayView b) {
   if (a.size() != b.size()) return false;
-  unsigned char difference = 0;
-  for (qsizetype i = 0; i < a.size(); ++i) {
-    difference |= static_cast<unsigned char>(a[i] ^ b[i]);
-  }
-  return difference == 0;
+  return CRYPTO_memcmp(a.data(), b.data(), static_cast<std::size_t>(a.size())) == 0;
 }
 
 }  // namespace sc::session

@@ -20,7 +20,14 @@
 
 namespace sc::session {
 
-inline constexpr std::uint32_t kDefaultPbkdf2Iterations = 100000;  ///< host default (client max: kMaxPbkdf2Iterations)
+/// The host's default PBKDF2 count: 600,000 (OWASP's current guidance for PBKDF2-HMAC-SHA256). About 0.35 s to
+/// derive (shared 2-core machine) once per session on the host and once per join on the client (docs/security.md,
+/// "Hostile host").
+inline constexpr std::uint32_t kDefaultPbkdf2Iterations = 600000;
+/// The fewest PBKDF2 iterations a client accepts in a Challenge (ClientHandshakeConfig::minIterations): below it an
+/// impostor host would get a proof it can attack at nearly HMAC speed (1 iteration: ~257,000 guesses per second).
+/// Tests whose hosts use fewer lower it explicitly. The most: kMaxPbkdf2Iterations (wire_format.h).
+inline constexpr std::uint32_t kMinPbkdf2Iterations = 100000;
 
 /// `count` bytes from the system's cryptographically secure generator (QRandomGenerator::system()).
 QByteArray secureRandomBytes(int count);
@@ -40,7 +47,8 @@ ChallengeResponse answerChallenge(QByteArrayView key, const Challenge& challenge
 bool verifyChallengeResponse(QByteArrayView key, const Challenge& challenge, QByteArrayView channelBinding,
                              const ChallengeResponse& response);
 
-/// Equality of two byte strings in time that depends only on their lengths (not on where they differ).
+/// Equality of two byte strings in time that depends only on their lengths (not on where they differ):
+/// OpenSSL's CRYPTO_memcmp.
 bool constantTimeEquals(QByteArrayView a, QByteArrayView b);
 
 }  // namespace sc::session
