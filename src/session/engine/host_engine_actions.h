@@ -19,6 +19,18 @@
 
 namespace sc::session {
 
+/// Bytes the host queues for one peer at most (4 × the transfer high water): above, the peer is dropped.
+inline constexpr std::int64_t kSendBudgetBytes = 1 << 20;
+
+/// What the adapter measured of one connection's outgoing queue (bytes accepted by send() not yet taken by the
+/// kernel, TLS records included).
+struct SendQueueReport {
+  std::int64_t queuedBytes = 0;
+  std::int64_t peakBytes = 0;  ///< the largest queue since the connection opened
+  Micros lastDrained{0};       ///< when the kernel last took bytes, or the queue was last seen empty
+  bool overBudget = false;     ///< the adapter refused a write that would have passed sendBudgetBytes
+};
+
 /// One control message to one welcomed peer.
 struct SendToPeer {
   PeerId peer = kNoPeer;

@@ -60,18 +60,13 @@ HostActions HostEngine::drag(std::span<const spectral::HandleTransform> poses, M
 }
 
 void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, Micros now) {
-  const auto n = static_cast<std::uint32_t>(m_model->vertexCount());
-  const auto valid = [n](std::uint32_t id) { return id < n; };
-  spectral::ConstraintSet set;
-  bool idsValid = std::all_of(constraints.anchors.begin(), constraints.anchors.end(), valid);
-  for (const std::vector<std::uint32_t>& group : constraints.groups) {
-    idsValid = idsValid && std::all_of(group.begin(), group.end(), valid);
-    if (!idsValid) break;
-    set.handles.push_back({std::vector<int>(group.begin(), group.end())});
-  }
-  if (!idsValid) {
+  if (!constraintsWithinBounds(constraints)) {
     ++m_counters.constraintsRejected;
     return;
+  }
+  spectral::ConstraintSet set;
+  for (const std::vector<std::uint32_t>& group : constraints.groups) {
+    set.handles.push_back({std::vector<int>(group.begin(), group.end())});
   }
   set.anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
   applyConstraints(peer, constraints.epoch, set, now);

@@ -137,8 +137,28 @@ void SessionHost::onTimer() {
   apply(m_engine.tick(sessionNow()));
 }
 
+void SessionHost::reportSendQueues() {
+  if (m_reportingQueues) return;
+  m_reportingQueues = true;
+  const Micros now = sessionNow();
+  HostActions answers;  // collected first: carrying them out may close connections (m_peers changes)
+  for (const auto& [id, c] : m_peers) {
+    if (c->isClosing()) continue;
+    HostActions step = m_engine.onSendQueue(id, c->sendQueue(), now);
+    answers.list.insert(answers.list.end(), step.list.begin(), step.list.end());
+  }
+  for (const HostAction& action : answers.list) applyOne(action);
+  m_reportingQueues = false;
+}
+
+qint64 SessionHost::queuedBytes(PeerId peer) const {
+  const HostPeerConnection* c = connection(peer);
+  return c == nullptr ? 0 : c->queuedBytes();
+}
+
 void SessionHost::apply(HostActions actions) {
   for (const HostAction& action : actions.list) applyOne(action);
+  reportSendQueues();
   // The engine's wake-up as of now: an action may have led to a nested event (a close) since `actions` was made.
   const std::optional<Micros> wakeAt = m_engine.nextWakeUp();
   if (!wakeAt) {

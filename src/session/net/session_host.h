@@ -9,7 +9,10 @@
 // out the HostActions the engine returns, in order; it emits its signals when the engine says so.
 //
 //   - start() resolves the TLS identity, derives the password secret, binds UDP and listens on TCP.
-//   - A connection over the engine's admission limits is aborted at accept, before any byte is read or sent.
+//   - A connection over the engine's admission limits is aborted at accept, before any byte is read or sent; a
+//     pending connection the engine evicts to make room is aborted.
+//   - After carrying out the engine's actions (and at every timer) it reports each connection's outgoing queue to
+//     the engine (HostEngine::onSendQueue); each connection refuses writes over the engine's send budget.
 //   - shutdown() sends Leave to every peer and stops listening.
 // Network input never asserts (style.md item 6); every rejection is counted in counters().
 
@@ -108,6 +111,9 @@ class SessionHost final : public QObject {
   /// The session rules this host adapts (read only: events go through the host).
   [[nodiscard]] const HostEngine& engine() const { return m_engine; }
 
+  /// Bytes queued for `peer`'s connection now (0 for an unknown peer), for tests and the UI.
+  [[nodiscard]] qint64 queuedBytes(PeerId peer) const;
+
   // --- the host's own user (peer 1), e.g. the desktop app dragging on the host
   /// Asks for the lock (false when already asked for or held).
   bool requestLock();
@@ -138,6 +144,8 @@ class SessionHost final : public QObject {
   /// Carries out the engine's actions in order, then arms the timer at its wake-up.
   void apply(HostActions actions);
   void applyOne(const HostAction& action);
+  /// Reports every connection's outgoing queue to the engine and carries out what it answers (not re-entered).
+  void reportSendQueues();
   void broadcast(const ControlMessage& message);
   void startTransfer(const StartTransfer& transfer);
   void closePeer(const ClosePeer& close);
@@ -154,6 +162,11 @@ class SessionHost final : public QObject {
   std::map<PeerId, HostPeerConnection*> m_peers;  ///< every open connection, welcomed or not (children)
   HostEngine m_engine;
   bool m_started = false;
+  bool m_reportingQueues = false;
 };
+
+/// The admission limits' key of an address: IPv4 (and IPv4-mapped IPv6) addresses as themselves, other IPv6
+/// addresses by their /64 prefix ("2001:db8:1:2::/64"), since one host usually holds a whole /64.
+std::string admissionAddressKey(const QHostAddress& address);
 
 }  // namespace sc::session
