@@ -152,6 +152,43 @@ TEST_F(HostEngineConstraints, ConstraintsAreRateLimited) {
   EXPECT_TRUE(send(epoch, {{1, 2, 3}}, {10, 11})) << "one more after a quarter second";
 }
 
+TEST_F(HostEngineConstraints, AMembersConstraintsAreFactoredOffTheNetworkThreadAndItsDragsWait) {
+  startEngine();
+  const LockEpoch epoch = memberHoldsTheLock();
+  const int factored = engine().deformer().factorizationCount();
+  const std::vector<std::uint32_t> handle{1, 2, 3};
+  const HostActions accepted = engine().onMessage(m_member, Constraints{epoch, {handle}, {10, 11, 12}}, now());
+  ASSERT_EQ(actionsOf<PrepareConstraints>(accepted).size(), 1u);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored) << "nothing factored on the network thread";
+  EXPECT_TRUE(engine().constraintsInFlight());
+  spectral::HandleTransform pose;
+  pose.translation = Eigen::Vector3d(0.0, 0.0, 0.1);
+  EXPECT_TRUE(actionsOf<SendFrame>(engine().onMessage(m_member, Drag{epoch, {toWire(0, pose)}}, now())).empty())
+      << "the drag waits for its constraints";
+  const HostActions installed = completeConstraints(accepted);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored + 1);
+  ASSERT_EQ(actionsOf<SendFrame>(installed).size(), 1u) << "the waiting pose, solved with the new constraints";
+  EXPECT_GT(actionsOf<SendFrame>(installed).front().Z->norm(), 0.0);
+  EXPECT_FALSE(engine().constraintsInFlight());
+}
+
+TEST_F(HostEngineConstraints, StaleOrOrphanedFactorisationsAreNotInstalled) {
+  startEngine();
+  const LockEpoch epoch = memberHoldsTheLock();
+  const int factored = engine().deformer().factorizationCount();
+  const HostActions first = engine().onMessage(m_member, Constraints{epoch, {{1, 2}}, {10}}, now());
+  const HostActions second = engine().onMessage(m_member, Constraints{epoch, {{3, 4}}, {11}}, now());
+  completeConstraints(first);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored) << "superseded by the second";
+  completeConstraints(second);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored + 1);
+  const HostActions orphan = engine().onMessage(m_member, Constraints{epoch, {{5, 6}}, {12}}, now());
+  engine().onMessage(m_member, LockMessage{LockRequestKind::Release, epoch}, now());
+  completeConstraints(orphan);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored + 1) << "the lock changed hands meanwhile";
+  EXPECT_FALSE(engine().constraintsInFlight());
+}
+
 TEST_F(HostEngineHostile, SeatsAreCountedAfterTheProofNotAtAccept) {
   HostEngineOptions options;
   options.maxPeers = 2;

@@ -16,12 +16,15 @@
 //     to that peer and PeerList to everybody.
 //   - Lock: LockMessages go to the LockArbiter (ticked at every housekeeping tick, every 100 ms) and its events
 //     are sent (to everybody or one peer); the host's own LockClient (peer 1) is driven in the same way.
-//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. An accepted drag solves at
-//     once and sends a frame (stamp = the drag's arrival) unless the previous DRAG frame went out less than
-//     `coalesce` ago: then one frame with the latest pose when that spacing has passed. After a moving frame, one
-//     still frame (StillFrameSchedule) unless another frame comes first; without drags the current Z is repeated
-//     when idleRefresh has passed since the last frame (checked at housekeeping ticks). Every referenceEvery frames
-//     each peer with a model gets a Keyframe.
+//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. A member's accepted Constraints
+//     are factored off the network thread (PrepareConstraints, then onConstraintsPrepared(), which installs them if
+//     still the latest and the epoch unchanged); drag frames wait for that (the 1 s refresh does not), so the
+//     network thread never runs the O(ids·m² + m³) factorisation. The host's own setConstraints() is synchronous. An
+//     accepted drag solves at once and sends a frame (stamp = the drag's arrival) unless the previous DRAG frame went
+//     out less than `coalesce` ago: then one frame with the latest pose when that spacing has passed. After a moving
+//     frame, one still frame (StillFrameSchedule) unless another frame comes first; without drags the current Z is
+//     repeated when idleRefresh has passed since the last frame (checked at housekeeping ticks). Every referenceEvery
+//     frames each peer with a model gets a Keyframe.
 //   - Heartbeat to every welcomed peer each second; a peer silent (onHeard) for more than peerTimeout is aborted.
 //   - A message that is unexpected after the Welcome is counted (protocolErrors) and the connection closed.
 //   - A hostile member (docs/security.md, "Hostile member"): a peer over messageRate is closed; LockRequest{Request},
@@ -183,6 +186,9 @@ class HostEngine {
   HostActions onLevelReady(std::uint32_t target, const LevelFigures& figures, Micros now);
   HostActions onLevelFailed(std::uint32_t target, const QString& reason, Micros now);
   HostActions onTransferFinished(PeerId peer, Micros now);
+  /// The worker's answer to PrepareConstraints{ticket}; nullopt: the set was invalid. A stale ticket is ignored.
+  HostActions onConstraintsPrepared(std::uint64_t ticket, std::optional<spectral::PreparedConstraints> prepared,
+                                    Micros now);
 
   // === the host's own user (peer 1)
   HostActions requestLock(Micros now, bool* sent = nullptr);
@@ -202,6 +208,10 @@ class HostEngine {
   [[nodiscard]] std::uint32_t currentFrame() const { return m_frame; }
   [[nodiscard]] const Eigen::MatrixXd& coefficients() const { return *m_Z; }
   [[nodiscard]] const HostEngineOptions& options() const { return m_options; }
+  /// For PrepareConstraints' worker: only its const prepare() may be called from another thread.
+  [[nodiscard]] const spectral::SpectralDeformer& deformer() const { return *m_deformer; }
+  /// A member's constraints are being factored (its drag frames wait).
+  [[nodiscard]] bool constraintsInFlight() const { return m_constraintsInFlight.has_value(); }
   [[nodiscard]] const LevelLadder& ladder() const { return m_ladder; }
   [[nodiscard]] bool isShutDown() const { return m_shutDown; }
   /// When tick() is next due: the earliest of the pending drag frame, the still frame, the next housekeeping and
@@ -238,7 +248,7 @@ class HostEngine {
   void dispatchLock(const LockEvents& events, Micros now, HostActions& out);
   /// The host's own LockClient's message (if any) to the arbiter; `sent`: whether there was one.
   HostActions localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent);
-  void handleConstraints(PeerId peer, const Constraints& constraints, Micros now);
+  void handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out);
   bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now);
   bool acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses, Micros arrivedAt,
                   Micros now, HostActions& out);
@@ -279,6 +289,13 @@ class HostEngine {
   std::optional<Micros> m_pendingArrival;  ///< set while an accepted drag waits for its frame
   std::optional<Micros> m_coalesceDue;     ///< when the pending pose's frame goes out
   std::optional<Micros> m_stillDue;        ///< when the still frame goes out
+  struct ConstraintsInFlight {
+    std::uint64_t ticket = 0;
+    LockEpoch epoch = kNoEpoch;  ///< installed only if the lock is still under this grant
+    std::size_t groups = 0;      ///< handle groups of the set (drags meanwhile are read against it)
+  };
+  std::optional<ConstraintsInFlight> m_constraintsInFlight;
+  std::uint64_t m_constraintsTicket = 0;
   StillFrameSchedule m_stillSchedule;
 };
 

@@ -177,11 +177,13 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
       dispatchLock(m_arbiter.handleMessage(id, std::get<LockMessage>(message), toMillis(now)), now, out);
       break;
     case MessageType::Constraints:
-      handleConstraints(id, std::get<Constraints>(message), now);
+      handleConstraints(id, std::get<Constraints>(message), now, out);
       break;
     case MessageType::Drag: {
       const Drag& drag = std::get<Drag>(message);
-      acceptPose(id, drag.epoch, fromWire(drag.handles, m_deformer->constraints().handles.size()), now, now, out);
+      const std::size_t groups =
+          m_constraintsInFlight ? m_constraintsInFlight->groups : m_deformer->constraints().handles.size();
+      acceptPose(id, drag.epoch, fromWire(drag.handles, groups), now, now, out);
       break;
     }
     case MessageType::StatsReport:

@@ -13,6 +13,8 @@
 //     pending connection the engine evicts to make room is aborted.
 //   - After carrying out the engine's actions (and at every timer) it reports each connection's outgoing queue to
 //     the engine (HostEngine::onSendQueue); each connection refuses writes over the engine's send budget.
+//   - A member's Constraints are factored on a worker thread (m_solver, one thread), so the network thread never
+//     runs the O(ids·m² + m³) refactorisation; the destructor waits for a running one.
 //   - shutdown() sends Leave to every peer and stops listening.
 // Network input never asserts (style.md item 6); every rejection is counted in counters().
 
@@ -43,6 +45,7 @@
 #include <span>
 #include <vector>
 
+class QThreadPool;
 class QTimer;
 
 namespace sc::session {
@@ -148,6 +151,8 @@ class SessionHost final : public QObject {
   void reportSendQueues();
   void broadcast(const ControlMessage& message);
   void startTransfer(const StartTransfer& transfer);
+  /// Runs the engine's deformer().prepare() on m_solver, then onConstraintsPrepared() on this thread.
+  void prepareConstraints(const PrepareConstraints& job);
   void closePeer(const ClosePeer& close);
   [[nodiscard]] HostPeerConnection* connection(PeerId id) const;
 
@@ -159,6 +164,7 @@ class SessionHost final : public QObject {
   HostDatagramChannel* m_channel = nullptr;
   LevelLibrary* m_levels = nullptr;
   QTimer* m_timer = nullptr;                      ///< single-shot, armed at the engine's wake-up
+  QThreadPool* m_solver = nullptr;                ///< one thread: members' constraint factorisations (child)
   std::map<PeerId, HostPeerConnection*> m_peers;  ///< every open connection, welcomed or not (children)
   HostEngine m_engine;
   bool m_started = false;
