@@ -1,7 +1,7 @@
 // Seats and pending connections (docs/security.md, "Hostile member"): silent TCP connections do not take seats (a
 // seat is counted only after the password proof), and pending connections from over-represented addresses make
 // room for a newcomer from another address. Real TLS over loopback sockets (127.0.0.2 and 127.0.0.3 as "other
-// addresses"). Fixture: security_fixture.h.
+// addresses"). Fixture: security_fixture.h. Also the admission key that groups IPv6 addresses by /64.
 #include "security_fixture.h"
 
 #include "silent_connections.h"
@@ -43,6 +43,16 @@ TEST_F(Security, PendingConnectionsFromTwoAddressesDoNotLockOutAThird) {
     if (settle(*honest)) ++joined;
   }
   EXPECT_EQ(joined, 3);
+}
+
+TEST(AdmissionAddressKey, GroupsIpv6ByTheirSlash64) {
+  const auto key = [](const char* text) { return admissionAddressKey(QHostAddress(QString::fromLatin1(text))); };
+  EXPECT_EQ(key("2001:db8:1:2::1"), key("2001:db8:1:2:ffff:eeee:dddd:cccc")) << "one /64: one address";
+  EXPECT_EQ(key("2001:db8:1:2::1"), "2001:db8:1:2::/64");
+  EXPECT_NE(key("2001:db8:1:2::1"), key("2001:db8:1:3::1")) << "another /64";
+  EXPECT_EQ(key("127.0.0.2"), "127.0.0.2");
+  EXPECT_EQ(key("::ffff:10.0.0.7"), "10.0.0.7") << "IPv4-mapped: the IPv4 address";
+  EXPECT_NE(key("10.0.0.7"), key("10.0.0.8"));
 }
 
 }  // namespace

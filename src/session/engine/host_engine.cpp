@@ -106,6 +106,7 @@ void HostEngine::housekeeping(Micros now, HostActions& out) {
     }
   }
   forgetOldWrongPasswords(now);
+  serveDeferredRequests(now, out);
   const LockEvents lockEvents = m_arbiter.tick(t);
   if (m_arbiter.revokedForWaiters() > m_counters.locksRevokedForWaiters) {
     m_counters.locksRevokedForWaiters = m_arbiter.revokedForWaiters();

@@ -28,10 +28,11 @@
 //   - Heartbeat to every welcomed peer each second; a peer silent (onHeard) for more than peerTimeout is aborted.
 //   - A message that is unexpected after the Welcome is counted (protocolErrors) and the connection closed.
 //   - A hostile member (docs/security.md, "Hostile member"): a peer over messageRate is closed; LockRequest{Request},
-//     ResolutionRequest and Constraints over their rates are ignored (requestsThrottled); Constraints need unique
-//     ids < n and (ids · m²) ≤ maxConstraintWork. The adapter reports each peer's outgoing queue (onSendQueue): over
-//     sendBudgetBytes, or not drained for sendStallTimeout, the peer is aborted and its lock freed. The lock holder
-//     is revoked after maxLockHoldWhileWaited with others waiting.
+//     ResolutionRequest and Constraints over their rates are counted (requestsThrottled) and dropped, except that the
+//     latest ResolutionRequest / Constraints is kept and served at a housekeeping tick once the rate allows;
+//     Constraints need unique ids < n and (ids · m²) ≤ maxConstraintWork. The adapter reports each peer's outgoing
+//     queue (onSendQueue): over sendBudgetBytes, or not drained for sendStallTimeout, the peer is aborted and its lock
+//     freed. The lock holder is revoked after maxLockHoldWhileWaited with others waiting.
 //   - Seats are counted after the password proof (sessionFull(), asked by the handshake); pending connections have
 //     their own limits and deadline, and when all pending slots are taken, the oldest pending connection of the most
 //     represented address makes room for an address with fewer. Wrong passwords are logged and, after
@@ -234,8 +235,11 @@ class HostEngine {
   /// + 1 (the newcomer's address would still have fewer); kNoPeer otherwise.
   PeerId evictionCandidate(int fromAddress) const;
   // host_engine_limits.cpp: the hostile-member limits
-  /// False (and the peer closed, or the request counted) when `message` is over the peer's rates.
+  /// False (and the peer closed, or the request counted and kept as the peer's deferred one) when `message` is over
+  /// the peer's rates.
   bool withinRates(Peer& peer, const ControlMessage& message, Micros now, HostActions& out);
+  /// At housekeeping: each member's deferred ResolutionRequest / Constraints, if its rate now allows.
+  void serveDeferredRequests(Micros now, HostActions& out);
   bool constraintsWithinBounds(const Constraints& constraints) const;
   void wrongPassword(const Peer& peer, Micros now, HostActions& out);
   [[nodiscard]] bool addressWaiting(const std::string& address, Micros now) const;

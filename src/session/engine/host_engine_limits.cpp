@@ -1,5 +1,6 @@
 // HostEngine: the limits against a hostile member or stranger (docs/security.md, "Hostile member"): the per-peer
-// send budget and stall deadline, the per-peer message and request rates, the bounds of a Constraints message and
+// send budget and stall deadline, the per-peer message and request rates (the latest request over its rate is kept
+// and served when the rate allows), the bounds of a Constraints message and
 // the wait of an address after wrong passwords.
 
 #include "session/engine/host_engine.h"
@@ -55,8 +56,25 @@ bool HostEngine::withinRates(Peer& peer, const ControlMessage& message, Micros n
   }
   if (bucket == nullptr || bucket->take(now)) return true;
   ++m_counters.requestsThrottled;
-  if (messageType(message) == MessageType::Constraints) ++m_counters.constraintsRejected;
+  if (const auto* resolution = std::get_if<ResolutionRequest>(&message)) peer.deferredResolution = *resolution;
+  if (const auto* constraints = std::get_if<Constraints>(&message)) peer.deferredConstraints = *constraints;
   return false;
+}
+
+void HostEngine::serveDeferredRequests(Micros now, HostActions& out) {
+  for (auto& [id, peer] : m_peers) {
+    if (!peer.member()) continue;
+    if (peer.deferredResolution && peer.resolutionRequests.take(now)) {
+      const ResolutionRequest request = *peer.deferredResolution;
+      peer.deferredResolution.reset();
+      handleResolutionRequest(peer, request, out);
+    }
+    if (peer.deferredConstraints && peer.constraints.take(now)) {
+      const Constraints constraints = std::move(*peer.deferredConstraints);
+      peer.deferredConstraints.reset();
+      handleConstraints(id, constraints, now, out);
+    }
+  }
 }
 
 bool HostEngine::constraintsWithinBounds(const Constraints& constraints) const {
