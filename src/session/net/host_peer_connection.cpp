@@ -31,10 +31,13 @@ HostPeerConnection::HostPeerConnection(QTcpSocket* socket, HostHandshakeConfig c
   socket->setParent(this);
   socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
   connect(socket, &QTcpSocket::readyRead, this, &HostPeerConnection::readAvailable);
-  connect(socket, &QTcpSocket::bytesWritten, this, &HostPeerConnection::onDrained);
   if (auto* tls = qobject_cast<QSslSocket*>(socket)) {
-    // TLS moves written bytes to the encrypted buffer at once: pump again as the kernel takes those.
+    // TLS moves written bytes to the encrypted buffer at once (bytesWritten then says nothing about the peer
+    // reading): only the kernel taking encrypted bytes counts as draining; pump again then too.
+    connect(tls, &QSslSocket::bytesWritten, this, &HostPeerConnection::pumpTransfer);
     connect(tls, &QSslSocket::encryptedBytesWritten, this, &HostPeerConnection::onDrained);
+  } else {
+    connect(socket, &QTcpSocket::bytesWritten, this, &HostPeerConnection::onDrained);
   }
   connect(socket, &QTcpSocket::disconnected, this, &HostPeerConnection::onDisconnected);
   connect(socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
