@@ -98,7 +98,7 @@ struct HostEngineOptions {
   RateLimit resolutionRequestRate{2.0, 6.0};         ///< ResolutionRequest; over it: ignored
   RateLimit constraintsRate{4.0, 4.0};               ///< Constraints; over it: rejected
   /// Constraints whose (handle + anchor ids) · m² exceeds this are rejected: bounds the refactoring's work and its
-  /// ids × m temporary (30000 ids at m = 128: about 15 ms on one core, 31 MB).
+  /// ids × m temporary (30000 ids at m = 128: 90–150 ms on one core, off the network thread; 31 MB).
   double maxConstraintWork = 30000.0 * 128.0 * 128.0;
   /// The lock holder is revoked after holding this long while others wait (from the grant, or from when the queue
   /// became non-empty, whichever is later); 0 = never.
