@@ -55,15 +55,22 @@ SpectralDeformer::SpectralDeformer(const HarmonicBasis& basis, const LaplaceOper
 SpectralDeformer::~SpectralDeformer() = default;
 
 bool SpectralDeformer::setConstraints(const ConstraintSet& constraints) {
-  if (!validConstraints(constraints, m_rest.rows())) return false;
-  const Eigen::Index m = m_basis.size();
+  std::optional<PreparedConstraints> prepared = prepare(constraints);
+  if (!prepared) return false;
+  install(std::move(*prepared));
+  return true;
+}
+
+std::optional<PreparedConstraints> SpectralDeformer::prepare(const ConstraintSet& constraints) const {
+  if (!validConstraints(constraints, m_rest.rows())) return std::nullopt;
   const Eigen::VectorXd& lambda = m_basis.eigenvalues;
-  const double lambdaMax = std::max(std::abs(lambda(m - 1)), 1e-300);
+  const double lambdaMax = std::max(std::abs(lambda(m_basis.size() - 1)), 1e-300);
   const bool rigid = m_options.mode == DeformationMode::Rigid;
+  PreparedConstraints out;
 
   // === step 1: energy diagonal (Λ² linear, Λ rigid) and constraint weight w²
   const Eigen::VectorXd energy = rigid ? Eigen::VectorXd(lambda.cwiseMax(0.0)) : Eigen::VectorXd(lambda.cwiseAbs2());
-  m_weight = m_options.constraintWeight * (rigid ? lambdaMax : lambdaMax * lambdaMax);
+  out.weight = m_options.constraintWeight * (rigid ? lambdaMax : lambdaMax * lambdaMax);
 
   // === step 2: A = E + w² H_Cᵀ H_C over every constrained row, plus a tiny ridge
   std::vector<int> rows;
@@ -73,29 +80,35 @@ bool SpectralDeformer::setConstraints(const ConstraintSet& constraints) {
   Eigen::MatrixXd A = energy.asDiagonal();
   if (!rows.empty()) {  // BLAS's syrk rejects an empty update
     const Eigen::MatrixXd Hc = m_basis.vectors(rows, Eigen::all);
-    A.selfadjointView<Eigen::Lower>().rankUpdate(Hc.transpose(), m_weight);
+    A.selfadjointView<Eigen::Lower>().rankUpdate(Hc.transpose(), out.weight);
   }
-  A.diagonal().array() += kRegularisation * (m_weight + energy.maxCoeff());
-  m_factor.compute(A.selfadjointView<Eigen::Lower>());
-  ++m_factorizations;
+  A.diagonal().array() += kRegularisation * (out.weight + energy.maxCoeff());
+  out.factor.compute(A.selfadjointView<Eigen::Lower>());
 
   // === step 3: per-group moments so that a frame's right-hand side costs O(m) per group
-  m_groupMoments.clear();
-  m_groupSums.clear();
-  m_groupCentroids.clear();
   for (const HandleGroup& group : constraints.handles) {
     const Eigen::MatrixXd Hg = m_basis.vectors(group.vertices, Eigen::all);
     const Eigen::MatrixX3d Xg = m_rest(group.vertices, Eigen::all);
     const Eigen::Vector3d centroid = Xg.colwise().mean().transpose();
-    m_groupCentroids.push_back(centroid);
-    m_groupMoments.push_back(m_weight * Hg.transpose() * (Xg.rowwise() - centroid.transpose()));
-    m_groupSums.push_back(m_weight * Hg.colwise().sum().transpose());
+    out.groupCentroids.push_back(centroid);
+    out.groupMoments.push_back(out.weight * Hg.transpose() * (Xg.rowwise() - centroid.transpose()));
+    out.groupSums.push_back(out.weight * Hg.colwise().sum().transpose());
   }
-  m_constraints = constraints;
-  if (rigid && !m_rigid)
+  out.constraints = constraints;
+  return out;
+}
+
+void SpectralDeformer::install(PreparedConstraints prepared) {
+  m_weight = prepared.weight;
+  m_factor = std::move(prepared.factor);
+  m_groupMoments = std::move(prepared.groupMoments);
+  m_groupSums = std::move(prepared.groupSums);
+  m_groupCentroids = std::move(prepared.groupCentroids);
+  m_constraints = std::move(prepared.constraints);
+  ++m_factorizations;
+  if (m_options.mode == DeformationMode::Rigid && !m_rigid)
     m_rigid = std::make_unique<RigidSubspace>(m_basis, m_operators, m_rest, m_options.rigidClusters);
-  m_Z.setZero(m, 3);
-  return true;
+  m_Z.setZero(m_basis.size(), 3);
 }
 
 Eigen::MatrixXd SpectralDeformer::constraintRightHandSide(std::span<const HandleTransform> transforms) const {

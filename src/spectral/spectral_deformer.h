@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -80,6 +81,17 @@ struct ConstraintResidual {
   double maxAnchor = 0.0;  ///< max ‖x_i − x̂_i‖ over anchors.
 };
 
+/// A constraint set with its factored m×m system and per-group moments: made by SpectralDeformer::prepare() (const,
+/// so it may run on another thread while the deformer solves) and put in place by install() (moves only).
+struct PreparedConstraints {
+  ConstraintSet constraints;
+  double weight = 0.0;
+  std::vector<Eigen::MatrixX3d> groupMoments;
+  std::vector<Eigen::VectorXd> groupSums;
+  std::vector<Eigen::Vector3d> groupCentroids;
+  Eigen::LLT<Eigen::MatrixXd> factor;
+};
+
 /// Pre-factored spectral deformer of one mesh (the host's per-frame engine).
 ///
 /// Usage: construct once per basis, call setConstraints() when the handle/anchor set changes (forms and factors the
@@ -100,6 +112,11 @@ class SpectralDeformer {
   /// Replaces the constraint set and refactors. Returns false (and keeps the previous set) if a vertex index is out
   /// of range or a handle group is empty.
   bool setConstraints(const ConstraintSet& constraints);
+  /// The expensive half of setConstraints() (O(c·m² + m³)): reads only the basis, the rest positions and the
+  /// options, which never change, so it may run on another thread while this deformer solves. nullopt when invalid.
+  std::optional<PreparedConstraints> prepare(const ConstraintSet& constraints) const;
+  /// The cheap half: puts a prepared set in place (moves; builds the rigid clusters on first use) and resets Z.
+  void install(PreparedConstraints prepared);
 
   /// Solves one frame: one transform per handle group (fewer: missing groups stay at rest; extra ones ignored).
   /// A used transform out of range (poseInRange() with maxTranslation()) or a solve that is not finite is rejected:

@@ -199,10 +199,19 @@ TEST(Handshake, VersionMismatchIsRefusedBeforeAnyChallenge) {
 
 TEST(Handshake, SessionFullIsRefused) {
   HostHandshakeConfig host = hostConfig(QStringLiteral("pw"));
-  host.sessionFull = true;
+  host.sessionFull = [] { return true; };
   Link link(std::move(host), clientConfig(QStringLiteral("pw")));
   link.run();
-  expectRefused(link, RefuseReason::SessionFull);
+  expectRefused(link, RefuseReason::SessionFull, {MessageType::Challenge});  // told only after the proof
+}
+
+TEST(Handshake, AStrangerLearnsNeitherFullnessNorNamesBeforeTheProof) {
+  HostHandshakeConfig host = hostConfig(QStringLiteral("pw"));
+  host.sessionFull = [] { return true; };
+  host.nameTaken = [](const QString&) { return true; };
+  Link link(std::move(host), clientConfig(QStringLiteral("guess")));
+  link.run();
+  expectRefused(link, RefuseReason::WrongPassword, {MessageType::Challenge});
 }
 
 TEST(Handshake, BlankOrControlCharacterNamesAreRefused) {

@@ -16,12 +16,12 @@ TEST_F(HostEngineAdmission, LimitsPendingHandshakesInAllAndPerAddress) {
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.1", now()).peer, 3);
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.1", now()).peer, kNoPeer) << "a third from one address";
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.2", now()).peer, 4);
-  EXPECT_EQ(engine().onConnectionAttempt("10.0.0.3", now()).peer, kNoPeer) << "a fourth in all";
+  EXPECT_EQ(engine().onConnectionAttempt("10.0.0.2", now()).peer, kNoPeer) << "a fourth in all";
   EXPECT_EQ(engine().counters().connectionsOverLimit, 2u);
 
   engine().onWelcomed(2, QStringLiteral("welcomed"), now());
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.1", now()).peer, 5) << "a welcomed peer no longer counts";
-  engine().onRefused(3, RefuseReason::WrongPassword);
+  engine().onRefused(3, RefuseReason::WrongPassword, now());
   EXPECT_EQ(engine().counters().refusalsFor(RefuseReason::WrongPassword), 1u);
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.3", now()).peer, 6) << "nor does a refused one (closing)";
 }
@@ -36,7 +36,7 @@ TEST_F(HostEngineAdmission, PeerIdsSkipIdsInUseAndMarkAFullSession) {
   EXPECT_EQ(second, 3);
   const Admission third = engine().onConnectionAttempt("10.0.0.9", now());
   EXPECT_EQ(third.peer, 4);
-  EXPECT_TRUE(third.sessionFull) << "maxPeers connections open: the handshake refuses it";
+  EXPECT_TRUE(engine().sessionFull()) << "maxPeers members: the handshake refuses the third after its proof";
   engine().onClosed(third.peer, now());
   engine().onClosed(first, now());
   EXPECT_EQ(engine().onConnectionAttempt("10.0.0.9", now()).peer, 5) << "ids are not reused at once";
@@ -62,7 +62,7 @@ TEST_F(HostEngineAdmission, HandshakeExpiresStrictlyAfterTheTimeout) {
   const std::vector<ExpireHandshake> expired = actionsOf<ExpireHandshake>(tickUntil(accepted + 600ms));
   ASSERT_EQ(expired.size(), 1u);
   EXPECT_EQ(expired[0].peer, slow) << "the welcomed one never expires (" << quick << ")";
-  engine().onRefused(slow, RefuseReason::ProtocolError);  // what the expired handshake does
+  engine().onRefused(slow, RefuseReason::ProtocolError, now());  // what the expired handshake does
   EXPECT_TRUE(actionsOf<ExpireHandshake>(tickFor(1s)).empty()) << "once";
 }
 

@@ -88,6 +88,18 @@ class HostEngineTest : public ::testing::Test {
     return admission.peer;
   }
 
+  /// Factors every PrepareConstraints of `actions` as the adapter's worker would and hands the result back;
+  /// returns the engine's answers, in order.
+  HostActions completeConstraints(const HostActions& actions) {
+    HostActions all;
+    for (const PrepareConstraints& job : actionsOf<PrepareConstraints>(actions)) {
+      HostActions step =
+          m_engine->onConstraintsPrepared(job.ticket, m_engine->deformer().prepare(*job.constraints), m_now);
+      all.list.insert(all.list.end(), step.list.begin(), step.list.end());
+    }
+    return all;
+  }
+
   /// The host's own user takes the lock and sets a cap handle (z > 0.8) over anchors (z < −0.5).
   void holdLockWithCap() {
     bool sent = false;

@@ -134,7 +134,7 @@ TEST_F(HostEnginePeers, DragsAreCheckedAgainstTheLock) {
     if (s_model->V(i, 2) > 0.8) constraints.groups[0].push_back(static_cast<std::uint32_t>(i));
     if (s_model->V(i, 2) < -0.5) constraints.anchors.push_back(static_cast<std::uint32_t>(i));
   }
-  engine().onMessage(alice, constraints, now());
+  completeConstraints(engine().onMessage(alice, constraints, now()));  // factored off the network thread
   EXPECT_EQ(engine().counters().constraintsAccepted, 1u);
   drag.epoch = 1;
   spectral::HandleTransform pose;

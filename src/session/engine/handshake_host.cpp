@@ -1,5 +1,7 @@
 #include "session/engine/handshake_host.h"
 
+#include <QtCore/QList>
+
 #include <cassert>
 
 namespace sc::session {
@@ -15,12 +17,21 @@ SessionSecret makeSessionSecret(const QString& password, std::uint32_t iteration
 
 bool isAcceptableDisplayName(const QString& name) {
   if (name.trimmed().isEmpty()) return false;
-  for (const QChar c : name) {
-    const QChar::Category category = c.category();
-    if (category == QChar::Other_Control || category == QChar::Separator_Line ||
-        category == QChar::Separator_Paragraph) {
-      return false;
+  for (const char32_t c : name.toUcs4()) {
+    switch (QChar::category(c)) {
+      case QChar::Other_Control:
+      case QChar::Other_Format:
+      case QChar::Other_Surrogate:
+      case QChar::Other_PrivateUse:
+      case QChar::Other_NotAssigned:
+      case QChar::Separator_Line:
+      case QChar::Separator_Paragraph:
+        return false;
+      default:
+        break;
     }
+    // Letters that render as nothing (Hangul fillers, the braille blank): a name could look like another.
+    if (c == 0x115F || c == 0x1160 || c == 0x3164 || c == 0xFFA0 || c == 0x2800) return false;
   }
   return true;
 }
@@ -79,16 +90,22 @@ HandshakeOutput HostHandshake::handleHello(const Hello& hello) {
     return refuse(RefuseReason::BadName, QStringLiteral("the display name must not be blank or contain control "
                                                         "characters"));
   }
-  if (m_config.nameTaken && m_config.nameTaken(hello.displayName)) {
-    return refuse(RefuseReason::BadName,
-                  QStringLiteral("the name \"%1\" is already used in this session").arg(hello.displayName));
+  m_name = hello.displayName;
+  if (!m_config.secret) return welcome();
+  HandshakeOutput out;
+  changeState(State::AwaitResponse, out);
+  return out;
+}
+
+HandshakeOutput HostHandshake::welcome() {
+  if (m_config.nameTaken && m_config.nameTaken(m_name)) {
+    return refuse(RefuseReason::BadName, QStringLiteral("the name \"%1\" is already used in this session").arg(m_name));
   }
-  if (m_config.sessionFull) {
+  if (m_config.sessionFull && m_config.sessionFull()) {
     return refuse(RefuseReason::SessionFull, QStringLiteral("the session is full"));
   }
-  m_name = hello.displayName;
   HandshakeOutput out;
-  changeState(m_config.secret ? State::AwaitResponse : State::Welcomed, out);
+  changeState(State::Welcomed, out);
   return out;
 }
 
@@ -97,9 +114,7 @@ HandshakeOutput HostHandshake::handleChallengeResponse(const ChallengeResponse& 
   if (!verifyChallengeResponse(m_config.secret->key, *m_challenge, m_config.channelBinding, response)) {
     return refuse(RefuseReason::WrongPassword, QStringLiteral("wrong password"));
   }
-  HandshakeOutput out;
-  changeState(State::Welcomed, out);
-  return out;
+  return welcome();
 }
 
 HandshakeOutput HostHandshake::refuse(RefuseReason reason, const QString& text) {

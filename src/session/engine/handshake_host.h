@@ -6,9 +6,11 @@
 //
 // States and transitions (entry side effects in changeState()):
 //   AwaitHello    --Hello, version ≠ ours-------------> Refused  (VersionMismatch, text names both versions)
-//   AwaitHello    --Hello, bad name / taken / full-----> Refused  (BadName | SessionFull)
+//   AwaitHello    --Hello, bad name--------------------> Refused  (BadName: blank, control or invisible characters)
 //   AwaitHello    --Hello, password session-----------> AwaitResponse (entry: send Challenge, fresh nonce)
+//   AwaitHello    --Hello, open session, name taken / full--> Refused (BadName | SessionFull)
 //   AwaitHello    --Hello, open session---------------> Welcomed (entry: send Welcome, fresh key and token)
+//   AwaitResponse --ChallengeResponse, right MAC, name taken / full--> Refused (BadName | SessionFull)
 //   AwaitResponse --ChallengeResponse, right MAC------> Welcomed
 //   AwaitResponse --ChallengeResponse, wrong MAC------> Refused  (WrongPassword)
 //   AwaitHello | AwaitResponse --any other message or a decode error--> Refused (ProtocolError)
@@ -21,6 +23,9 @@
 //   - All randomness (nonce, datagram key, path token) comes from the injected RandomBytes, so tests are
 //     deterministic; production passes secureRandomBytes.
 //   - The host keeps only the PBKDF2 key of the password (SessionSecret), derived once per session.
+//   - A stranger learns nothing of the session before its password proof: whether a name is taken and whether the
+//     session is full are asked (nameTaken, sessionFull) only once the proof is right, just before the Welcome, so
+//     seats are counted after authentication.
 // Cost: O(1) per message plus one HMAC for a ChallengeResponse; no PBKDF2 per connection.
 
 #include "session/wire/control_messages.h"
@@ -54,7 +59,8 @@ struct SessionSecret {
 /// Derives the session secret once: random salt from `random`, PBKDF2 with `iterations` (≥ 1). Cost: O(iterations).
 SessionSecret makeSessionSecret(const QString& password, std::uint32_t iterations, const RandomBytes& random);
 
-/// True for a display name the host accepts: not blank after trimming, no control characters (length is the
+/// True for a display name the host accepts: not blank after trimming, no control, format (zero-width, bidi),
+/// private-use, unassigned or line/paragraph separator characters and no invisible filler letters (length is the
 /// decoder's check: ≤ kMaxNameBytes).
 bool isAcceptableDisplayName(const QString& name);
 
@@ -62,8 +68,8 @@ inline constexpr Millis kHandshakeTimeout{10000};  ///< a connection not welcome
 
 struct HostHandshakeConfig {
   std::optional<SessionSecret> secret;            ///< none: open session, no Challenge
-  bool sessionFull = false;                       ///< capacity check result at accept time
-  std::function<bool(const QString&)> nameTaken;  ///< optional: true refuses with BadName
+  std::function<bool()> sessionFull;              ///< optional, asked after the proof: true refuses (SessionFull)
+  std::function<bool(const QString&)> nameTaken;  ///< optional, asked after the proof: true refuses (BadName)
   std::uint8_t hostVersion = kProtocolVersion;
   std::uint16_t rowCount = 1;     ///< m, 1..kMaxRows
   std::uint32_t vertexCount = 1;  ///< full-resolution vertex count, ≥ 1
@@ -109,6 +115,8 @@ class HostHandshake {
  private:
   HandshakeOutput handleHello(const Hello& hello);
   HandshakeOutput handleChallengeResponse(const ChallengeResponse& response);
+  /// After the proof (or the Hello of an open session): the name and seat checks, then Welcomed or Refused.
+  HandshakeOutput welcome();
   HandshakeOutput refuse(RefuseReason reason, const QString& text);
   /// The one place that changes m_state; performs the new state's entry side effects into `out`.
   void changeState(State next, HandshakeOutput& out);

@@ -19,7 +19,8 @@ HostEngine::HostEngine(std::shared_ptr<const HostModel> model, HostEngineOptions
                        const std::vector<std::uint32_t>& ladderTargets)
     : m_model(std::move(model)),
       m_options(std::move(options)),
-      m_ladder(static_cast<std::uint32_t>(m_model->vertexCount()), ladderTargets) {
+      m_ladder(static_cast<std::uint32_t>(m_model->vertexCount()), ladderTargets),
+      m_arbiter(kLockLease, m_options.maxLockHoldWhileWaited) {
   m_deformer =
       std::make_unique<spectral::SpectralDeformer>(m_model->basis, m_model->operators, m_model->V, m_options.deformer);
   m_Z = std::make_shared<const Eigen::MatrixXd>(Eigen::MatrixXd::Zero(m_model->rowCount(), 3));
@@ -32,6 +33,9 @@ HostActions HostEngine::start(Micros now) {
   m_options.maxPendingHandshakes = std::max(m_options.maxPendingHandshakes, 1);
   m_options.maxPendingPerAddress = std::max(m_options.maxPendingPerAddress, 1);
   m_options.handshakeTimeout = std::max(m_options.handshakeTimeout, Millis{1});
+  m_options.sendBudgetBytes = std::max<std::int64_t>(m_options.sendBudgetBytes, 1);
+  m_options.sendStallTimeout = std::max(m_options.sendStallTimeout, Millis{1});
+  m_options.freeWrongPasswords = std::max(m_options.freeWrongPasswords, 0);
   m_started = true;
   m_lastFrameAt = now;
   m_nextHousekeeping = now + kHousekeepingPeriod;
@@ -101,7 +105,14 @@ void HostEngine::housekeeping(Micros now, HostActions& out) {
       out.add(ExpireHandshake{id});
     }
   }
-  dispatchLock(m_arbiter.tick(t), now, out);
+  forgetOldWrongPasswords(now);
+  serveDeferredRequests(now, out);
+  const LockEvents lockEvents = m_arbiter.tick(t);
+  if (m_arbiter.revokedForWaiters() > m_counters.locksRevokedForWaiters) {
+    m_counters.locksRevokedForWaiters = m_arbiter.revokedForWaiters();
+    out.add(LogLine{QStringLiteral("lock revoked: held too long while others waited")});
+  }
+  dispatchLock(lockEvents, now, out);
   if (const std::optional<LockMessage> renew = m_localLock.pollRenew(t)) {
     dispatchLock(m_arbiter.handleMessage(kHostPeer, *renew, t), now, out);
   }
@@ -146,6 +157,11 @@ PeerList HostEngine::peerList() const {
     if (peer.member()) list.peers.push_back({id, peer.loadedVertexCount, peer.name});
   }
   return list;
+}
+
+bool HostEngine::sessionFull() const {
+  const auto members = std::count_if(m_peers.begin(), m_peers.end(), [](const auto& e) { return e.second.member(); });
+  return members >= m_options.maxPeers;
 }
 
 bool HostEngine::nameTaken(const QString& name) const {

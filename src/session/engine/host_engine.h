@@ -16,14 +16,27 @@
 //     to that peer and PeerList to everybody.
 //   - Lock: LockMessages go to the LockArbiter (ticked at every housekeeping tick, every 100 ms) and its events
 //     are sent (to everybody or one peer); the host's own LockClient (peer 1) is driven in the same way.
-//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. An accepted drag solves at
-//     once and sends a frame (stamp = the drag's arrival) unless the previous DRAG frame went out less than
-//     `coalesce` ago: then one frame with the latest pose when that spacing has passed. After a moving frame, one
-//     still frame (StillFrameSchedule) unless another frame comes first; without drags the current Z is repeated
-//     when idleRefresh has passed since the last frame (checked at housekeeping ticks). Every referenceEvery frames
-//     each peer with a model gets a Keyframe.
+//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. A member's accepted Constraints
+//     are factored off the network thread (PrepareConstraints, then onConstraintsPrepared(), which installs them if
+//     still the latest and the epoch unchanged); drag frames wait for that (the 1 s refresh does not), so the
+//     network thread never runs the O(ids·m² + m³) factorisation. The host's own setConstraints() is synchronous. An
+//     accepted drag solves at once and sends a frame (stamp = the drag's arrival) unless the previous DRAG frame went
+//     out less than `coalesce` ago: then one frame with the latest pose when that spacing has passed. After a moving
+//     frame, one still frame (StillFrameSchedule) unless another frame comes first; without drags the current Z is
+//     repeated when idleRefresh has passed since the last frame (checked at housekeeping ticks). Every referenceEvery
+//     frames each peer with a model gets a Keyframe.
 //   - Heartbeat to every welcomed peer each second; a peer silent (onHeard) for more than peerTimeout is aborted.
 //   - A message that is unexpected after the Welcome is counted (protocolErrors) and the connection closed.
+//   - A hostile member (docs/security.md, "Hostile member"): a peer over messageRate is closed; LockRequest{Request},
+//     ResolutionRequest and Constraints over their rates are counted (requestsThrottled) and dropped, except that the
+//     latest ResolutionRequest / Constraints is kept and served at a housekeeping tick once the rate allows;
+//     Constraints need unique ids < n and (ids · m²) ≤ maxConstraintWork. The adapter reports each peer's outgoing
+//     queue (onSendQueue): over sendBudgetBytes, or not drained for sendStallTimeout, the peer is aborted and its lock
+//     freed. The lock holder is revoked after maxLockHoldWhileWaited with others waiting.
+//   - Seats are counted after the password proof (sessionFull(), asked by the handshake); pending connections have
+//     their own limits and deadline, and when all pending slots are taken, the oldest pending connection of the most
+//     represented address makes room for an address with fewer. Wrong passwords are logged and, after
+//     freeWrongPasswords from one address, that address waits (doubling) before its next connection is admitted.
 //   - shutdown(): Leave to welcomed peers, Refused(ShuttingDown) to pending ones, every connection closed.
 // Network input never asserts (style.md item 6). Cost: O(peers) per event, plus a deformer solve per drag frame.
 // Not thread-safe: one thread drives it.
@@ -31,6 +44,7 @@
 #include "session/engine/handshake_host.h"
 #include "session/engine/host_engine_actions.h"
 #include "session/engine/host_engine_peer.h"
+#include "session/engine/host_engine_rate_limit.h"
 #include "session/engine/host_model.h"
 #include "session/engine/level_ladder.h"
 #include "session/engine/lock_arbiter.h"
@@ -53,6 +67,10 @@ namespace sc::session {
 inline constexpr PeerId kHostPeer = 1;                 ///< the host's own user
 inline constexpr Micros kHousekeepingPeriod{100'000};  ///< handshake deadlines, lock lease, own renew, idle refresh
 inline constexpr Micros kHeartbeatPeriod{1'000'000};
+/// The longest a lock holder keeps the lock while others wait (HostEngineOptions::maxLockHoldWhileWaited).
+inline constexpr Millis kMaxLockHoldWhileWaited{60000};
+/// Addresses whose wrong passwords the host remembers at once (the oldest is forgotten first).
+inline constexpr std::size_t kMaxTrackedAddresses = 4096;
 
 /// A clock reading in whole milliseconds (what the lock arbiter, the handshakes and lastHeard count in).
 inline Millis toMillis(Micros t) { return std::chrono::duration_cast<Millis>(t); }
@@ -72,6 +90,24 @@ struct HostEngineOptions {
   int maxPendingHandshakes = 16;  ///< unauthenticated connections at once, ≥ 1
   int maxPendingPerAddress = 8;   ///< unauthenticated connections at once from one IP address, ≥ 1
   std::chrono::milliseconds handshakeTimeout = kHandshakeTimeout;  ///< TLS + Hello + password proof, from accept
+  // A hostile member or stranger (docs/security.md, "Hostile member"); rates are per peer.
+  std::int64_t sendBudgetBytes = kSendBudgetBytes;   ///< a peer with more bytes queued for it is dropped
+  std::chrono::milliseconds sendStallTimeout{3000};  ///< a peer whose queue has not drained for this long is dropped
+  RateLimit messageRate{500.0, 1000.0};              ///< every message after the Welcome; over it: dropped (flood)
+  RateLimit lockRequestRate{4.0, 8.0};               ///< LockRequest{Request}; over it: ignored
+  RateLimit resolutionRequestRate{2.0, 6.0};         ///< ResolutionRequest; over it: ignored
+  RateLimit constraintsRate{4.0, 4.0};               ///< Constraints; over it: rejected
+  /// Constraints whose (handle + anchor ids) · m² exceeds this are rejected: bounds the refactoring's work and its
+  /// ids × m temporary (30000 ids at m = 128: 90–150 ms on one core, off the network thread; 31 MB).
+  double maxConstraintWork = 30000.0 * 128.0 * 128.0;
+  /// The lock holder is revoked after holding this long while others wait (from the grant, or from when the queue
+  /// became non-empty, whichever is later); 0 = never.
+  std::chrono::milliseconds maxLockHoldWhileWaited = kMaxLockHoldWhileWaited;
+  /// Wrong passwords from one address (admission key) before the next connection from it must wait; each further
+  /// one doubles the wait from wrongPasswordBackoff up to maxWrongPasswordBackoff.
+  int freeWrongPasswords = 3;
+  std::chrono::milliseconds wrongPasswordBackoff{1000};
+  std::chrono::milliseconds maxWrongPasswordBackoff{60000};
 };
 
 /// What the host rejected or dropped, for tests and the UI.
@@ -88,9 +124,17 @@ struct HostEngineCounters {
   std::uint64_t keyframesSent = 0;
   std::uint64_t stillFramesSent = 0;  ///< still frames (included in framesSent), see StillFrameSchedule
   std::uint64_t transfersCompleted = 0;
-  std::uint64_t tlsFailures = 0;           ///< TLS handshakes that failed (e.g. a client not speaking TLS)
-  std::uint64_t connectionsOverLimit = 0;  ///< aborted at accept: too many unauthenticated connections
-  std::uint64_t oversizeMessages = 0;      ///< control frames longer than kMaxControlMessageSize (closed)
+  std::uint64_t tlsFailures = 0;             ///< TLS handshakes that failed (e.g. a client not speaking TLS)
+  std::uint64_t connectionsOverLimit = 0;    ///< aborted at accept: too many unauthenticated connections
+  std::uint64_t oversizeMessages = 0;        ///< control frames longer than kMaxControlMessageSize (closed)
+  std::uint64_t slowPeersDropped = 0;        ///< over the send budget, or not reading for sendStallTimeout
+  std::int64_t peakSendQueueBytes = 0;       ///< the largest queue reported for any peer (bytes not yet sent)
+  std::uint64_t requestsThrottled = 0;       ///< lock / resolution requests and Constraints over their rate (ignored)
+  std::uint64_t floodingPeersDropped = 0;    ///< peers over messageRate (closed)
+  std::uint64_t pendingEvicted = 0;          ///< pending connections closed to make room for another address
+  std::uint64_t connectionsThrottled = 0;    ///< aborted at accept: the address is waiting after wrong passwords
+  std::uint64_t wrongPasswords = 0;          ///< wrong password proofs (each logged with its address)
+  std::uint64_t locksRevokedForWaiters = 0;  ///< holders revoked after maxLockHoldWhileWaited with others waiting
 
   [[nodiscard]] std::uint64_t refusalsFor(RefuseReason reason) const {
     return refusals[static_cast<std::size_t>(reason)];
@@ -98,9 +142,10 @@ struct HostEngineCounters {
 };
 
 /// The result of a connection attempt: the peer id offered in its Welcome, or kNoPeer (refused: abort it unread).
+/// Seats are not decided here: the handshake asks sessionFull() after the password proof.
 struct Admission {
   PeerId peer = kNoPeer;
-  bool sessionFull = false;  ///< maxPeers connections already open: the handshake refuses it (SessionFull)
+  PeerId evict = kNoPeer;  ///< a pending connection of an over-represented address to abort to make room
 };
 
 class HostEngine {
@@ -126,8 +171,9 @@ class HostEngine {
   HostActions onWelcomed(PeerId peer, const QString& name, Micros now);
   HostActions onMessage(PeerId peer, const ControlMessage& message, Micros now);
   HostActions onDecodeError(PeerId peer, const QString& why, Micros now);
-  /// The handshake refused the connection (it closes itself).
-  void onRefused(PeerId peer, RefuseReason reason);
+  /// The handshake refused the connection (it closes itself). A wrong password is logged with the address and
+  /// counts towards that address's wait (freeWrongPasswords, wrongPasswordBackoff).
+  HostActions onRefused(PeerId peer, RefuseReason reason, Micros now);
   /// The TLS handshake failed (the connection aborts itself).
   HostActions onTlsFailed(PeerId peer, const QString& why);
   void onOversizeMessage() { ++m_counters.oversizeMessages; }
@@ -135,9 +181,15 @@ class HostEngine {
   HostActions onClosed(PeerId peer, Micros now);
   /// The last byte from `peer` arrived at `at`.
   void onHeard(PeerId peer, Micros at);
+  /// The adapter's measure of `peer`'s outgoing queue (after its writes and at least every housekeeping period): a
+  /// peer over sendBudgetBytes, or whose queue has not drained for sendStallTimeout, is aborted (its lock freed).
+  HostActions onSendQueue(PeerId peer, const SendQueueReport& report, Micros now);
   HostActions onLevelReady(std::uint32_t target, const LevelFigures& figures, Micros now);
   HostActions onLevelFailed(std::uint32_t target, const QString& reason, Micros now);
   HostActions onTransferFinished(PeerId peer, Micros now);
+  /// The worker's answer to PrepareConstraints{ticket}; nullopt: the set was invalid. A stale ticket is ignored.
+  HostActions onConstraintsPrepared(std::uint64_t ticket, std::optional<spectral::PreparedConstraints> prepared,
+                                    Micros now);
 
   // === the host's own user (peer 1)
   HostActions requestLock(Micros now, bool* sent = nullptr);
@@ -148,6 +200,8 @@ class HostEngine {
   // === queries
   [[nodiscard]] PeerList peerList() const;
   [[nodiscard]] bool nameTaken(const QString& name) const;
+  /// maxPeers members are welcomed: a newcomer's handshake refuses it (after its password proof).
+  [[nodiscard]] bool sessionFull() const;
   [[nodiscard]] const LockArbiter& arbiter() const { return m_arbiter; }
   [[nodiscard]] const LockClient& localLock() const { return m_localLock; }
   [[nodiscard]] const HostEngineCounters& counters() const { return m_counters; }
@@ -155,6 +209,10 @@ class HostEngine {
   [[nodiscard]] std::uint32_t currentFrame() const { return m_frame; }
   [[nodiscard]] const Eigen::MatrixXd& coefficients() const { return *m_Z; }
   [[nodiscard]] const HostEngineOptions& options() const { return m_options; }
+  /// For PrepareConstraints' worker: only its const prepare() may be called from another thread.
+  [[nodiscard]] const spectral::SpectralDeformer& deformer() const { return *m_deformer; }
+  /// A member's constraints are being factored (its drag frames wait).
+  [[nodiscard]] bool constraintsInFlight() const { return m_constraintsInFlight.has_value(); }
   [[nodiscard]] const LevelLadder& ladder() const { return m_ladder; }
   [[nodiscard]] bool isShutDown() const { return m_shutDown; }
   /// When tick() is next due: the earliest of the pending drag frame, the still frame, the next housekeeping and
@@ -173,6 +231,19 @@ class HostEngine {
   void closePeer(Peer& peer, ClosePeer::How how, HostActions& out);
   // host_engine_peers.cpp: membership and transfers
   PeerId allocatePeerId();
+  /// The oldest pending connection of the address with the most pending ones, if it has more than `fromAddress`
+  /// + 1 (the newcomer's address would still have fewer); kNoPeer otherwise.
+  PeerId evictionCandidate(int fromAddress) const;
+  // host_engine_limits.cpp: the hostile-member limits
+  /// False (and the peer closed, or the request counted and kept as the peer's deferred one) when `message` is over
+  /// the peer's rates.
+  bool withinRates(Peer& peer, const ControlMessage& message, Micros now, HostActions& out);
+  /// At housekeeping: each member's deferred ResolutionRequest / Constraints, if its rate now allows.
+  void serveDeferredRequests(Micros now, HostActions& out);
+  bool constraintsWithinBounds(const Constraints& constraints) const;
+  void wrongPassword(const Peer& peer, Micros now, HostActions& out);
+  [[nodiscard]] bool addressWaiting(const std::string& address, Micros now) const;
+  void forgetOldWrongPasswords(Micros now);
   void protocolFailure(Peer& peer, const QString& why, HostActions& out);
   void handleResolutionRequest(Peer& peer, const ResolutionRequest& request, HostActions& out);
   void startTransfer(Peer& peer, std::uint32_t target, HostActions& out);
@@ -181,7 +252,7 @@ class HostEngine {
   void dispatchLock(const LockEvents& events, Micros now, HostActions& out);
   /// The host's own LockClient's message (if any) to the arbiter; `sent`: whether there was one.
   HostActions localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent);
-  void handleConstraints(PeerId peer, const Constraints& constraints, Micros now);
+  void handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out);
   bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now);
   bool acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses, Micros arrivedAt,
                   Micros now, HostActions& out);
@@ -205,6 +276,12 @@ class HostEngine {
   bool m_shutDown = false;
   Micros m_nextHousekeeping{0};
   Micros m_nextHeartbeat{0};
+  struct WrongPasswords {
+    int count = 0;
+    Micros last{0};
+    Micros notBefore{0};  ///< no connection from the address is admitted before this
+  };
+  std::map<std::string, WrongPasswords> m_wrongPasswords;  ///< by admission key, at most kMaxTrackedAddresses
 
   // frames
   std::shared_ptr<const Eigen::MatrixXd> m_Z;
@@ -216,6 +293,13 @@ class HostEngine {
   std::optional<Micros> m_pendingArrival;  ///< set while an accepted drag waits for its frame
   std::optional<Micros> m_coalesceDue;     ///< when the pending pose's frame goes out
   std::optional<Micros> m_stillDue;        ///< when the still frame goes out
+  struct ConstraintsInFlight {
+    std::uint64_t ticket = 0;
+    LockEpoch epoch = kNoEpoch;  ///< installed only if the lock is still under this grant
+    std::size_t groups = 0;      ///< handle groups of the set (drags meanwhile are read against it)
+  };
+  std::optional<ConstraintsInFlight> m_constraintsInFlight;
+  std::uint64_t m_constraintsTicket = 0;
   StillFrameSchedule m_stillSchedule;
 };
 

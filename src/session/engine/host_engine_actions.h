@@ -17,7 +17,23 @@
 #include <variant>
 #include <vector>
 
+namespace sc::spectral {
+struct ConstraintSet;
+}
+
 namespace sc::session {
+
+/// Bytes the host queues for one peer at most (4 × the transfer high water): above, the peer is dropped.
+inline constexpr std::int64_t kSendBudgetBytes = 1 << 20;
+
+/// What the adapter measured of one connection's outgoing queue (bytes accepted by send() not yet taken by the
+/// kernel, TLS records included).
+struct SendQueueReport {
+  std::int64_t queuedBytes = 0;
+  std::int64_t peakBytes = 0;  ///< the largest queue since the connection opened
+  Micros lastDrained{0};       ///< when the kernel last took bytes, or the queue was last seen empty
+  bool overBudget = false;     ///< the adapter refused a write that would have passed sendBudgetBytes
+};
 
 /// One control message to one welcomed peer.
 struct SendToPeer {
@@ -54,6 +70,14 @@ struct RequestLevel {
 /// Build the rest of the ladder in the background (each answered like RequestLevel).
 struct PrefetchLevels {};
 
+/// Factor a member's accepted constraint set off the network thread: run HostEngine::deformer().prepare() on it (a
+/// const call that reads only immutable data, safe while the engine solves) on a worker, then answer
+/// onConstraintsPrepared(ticket, result) on the engine's thread. The engine holds that member's drag frames until then.
+struct PrepareConstraints {
+  std::uint64_t ticket = 0;
+  std::shared_ptr<const spectral::ConstraintSet> constraints;  ///< never null
+};
+
 /// Close a connection: Graceful flushes what is queued first, Abort drops it at once. Either way the adapter
 /// answers with onClosed() once the connection is gone.
 struct ClosePeer {
@@ -78,8 +102,9 @@ struct LogLine {
   QString text;
 };
 
-using HostAction = std::variant<SendToPeer, SendToAll, SendFrame, StartTransfer, RequestLevel, PrefetchLevels,
-                                ClosePeer, ExpireHandshake, PeersChanged, LockChanged, StatsReported, LogLine>;
+using HostAction =
+    std::variant<SendToPeer, SendToAll, SendFrame, StartTransfer, RequestLevel, PrefetchLevels, PrepareConstraints,
+                 ClosePeer, ExpireHandshake, PeersChanged, LockChanged, StatsReported, LogLine>;
 
 struct HostActions {
   std::vector<HostAction> list;  ///< in order

@@ -11,7 +11,7 @@ void HostEngine::produceFrame(Micros now, bool still, HostActions& out) {
   if (m_shutDown) return;
   Micros stamp = now;
   bool moved = false;
-  if (m_pendingArrival) {
+  if (m_pendingArrival && !m_constraintsInFlight) {  // poses wait for their constraints' factorisation
     Eigen::MatrixXd Z = m_deformer->solve(m_pendingPoses);
     moved = Z != *m_Z;
     m_Z = std::make_shared<const Eigen::MatrixXd>(std::move(Z));

@@ -59,22 +59,37 @@ HostActions HostEngine::drag(std::span<const spectral::HandleTransform> poses, M
   return finish(std::move(out));
 }
 
-void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, Micros now) {
-  const auto n = static_cast<std::uint32_t>(m_model->vertexCount());
-  const auto valid = [n](std::uint32_t id) { return id < n; };
-  spectral::ConstraintSet set;
-  bool idsValid = std::all_of(constraints.anchors.begin(), constraints.anchors.end(), valid);
-  for (const std::vector<std::uint32_t>& group : constraints.groups) {
-    idsValid = idsValid && std::all_of(group.begin(), group.end(), valid);
-    if (!idsValid) break;
-    set.handles.push_back({std::vector<int>(group.begin(), group.end())});
-  }
-  if (!idsValid) {
+void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out) {
+  if (!constraintsWithinBounds(constraints) ||
+      m_arbiter.acceptDrag(peer, constraints.epoch, toMillis(now)) != DragVerdict::Accepted) {
     ++m_counters.constraintsRejected;
     return;
   }
-  set.anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
-  applyConstraints(peer, constraints.epoch, set, now);
+  auto set = std::make_shared<spectral::ConstraintSet>();
+  for (const std::vector<std::uint32_t>& group : constraints.groups) {
+    set->handles.push_back({std::vector<int>(group.begin(), group.end())});
+  }
+  set->anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
+  ++m_counters.constraintsAccepted;
+  m_pendingArrival.reset();  // a pose for the previous groups means nothing now
+  m_coalesceDue.reset();
+  m_constraintsInFlight = ConstraintsInFlight{++m_constraintsTicket, constraints.epoch, set->handles.size()};
+  out.add(PrepareConstraints{m_constraintsInFlight->ticket, std::move(set)});
+}
+
+HostActions HostEngine::onConstraintsPrepared(std::uint64_t ticket,
+                                              std::optional<spectral::PreparedConstraints> prepared, Micros now) {
+  HostActions out;
+  if (!m_constraintsInFlight || m_constraintsInFlight->ticket != ticket) return finish(std::move(out));  // stale
+  const LockEpoch epoch = m_constraintsInFlight->epoch;
+  m_constraintsInFlight.reset();
+  if (!prepared || m_arbiter.epoch() != epoch) {
+    m_pendingArrival.reset();  // its poses were for these constraints
+    return finish(std::move(out));
+  }
+  m_deformer->install(std::move(*prepared));
+  if (m_pendingArrival && !m_shutDown) produceFrame(now, false, out);  // the poses that waited
+  return finish(std::move(out));
 }
 
 bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now) {
@@ -83,7 +98,8 @@ bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::
     return false;
   }
   ++m_counters.constraintsAccepted;
-  m_pendingArrival.reset();  // a pose for the previous groups means nothing now
+  m_constraintsInFlight.reset();  // a member's set still being factored is superseded
+  m_pendingArrival.reset();       // a pose for the previous groups means nothing now
   return true;
 }
 
@@ -102,7 +118,7 @@ bool HostEngine::acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::
   ++m_counters.dragsAccepted;
   m_pendingPoses = std::move(poses);
   m_pendingArrival = arrivedAt;
-  if (m_coalesceDue) return true;  // the pending frame sends the latest pose
+  if (m_coalesceDue || m_constraintsInFlight) return true;  // the pending frame (or the install) sends it
   const Micros since = now - m_lastDragFrameAt;
   const Micros spacing = std::chrono::duration_cast<Micros>(m_options.coalesce);
   if (since >= spacing) {

@@ -3,6 +3,7 @@
 // (host_engine*.cpp). Internal: not part of the public API. It needs only wire types and the clock, so it includes
 // nothing of the engine (no include loop with host_engine.h).
 
+#include "session/engine/host_engine_rate_limit.h"
 #include "session/wire/control_messages.h"
 #include "session/wire/lock_messages.h"
 
@@ -28,6 +29,14 @@ struct HostEnginePeer {
   std::uint32_t transferVertexCount = 0;    ///< level of the transfer in flight
   std::uint32_t loadedVertexCount = 0;      ///< level of the last completed transfer (0: none yet)
   std::optional<StatsReport> stats;
+  TokenBucket messages;            ///< every message after the Welcome
+  TokenBucket lockRequests;        ///< LockRequest{Request}
+  TokenBucket resolutionRequests;  ///< ResolutionRequest
+  TokenBucket constraints;         ///< Constraints
+  /// The latest request over its rate, served when the rate allows (housekeeping): an honest client's last word is
+  /// never lost, and a flood costs one stored message per peer.
+  std::optional<ResolutionRequest> deferredResolution;
+  std::optional<Constraints> deferredConstraints;
 
   [[nodiscard]] bool member() const { return welcomed && !closing; }
 };

@@ -28,6 +28,12 @@ PeerId HostEngine::allocatePeerId() {
 }
 
 Admission HostEngine::onConnectionAttempt(const std::string& addressKey, Micros now) {
+  Admission admission;
+  if (m_shutDown) return admission;
+  if (addressWaiting(addressKey, now)) {
+    ++m_counters.connectionsThrottled;
+    return admission;
+  }
   int pending = 0;
   int fromAddress = 0;
   for (const auto& [id, peer] : m_peers) {
@@ -35,21 +41,54 @@ Admission HostEngine::onConnectionAttempt(const std::string& addressKey, Micros 
     ++pending;
     if (peer.address == addressKey) ++fromAddress;
   }
-  const bool admitted =
-      !m_shutDown && pending < m_options.maxPendingHandshakes && fromAddress < m_options.maxPendingPerAddress;
-  Admission admission;
-  admission.peer = admitted ? allocatePeerId() : kNoPeer;
-  if (admission.peer == kNoPeer) {
-    if (!m_shutDown) ++m_counters.connectionsOverLimit;
+  if (fromAddress >= m_options.maxPendingPerAddress) {
+    ++m_counters.connectionsOverLimit;
     return admission;
   }
-  admission.sessionFull = static_cast<int>(m_peers.size()) >= m_options.maxPeers;
+  if (pending >= m_options.maxPendingHandshakes) {
+    admission.evict = evictionCandidate(fromAddress);
+    if (admission.evict == kNoPeer) {
+      ++m_counters.connectionsOverLimit;
+      return admission;
+    }
+    ++m_counters.pendingEvicted;
+    m_peers[admission.evict].closing = true;  // the adapter aborts it; onClosed() forgets it
+  }
+  admission.peer = allocatePeerId();
+  if (admission.peer == kNoPeer) {
+    ++m_counters.connectionsOverLimit;
+    return admission;
+  }
   Peer& peer = m_peers[admission.peer];
   peer.id = admission.peer;
   peer.address = addressKey;
   peer.acceptedAt = toMillis(now);
   peer.lastHeard = peer.acceptedAt;
+  peer.messages = TokenBucket(m_options.messageRate);
+  peer.lockRequests = TokenBucket(m_options.lockRequestRate);
+  peer.resolutionRequests = TokenBucket(m_options.resolutionRequestRate);
+  peer.constraints = TokenBucket(m_options.constraintsRate);
   return admission;
+}
+
+PeerId HostEngine::evictionCandidate(int fromAddress) const {
+  std::map<std::string, int> perAddress;
+  for (const auto& [id, peer] : m_peers) {
+    if (!peer.welcomed && !peer.closing) ++perAddress[peer.address];
+  }
+  const auto most = std::max_element(perAddress.begin(), perAddress.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  if (most == perAddress.end() || most->second <= fromAddress + 1) return kNoPeer;
+  PeerId oldest = kNoPeer;
+  Millis oldestAt{0};
+  for (const auto& [id, peer] : m_peers) {
+    if (peer.welcomed || peer.closing || peer.address != most->first) continue;
+    if (oldest == kNoPeer || peer.acceptedAt < oldestAt) {
+      oldest = id;
+      oldestAt = peer.acceptedAt;
+    }
+  }
+  return oldest;
 }
 
 HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*/) {
@@ -73,10 +112,15 @@ HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*
   return finish(std::move(out));
 }
 
-void HostEngine::onRefused(PeerId id, RefuseReason reason) {
+HostActions HostEngine::onRefused(PeerId id, RefuseReason reason, Micros now) {
+  HostActions out;
   const auto index = static_cast<std::size_t>(reason);
   if (index < m_counters.refusals.size()) ++m_counters.refusals[index];
-  if (const auto it = m_peers.find(id); it != m_peers.end()) it->second.closing = true;
+  const auto it = m_peers.find(id);
+  if (it == m_peers.end()) return finish(std::move(out));
+  it->second.closing = true;
+  if (reason == RefuseReason::WrongPassword) wrongPassword(it->second, now, out);
+  return finish(std::move(out));
 }
 
 HostActions HostEngine::onTlsFailed(PeerId id, const QString& why) {
@@ -124,6 +168,7 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
   HostActions out;
   Peer* peer = welcomed(id);
   if (peer == nullptr || peer->closing) return finish(std::move(out));
+  if (!withinRates(*peer, message, now, out)) return finish(std::move(out));
   switch (messageType(message)) {
     case MessageType::ResolutionRequest:
       handleResolutionRequest(*peer, std::get<ResolutionRequest>(message), out);
@@ -132,11 +177,13 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
       dispatchLock(m_arbiter.handleMessage(id, std::get<LockMessage>(message), toMillis(now)), now, out);
       break;
     case MessageType::Constraints:
-      handleConstraints(id, std::get<Constraints>(message), now);
+      handleConstraints(id, std::get<Constraints>(message), now, out);
       break;
     case MessageType::Drag: {
       const Drag& drag = std::get<Drag>(message);
-      acceptPose(id, drag.epoch, fromWire(drag.handles, m_deformer->constraints().handles.size()), now, now, out);
+      const std::size_t groups =
+          m_constraintsInFlight ? m_constraintsInFlight->groups : m_deformer->constraints().handles.size();
+      acceptPose(id, drag.epoch, fromWire(drag.handles, groups), now, now, out);
       break;
     }
     case MessageType::StatsReport:

@@ -13,7 +13,10 @@ LockEvent toPeer(PeerId peer, const LockNotice& notice) { return LockEvent{LockA
 
 }  // namespace
 
-LockArbiter::LockArbiter(Millis lease) : m_lease(lease) { assert(lease.count() > 0 && "the lease must be positive"); }
+LockArbiter::LockArbiter(Millis lease, Millis maxHoldWhileWaited)
+    : m_lease(lease), m_maxHoldWhileWaited(maxHoldWhileWaited) {
+  assert(lease.count() > 0 && "the lease must be positive");
+}
 
 LockEvents LockArbiter::handleMessage(PeerId peer, const LockMessage& message, Millis now) {
   assert(peer != kNoPeer && "peer id 0 is reserved");
@@ -38,6 +41,7 @@ LockEvents LockArbiter::handleRequest(PeerId peer, Millis now) {
     events.push_back(toPeer(peer, LockNotice{LockNoticeKind::Granted, peer, m_holder->epoch}));
   } else {
     if (std::find(m_queue.begin(), m_queue.end(), peer) == m_queue.end()) {
+      if (m_queue.empty()) m_waitingSince = now;
       m_queue.push_back(peer);
     }
     events.push_back(queuedNotice(peer));
@@ -75,6 +79,11 @@ LockEvents LockArbiter::tick(Millis now) {
   if (m_holder && now - m_holder->lastHeard > m_lease) {
     return endTenure(LockReleaseReason::LeaseExpired, now);
   }
+  if (m_holder && !m_queue.empty() && m_maxHoldWhileWaited.count() > 0 &&
+      now - std::max(m_holder->grantedAt, m_waitingSince) > m_maxHoldWhileWaited) {
+    ++m_revokedForWaiters;
+    return endTenure(LockReleaseReason::LeaseExpired, now);
+  }
   return {};
 }
 
@@ -110,7 +119,7 @@ LockEvents LockArbiter::endTenure(LockReleaseReason reason, Millis now) {
 
 void LockArbiter::grant(PeerId peer, Millis now, LockEvents& events) {
   assert(!m_holder && "never grant twice");
-  m_holder = Holder{peer, ++m_lastEpoch, now};
+  m_holder = Holder{peer, ++m_lastEpoch, now, now};
   events.push_back(toAll(LockNotice{LockNoticeKind::Granted, peer, m_holder->epoch}));
 }
 

@@ -9,7 +9,10 @@
 //   - at most one holder, and the holder is never also in the queue; the queue holds each peer at most once;
 //   - the queue is non-empty only while the lock is held (a release or revocation grants the head at once);
 //   - every grant gets an epoch strictly greater than every earlier one (monotonic counter, never reused);
-//   - a holder is revoked only when `now - lastHeard > lease` (strictly), checked at tick(), or at disconnect.
+//   - a holder is revoked only when `now - lastHeard > lease` (strictly), checked at tick(), or at disconnect, or
+//     (with maxHoldWhileWaited > 0) at tick() when others wait and it has held strictly longer than maxHoldWhileWaited
+//     since the later of its grant and the moment the queue became non-empty (Released{LeaseExpired}: no new reason
+//     on the wire), so that renewing cannot keep the lock from waiting peers for ever.
 //
 // Liveness: a Request, a Renew or an accepted drag from the holder refreshes lastHeard. Re-requests by the holder
 // or a queued peer change nothing and only repeat the peer's Granted / Queued notice (idempotent).
@@ -48,7 +51,8 @@ enum class DragVerdict : std::uint8_t {
 
 class LockArbiter {
  public:
-  explicit LockArbiter(Millis lease = kLockLease);
+  /// `maxHoldWhileWaited`: 0 = a holder that renews keeps the lock however long others wait.
+  explicit LockArbiter(Millis lease = kLockLease, Millis maxHoldWhileWaited = Millis{0});
 
   /// Single dispatcher for a peer's message received at `now`. @p peer must not be kNoPeer.
   LockEvents handleMessage(PeerId peer, const LockMessage& message, Millis now);
@@ -56,7 +60,8 @@ class LockArbiter {
   /// The peer's control connection closed: frees the lock at once if it held it, leaves the queue otherwise.
   LockEvents peerDisconnected(PeerId peer, Millis now);
 
-  /// Revokes the holder if it has been silent for strictly more than the lease. Call often (e.g. every 100 ms).
+  /// Revokes the holder if it has been silent for strictly more than the lease, or has held the lock too long while
+  /// others wait (see the invariants). Call often (e.g. every 100 ms).
   LockEvents tick(Millis now);
 
   /// Checks a drag command; an accepted drag also counts as proof of life for the lease.
@@ -70,6 +75,8 @@ class LockArbiter {
   [[nodiscard]] const std::deque<PeerId>& queue() const { return m_queue; }
   /// Messages dropped as out of order or stale.
   [[nodiscard]] std::uint64_t ignoredMessages() const { return m_ignored; }
+  /// Holders revoked for holding longer than maxHoldWhileWaited while others waited.
+  [[nodiscard]] std::uint64_t revokedForWaiters() const { return m_revokedForWaiters; }
   /// When the current lease runs out (revocation happens at the first tick strictly after it); nullopt when free.
   [[nodiscard]] std::optional<Millis> leaseDeadline() const;
 
@@ -78,6 +85,7 @@ class LockArbiter {
     PeerId peer = kNoPeer;
     LockEpoch epoch = kNoEpoch;
     Millis lastHeard{0};
+    Millis grantedAt{0};
   };
 
   LockEvents handleRequest(PeerId peer, Millis now);
@@ -94,6 +102,9 @@ class LockArbiter {
   LockEvents ignore();
 
   Millis m_lease;
+  Millis m_maxHoldWhileWaited;
+  Millis m_waitingSince{0};  ///< when the queue last became non-empty
+  std::uint64_t m_revokedForWaiters = 0;
   std::optional<Holder> m_holder;
   std::deque<PeerId> m_queue;
   LockEpoch m_lastEpoch = kNoEpoch;

@@ -5,6 +5,8 @@
 #include <QtCore/QTimer>
 #include <QtNetwork/QSslSocket>
 
+#include <algorithm>
+
 namespace sc::session {
 namespace {
 
@@ -24,14 +26,18 @@ HostPeerConnection::HostPeerConnection(QTcpSocket* socket, HostHandshakeConfig c
       m_socket(socket),
       m_peerId(config.peerId),
       m_handshake(std::move(config), now),
-      m_lastHeard(now) {
+      m_lastHeard(now),
+      m_lastDrained(sessionNow()) {
   socket->setParent(this);
   socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
   connect(socket, &QTcpSocket::readyRead, this, &HostPeerConnection::readAvailable);
-  connect(socket, &QTcpSocket::bytesWritten, this, &HostPeerConnection::pumpTransfer);
   if (auto* tls = qobject_cast<QSslSocket*>(socket)) {
-    // TLS moves written bytes to the encrypted buffer at once: pump again as the kernel takes those.
-    connect(tls, &QSslSocket::encryptedBytesWritten, this, &HostPeerConnection::pumpTransfer);
+    // TLS moves written bytes to the encrypted buffer at once (bytesWritten then says nothing about the peer
+    // reading): only the kernel taking encrypted bytes counts as draining; pump again then too.
+    connect(tls, &QSslSocket::bytesWritten, this, &HostPeerConnection::pumpTransfer);
+    connect(tls, &QSslSocket::encryptedBytesWritten, this, &HostPeerConnection::onDrained);
+  } else {
+    connect(socket, &QTcpSocket::bytesWritten, this, &HostPeerConnection::onDrained);
   }
   connect(socket, &QTcpSocket::disconnected, this, &HostPeerConnection::onDisconnected);
   connect(socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
@@ -51,8 +57,32 @@ QHostAddress HostPeerConnection::peerAddress() const { return m_socket ? m_socke
 void HostPeerConnection::send(const ControlMessage& message) { sendEncoded(encodeControlMessage(message)); }
 
 void HostPeerConnection::sendEncoded(const QByteArray& frame) {
-  if (frame.isEmpty() || m_closing || !m_socket || m_socket->state() != QAbstractSocket::ConnectedState) return;
+  if (frame.isEmpty() || m_closing || m_overBudget || !m_socket ||
+      m_socket->state() != QAbstractSocket::ConnectedState) {
+    return;
+  }
+  const qint64 queued = queuedBytes();
+  if (queued == 0) m_lastDrained = sessionNow();  // nothing was waiting: the stall clock starts now
+  if (queued + frame.size() > m_sendBudget) {
+    m_overBudget = true;  // the stream is now incomplete: the host drops this peer (HostEngine::onSendQueue)
+    return;
+  }
   m_socket->write(frame);
+  m_peakQueued = std::max(m_peakQueued, queuedBytes());
+}
+
+SendQueueReport HostPeerConnection::sendQueue() const {
+  SendQueueReport report;
+  report.queuedBytes = queuedBytes();
+  report.peakBytes = m_peakQueued;
+  report.lastDrained = report.queuedBytes == 0 ? sessionNow() : m_lastDrained;
+  report.overBudget = m_overBudget;
+  return report;
+}
+
+void HostPeerConnection::onDrained() {
+  m_lastDrained = sessionNow();
+  pumpTransfer();
 }
 
 void HostPeerConnection::tickHandshake(Millis now) {
@@ -123,7 +153,9 @@ void HostPeerConnection::handleHandshakeResult(const HandshakeOutput& out) {
 void HostPeerConnection::pumpTransfer() {
   // A socket no longer connected writes nothing (nothing stays queued): without the state check a dead peer's
   // whole transfer would be "sent" into the void at once and counted as finished.
-  while (m_transfer && !m_closing && m_socket && queuedBytes() < kTransferHighWater) {
+  // Below half the send budget too, so that a transfer alone never brings an honest peer near the budget.
+  const qint64 highWater = std::min(kTransferHighWater, m_sendBudget / 2);
+  while (m_transfer && !m_closing && m_socket && queuedBytes() < highWater) {
     std::optional<ModelChunk> chunk = m_transfer->nextChunk();
     if (chunk) send(*chunk);
     if (m_transfer->finished()) {

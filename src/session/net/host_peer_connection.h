@@ -9,9 +9,13 @@
 //     each decoded message is emitted as messageReceived(); a decode error is emitted as protocolError() and the
 //     connection stops reading (the host's rule is to close it). Network input never asserts.
 //   - Model transfers: startTransfer() sends the ModelBegin, then chunks only while fewer than kTransferHighWater
-//     bytes are queued in the socket (TLS: plaintext plus encrypted bytes), continuing on bytesWritten (TLS: also
-//     encryptedBytesWritten), so other messages are never stuck behind a whole
-//     model. A new transfer replaces an unfinished one (the receiver abandons it on the new ModelBegin).
+//     (and half the send budget) bytes are queued in the socket (TLS: plaintext plus encrypted bytes), continuing on
+//     bytesWritten (TLS: also encryptedBytesWritten), so other messages are never stuck behind a whole model. A new
+//     transfer replaces an unfinished one (the receiver abandons it on the new ModelBegin).
+//   - Send budget: a write that would raise the queue (queuedBytes()) above setSendBudget()'s value is not made and
+//     the connection is marked over budget (sendQueue().overBudget; its stream is then incomplete, the host drops
+//     it): the host never buffers more than the budget for one peer. sendQueue() measures the queue, its peak and
+//     when the kernel last took bytes (or the queue was seen empty); the engine decides (HostEngine::onSendQueue).
 //   - closed() is emitted exactly once, when the socket is gone (closed by either side or aborted).
 //   - Every socket gets TCP_NODELAY (QAbstractSocket::LowDelayOption).
 //   - The socket is a QSslSocket in server mode (TlsServer): only decrypted bytes reach the frame reader. A failed
@@ -21,6 +25,7 @@
 //     protocolError(), and the connection is closed): the reader never buffers more than one maximum frame.
 
 #include "session/engine/handshake_host.h"
+#include "session/engine/host_engine_actions.h"
 #include "session/wire/control_frame.h"
 #include "session/wire/model_transfer.h"
 
@@ -66,6 +71,13 @@ class HostPeerConnection final : public QObject {
   void startTransfer(std::unique_ptr<ModelSender> sender);
   [[nodiscard]] bool isTransferring() const { return m_transfer != nullptr; }
 
+  /// Writes that would queue more than `bytes` are refused (see the contracts). Default: kSendBudgetBytes.
+  void setSendBudget(qint64 bytes) { m_sendBudget = bytes; }
+  /// The outgoing queue as measured now (for HostEngine::onSendQueue).
+  [[nodiscard]] SendQueueReport sendQueue() const;
+  /// Bytes written but not yet taken by the kernel: plaintext not yet encrypted plus TLS records queued.
+  [[nodiscard]] qint64 queuedBytes() const;
+
   /// Flushes what is queued, then closes (aborts after a grace period if the peer does not read).
   void close();
   /// Drops the connection at once.
@@ -85,9 +97,8 @@ class HostPeerConnection final : public QObject {
   void readAvailable();
   void handleHandshakeResult(const HandshakeOutput& out);
   void pumpTransfer();
-  /// Bytes written but not yet taken by the kernel: plaintext not yet encrypted plus TLS records queued.
-  [[nodiscard]] qint64 queuedBytes() const;
   void onDisconnected();
+  void onDrained();
 
   QPointer<QTcpSocket> m_socket;
   ControlFrameReader m_reader;
@@ -95,6 +106,10 @@ class HostPeerConnection final : public QObject {
   HostHandshake m_handshake;
   std::unique_ptr<ModelSender> m_transfer;
   Millis m_lastHeard;
+  qint64 m_sendBudget = kSendBudgetBytes;
+  qint64 m_peakQueued = 0;
+  bool m_overBudget = false;
+  Micros m_lastDrained;
   bool m_closing = false;
   bool m_closedEmitted = false;
 };

@@ -12,6 +12,7 @@
 #include "session/wire/model_transfer.h"
 
 #include <QtCore/QPointer>
+#include <QtCore/QThreadPool>
 #include <QtCore/QTimer>
 
 #include <algorithm>
@@ -26,9 +27,11 @@ SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOpti
       m_channel(new HostDatagramChannel(m_options.codec, this)),
       m_levels(new LevelLibrary(m_model, m_options.levelBuilder, this)),
       m_timer(new QTimer(this)),
+      m_solver(new QThreadPool(this)),
       m_engine(m_model, m_options, m_levels->ladder()) {
   m_timer->setSingleShot(true);
   m_timer->setTimerType(Qt::PreciseTimer);
+  m_solver->setMaxThreadCount(1);
   connect(m_server, &QTcpServer::newConnection, this, &SessionHost::acceptConnections);
   connect(m_levels, &LevelLibrary::levelReady, this, &SessionHost::onLevelReady);
   connect(m_levels, &LevelLibrary::levelFailed, this, &SessionHost::onLevelFailed);
@@ -36,6 +39,7 @@ SessionHost::SessionHost(std::shared_ptr<const HostModel> model, SessionHostOpti
 }
 
 SessionHost::~SessionHost() {
+  m_solver->waitForDone();  // a running factorisation reads the engine's deformer, destroyed before the children
   for (auto& [id, connection] : m_peers) disconnect(connection, nullptr, this, nullptr);
 }
 
@@ -137,8 +141,28 @@ void SessionHost::onTimer() {
   apply(m_engine.tick(sessionNow()));
 }
 
+void SessionHost::reportSendQueues() {
+  if (m_reportingQueues) return;
+  m_reportingQueues = true;
+  const Micros now = sessionNow();
+  HostActions answers;  // collected first: carrying them out may close connections (m_peers changes)
+  for (const auto& [id, c] : m_peers) {
+    if (c->isClosing()) continue;
+    HostActions step = m_engine.onSendQueue(id, c->sendQueue(), now);
+    answers.list.insert(answers.list.end(), step.list.begin(), step.list.end());
+  }
+  for (const HostAction& action : answers.list) applyOne(action);
+  m_reportingQueues = false;
+}
+
+qint64 SessionHost::queuedBytes(PeerId peer) const {
+  const HostPeerConnection* c = connection(peer);
+  return c == nullptr ? 0 : c->queuedBytes();
+}
+
 void SessionHost::apply(HostActions actions) {
   for (const HostAction& action : actions.list) applyOne(action);
+  reportSendQueues();
   // The engine's wake-up as of now: an action may have led to a nested event (a close) since `actions` was made.
   const std::optional<Micros> wakeAt = m_engine.nextWakeUp();
   if (!wakeAt) {
@@ -163,6 +187,8 @@ void SessionHost::applyOne(const HostAction& action) {
     m_levels->request(request->target);
   } else if (std::holds_alternative<PrefetchLevels>(action)) {
     m_levels->prefetchAll();
+  } else if (const auto* prepare = std::get_if<PrepareConstraints>(&action)) {
+    prepareConstraints(*prepare);
   } else if (const auto* close = std::get_if<ClosePeer>(&action)) {
     closePeer(*close);
   } else if (const auto* expire = std::get_if<ExpireHandshake>(&action)) {
@@ -192,6 +218,20 @@ void SessionHost::startTransfer(const StartTransfer& transfer) {
   if (level == nullptr || c == nullptr) return;
   c->startTransfer(std::make_unique<ModelSender>(transfer.transferId, level->kind, level->vertexCount, level->payload,
                                                  level->sha256));
+}
+
+void SessionHost::prepareConstraints(const PrepareConstraints& job) {
+  const spectral::SpectralDeformer* deformer = &m_engine.deformer();
+  const std::uint64_t ticket = job.ticket;
+  const std::shared_ptr<const spectral::ConstraintSet> constraints = job.constraints;
+  m_solver->start([this, deformer, ticket, constraints] {
+    auto prepared = std::make_shared<std::optional<spectral::PreparedConstraints>>(deformer->prepare(*constraints));
+    // Back on this object's thread; dropped by Qt if the host is gone by then.
+    QMetaObject::invokeMethod(
+        this,
+        [this, ticket, prepared] { apply(m_engine.onConstraintsPrepared(ticket, std::move(*prepared), sessionNow())); },
+        Qt::QueuedConnection);
+  });
 }
 
 void SessionHost::closePeer(const ClosePeer& close) {

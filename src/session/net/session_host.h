@@ -9,7 +9,12 @@
 // out the HostActions the engine returns, in order; it emits its signals when the engine says so.
 //
 //   - start() resolves the TLS identity, derives the password secret, binds UDP and listens on TCP.
-//   - A connection over the engine's admission limits is aborted at accept, before any byte is read or sent.
+//   - A connection over the engine's admission limits is aborted at accept, before any byte is read or sent; a
+//     pending connection the engine evicts to make room is aborted.
+//   - After carrying out the engine's actions (and at every timer) it reports each connection's outgoing queue to
+//     the engine (HostEngine::onSendQueue); each connection refuses writes over the engine's send budget.
+//   - A member's Constraints are factored on a worker thread (m_solver, one thread), so the network thread never
+//     runs the O(ids·m² + m³) refactorisation; the destructor waits for a running one.
 //   - shutdown() sends Leave to every peer and stops listening.
 // Network input never asserts (style.md item 6); every rejection is counted in counters().
 
@@ -40,6 +45,7 @@
 #include <span>
 #include <vector>
 
+class QThreadPool;
 class QTimer;
 
 namespace sc::session {
@@ -108,6 +114,9 @@ class SessionHost final : public QObject {
   /// The session rules this host adapts (read only: events go through the host).
   [[nodiscard]] const HostEngine& engine() const { return m_engine; }
 
+  /// Bytes queued for `peer`'s connection now (0 for an unknown peer), for tests and the UI.
+  [[nodiscard]] qint64 queuedBytes(PeerId peer) const;
+
   // --- the host's own user (peer 1), e.g. the desktop app dragging on the host
   /// Asks for the lock (false when already asked for or held).
   bool requestLock();
@@ -138,8 +147,12 @@ class SessionHost final : public QObject {
   /// Carries out the engine's actions in order, then arms the timer at its wake-up.
   void apply(HostActions actions);
   void applyOne(const HostAction& action);
+  /// Reports every connection's outgoing queue to the engine and carries out what it answers (not re-entered).
+  void reportSendQueues();
   void broadcast(const ControlMessage& message);
   void startTransfer(const StartTransfer& transfer);
+  /// Runs the engine's deformer().prepare() on m_solver, then onConstraintsPrepared() on this thread.
+  void prepareConstraints(const PrepareConstraints& job);
   void closePeer(const ClosePeer& close);
   [[nodiscard]] HostPeerConnection* connection(PeerId id) const;
 
@@ -151,9 +164,15 @@ class SessionHost final : public QObject {
   HostDatagramChannel* m_channel = nullptr;
   LevelLibrary* m_levels = nullptr;
   QTimer* m_timer = nullptr;                      ///< single-shot, armed at the engine's wake-up
+  QThreadPool* m_solver = nullptr;                ///< one thread: members' constraint factorisations (child)
   std::map<PeerId, HostPeerConnection*> m_peers;  ///< every open connection, welcomed or not (children)
   HostEngine m_engine;
   bool m_started = false;
+  bool m_reportingQueues = false;
 };
+
+/// The admission limits' key of an address: IPv4 (and IPv4-mapped IPv6) addresses as themselves, other IPv6
+/// addresses by their /64 prefix ("2001:db8:1:2::/64"), since one host usually holds a whole /64.
+std::string admissionAddressKey(const QHostAddress& address);
 
 }  // namespace sc::session

@@ -15,22 +15,25 @@
 #include <algorithm>
 
 namespace sc::session {
-namespace {
 
-/// The admission limits' key of an address: IPv4-mapped IPv6 addresses count as their IPv4 address.
-std::string addressKey(const QHostAddress& address) {
+std::string admissionAddressKey(const QHostAddress& address) {
   bool isV4 = false;
   const quint32 v4 = address.toIPv4Address(&isV4);
-  return (isV4 ? QHostAddress(v4) : address).toString().toStdString();
+  if (isV4) return QHostAddress(v4).toString().toStdString();
+  if (address.protocol() != QAbstractSocket::IPv6Protocol) return address.toString().toStdString();
+  Q_IPV6ADDR bytes = address.toIPv6Address();
+  for (int i = 8; i < 16; ++i) bytes[i] = 0;  // the interface identifier: one host picks these freely
+  return QStringLiteral("%1/64").arg(QHostAddress(bytes).toString()).toStdString();
 }
-
-}  // namespace
 
 void SessionHost::acceptConnections() {
   while (m_server->hasPendingConnections()) {
     QTcpSocket* socket = m_server->nextPendingConnection();
     const Micros now = sessionNow();
-    const Admission admission = m_engine.onConnectionAttempt(addressKey(socket->peerAddress()), now);
+    const Admission admission = m_engine.onConnectionAttempt(admissionAddressKey(socket->peerAddress()), now);
+    if (admission.evict != kNoPeer) {
+      if (HostPeerConnection* evicted = connection(admission.evict)) evicted->abort();  // onClosed() follows
+    }
     if (admission.peer == kNoPeer) {
       socket->abort();  // nothing read, nothing sent
       socket->deleteLater();
@@ -38,7 +41,7 @@ void SessionHost::acceptConnections() {
     }
     HostHandshakeConfig config;
     config.secret = m_secret;
-    config.sessionFull = admission.sessionFull;
+    config.sessionFull = [this] { return m_engine.sessionFull(); };
     config.nameTaken = [this](const QString& name) { return m_engine.nameTaken(name); };
     config.rowCount = static_cast<std::uint16_t>(m_model->rowCount());
     config.vertexCount = static_cast<std::uint32_t>(m_model->vertexCount());
@@ -48,6 +51,7 @@ void SessionHost::acceptConnections() {
     config.channelBinding = fingerprint();
     config.timeout = m_engine.options().handshakeTimeout;
     auto* connection = new HostPeerConnection(socket, std::move(config), toMillis(now), this);
+    connection->setSendBudget(m_engine.options().sendBudgetBytes);
     m_peers.emplace(admission.peer, connection);
     watch(connection);
   }
@@ -61,7 +65,7 @@ void SessionHost::watch(HostPeerConnection* connection) {
     apply(m_engine.onWelcomed(id, joined.name, sessionNow()));
   });
   connect(connection, &HostPeerConnection::refused, this,
-          [this, id](RefuseReason reason) { m_engine.onRefused(id, reason); });
+          [this, id](RefuseReason reason) { apply(m_engine.onRefused(id, reason, sessionNow())); });
   connect(connection, &HostPeerConnection::messageReceived, this,
           [this, connection, id](const ControlMessage& message) {
             if (connection->isClosing()) return;
