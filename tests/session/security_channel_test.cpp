@@ -161,6 +161,14 @@ TEST_F(Security, TrustOnFirstUseRemembersAndRefusesAChangedCertificate) {
   EXPECT_EQ(KnownHosts(store).lookup(options.host, options.port), host->fingerprint());
 }
 
+TEST_F(Security, TheHostKeepsOnlyTheDerivedKeyNotThePassword) {
+  // The host kept options().password for its whole life after deriving the key once.
+  auto host = startHost();
+  EXPECT_FALSE(host->options().password.has_value());
+  auto member = start(clientOptions(host->tcpPort(), QStringLiteral("member")));
+  EXPECT_TRUE(settle(*member)) << member->errorText().toStdString();
+}
+
 TEST_F(Security, RelayingManInTheMiddleCannotGetInEvenWhenTheClientAcceptsItsCertificate) {
   auto host = startHost();
   Relay mitm(Relay::Mode::Tls, host->tcpPort());

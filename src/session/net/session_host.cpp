@@ -60,6 +60,10 @@ bool SessionHost::start(QString* error) {
   if (m_options.password) {
     const std::uint32_t iterations = std::clamp<std::uint32_t>(m_options.pbkdf2Iterations, 1, kMaxPbkdf2Iterations);
     m_secret = makeSessionSecret(*m_options.password, iterations, secureRandomBytes);
+    // Only the derived key is needed from here on: the host's copy of the password goes (overwritten where this
+    // object is its only holder; a caller's copy is the caller's to drop).
+    m_options.password->fill(QChar(u'\0'));
+    m_options.password.reset();
   }
   QString channelError;
   if (!m_channel->bind(m_options.address, m_options.udpPort, &channelError)) {

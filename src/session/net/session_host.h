@@ -58,10 +58,10 @@ class TlsServer;
 /// The host's settings: the engine's rules (HostEngineOptions: host name, limits, cadences, deformer) plus the
 /// sockets', the codec's and the level builder's.
 struct SessionHostOptions : HostEngineOptions {
-  QHostAddress address = QHostAddress::Any;                   ///< TCP and UDP bind address
-  quint16 tcpPort = 0;                                        ///< 0 = any free port (see SessionHost::tcpPort())
-  quint16 udpPort = 0;                                        ///< 0 = any free port
-  std::optional<QString> password;                            ///< none: open session (no Challenge)
+  QHostAddress address = QHostAddress::Any;  ///< TCP and UDP bind address
+  quint16 tcpPort = 0;                       ///< 0 = any free port (see SessionHost::tcpPort())
+  quint16 udpPort = 0;                       ///< 0 = any free port
+  std::optional<QString> password;           ///< none: open session (no Challenge); start() keeps only the derived key
   std::uint32_t pbkdf2Iterations = kDefaultPbkdf2Iterations;  ///< 1..kMaxPbkdf2Iterations
   CodecOptions codec;                                         ///< datagram layout (parts, protected rows, band size)
   /// The TLS certificate and key. None: loadOrCreateTlsIdentity(defaultTlsIdentityDirectory()) at start() (the
