@@ -50,9 +50,10 @@ void fuzzCoefficientDatagram(const QByteArray& datagram) {
 }
 
 void fuzzPathOpen(const QByteArray& datagram) {
+  static const DatagramMac mac(key());
   const auto lookup = [](PeerId peer) -> std::optional<PathCredentials> {
     if (peer != sc::fuzz::kFixedPeer) return std::nullopt;
-    return PathCredentials{key(), pathToken(), 0};
+    return PathCredentials{&mac, pathToken(), 0};
   };
   const PathOpenResult result = decodePathOpen(datagram, lookup);
   if (result.error == PathOpenError::None)

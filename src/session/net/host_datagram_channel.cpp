@@ -13,9 +13,9 @@ namespace sc::session {
 
 struct HostDatagramChannel::Peer {
   Peer(QByteArray datagramKey, QByteArray pathToken, std::uint16_t id, CodecOptions codec)
-      : key(datagramKey), token(std::move(pathToken)), encoder(std::move(datagramKey), id, codec) {}
+      : mac(datagramKey), token(std::move(pathToken)), encoder(std::move(datagramKey), id, codec) {}
 
-  QByteArray key;
+  DatagramMac mac;  ///< PathOpen tags, keyed once
   QByteArray token;
   CoefficientEncoder encoder;
   bool open = false;
@@ -115,7 +115,7 @@ void HostDatagramChannel::readPending() {
   const auto lookup = [this](PeerId id) -> std::optional<PathCredentials> {
     const auto it = m_peers.find(id);
     if (it == m_peers.end()) return std::nullopt;
-    return PathCredentials{it->second->key, it->second->token, it->second->highestSequence};
+    return PathCredentials{&it->second->mac, it->second->token, it->second->highestSequence};
   };
   while (m_socket->hasPendingDatagrams()) {
     const QNetworkDatagram datagram = m_socket->receiveDatagram();

@@ -1,8 +1,5 @@
 #include "session/wire/coefficient_codec.h"
 
-#include <QtCore/QCryptographicHash>
-#include <QtCore/QMessageAuthenticationCode>
-
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -29,14 +26,6 @@ double finiteOrZero(double v) { return std::isfinite(v) ? v : 0.0; }
 std::int16_t quantise(double v, int exponent) {
   const double q = std::nearbyint(std::ldexp(finiteOrZero(v), -exponent));
   return static_cast<std::int16_t>(std::clamp(q, -kMaxQuantised, kMaxQuantised));
-}
-
-/// Constant-time comparison of two tags of equal length.
-bool tagsEqual(QByteArrayView a, QByteArrayView b) {
-  if (a.size() != b.size()) return false;
-  unsigned diff = 0;
-  for (qsizetype i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return diff == 0;
 }
 
 }  // namespace
@@ -75,16 +64,15 @@ int bandExponent(double maxAbs) {
 }
 
 QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes) {
-  QMessageAuthenticationCode mac(QCryptographicHash::Sha256, key);
-  mac.addData(bytes.data(), bytes.size());
-  return mac.result().left(kTagSize);
+  const DatagramTag tag = DatagramMac(key).tag({bytes});
+  return QByteArray(tag.data(), kTagSize);
 }
 
 // === encoder
 
 CoefficientEncoder::CoefficientEncoder(QByteArray key, std::uint16_t peerId, CodecOptions options)
-    : m_key(std::move(key)), m_peerId(peerId), m_options(options) {
-  assert(!m_key.isEmpty() && "a datagram key is required");
+    : m_mac(key), m_peerId(peerId), m_options(options) {
+  assert(!key.isEmpty() && "a datagram key is required");
   assert(m_options.bandRows >= 1 && m_options.bandRows <= 255 && "bandRows must be in 1..255");
   assert(m_options.partsPerFrame >= 1 && m_options.partsPerFrame <= kMaxParts && "partsPerFrame in 1..kMaxParts");
 }
@@ -143,20 +131,20 @@ QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, const Ei
     const int e = exponents[static_cast<std::size_t>(k / header.bandRows)];
     for (int c = 0; c < 3; ++c) appendInt16(out, quantise(Z(k, c), e));
   }
-  out.append(datagramTag(m_key, out));
+  const DatagramTag tag = m_mac.tag({out});
+  out.append(tag.data(), kTagSize);
   assert(out.size() == expectedDatagramSize(header) && out.size() <= kMaxDatagramSize);
   return out;
 }
 
 // === decoder
 
-CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId)
-    : m_key(std::move(key)), m_peerId(peerId) {}
+CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId) : m_mac(key), m_peerId(peerId) {}
 
 DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& out) {
   if (bytes.size() < kDatagramMinSize) return DecodeError::Truncated;
   const QByteArrayView body = bytes.first(bytes.size() - kTagSize);
-  if (!tagsEqual(datagramTag(m_key, body), bytes.last(kTagSize))) return DecodeError::BadTag;
+  if (!m_mac.verify({body}, bytes.last(kTagSize))) return DecodeError::BadTag;
   if (const DecodeError error = parse(body, out); error != DecodeError::None) return error;
   switch (m_window.check(out.header.sequence)) {
     case ReplayVerdict::Replayed:

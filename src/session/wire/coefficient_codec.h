@@ -2,6 +2,7 @@
 // Coefficient datagram codec: quantises one frame's m×3 displacement coefficients Z, splits it into authenticated
 // datagrams (layout in wire_format.h), and decodes/authenticates them on the receiver. Pure: no sockets, no clock.
 
+#include "session/wire/datagram_mac.h"
 #include "session/wire/replay_window.h"
 #include "session/wire/wire_format.h"
 
@@ -44,7 +45,8 @@ struct DecodedDatagram {
   Eigen::MatrixXd values;  ///< rows.size() by 3, dequantised.
 };
 
-/// HMAC-SHA256(key, bytes) truncated to kTagSize bytes. Cost: O(#bytes).
+/// HMAC-SHA256(key, bytes) truncated to kTagSize bytes, on a one-off DatagramMac (for tests and tools; the codecs
+/// keep one per peer). Cost: O(#bytes) plus one OpenSSL context.
 QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes);
 
 /// Host side, one per client (per-client key and sequence). Not thread-safe.
@@ -70,7 +72,7 @@ class CoefficientEncoder {
  private:
   QByteArray encodePart(const DatagramHeader& header, const Eigen::MatrixXd& Z, const std::vector<int>& exponents);
 
-  QByteArray m_key;
+  DatagramMac m_mac;
   std::uint16_t m_peerId;
   CodecOptions m_options;
   std::uint16_t m_sequence = 0;
@@ -94,7 +96,7 @@ class CoefficientDecoder {
  private:
   DecodeError parse(QByteArrayView body, DecodedDatagram& out) const;
 
-  QByteArray m_key;
+  DatagramMac m_mac;
   std::uint16_t m_peerId;
   ReplayWindow m_window;
 };

@@ -2,7 +2,6 @@
 
 #include "session/wire/byte_io.h"
 #include "session/wire/coefficient_codec.h"
-#include "session/wire/password_auth.h"
 
 namespace sc::session {
 namespace {
@@ -54,13 +53,13 @@ PathOpenResult decodePathOpen(QByteArrayView bytes,
   const std::uint32_t sequence = reader.u32();
   const std::optional<PathCredentials> credentials = peer == kNoPeer ? std::nullopt : lookup(peer);
   if (!credentials) return {PathOpenError::Stranger};
-  if (!constantTimeEquals(datagramTag(credentials->key, bytes.first(kSignedSize)), bytes.sliced(kSignedSize))) {
+  if (credentials->mac == nullptr || !credentials->mac->verify({bytes.first(kSignedSize)}, bytes.sliced(kSignedSize))) {
     return {PathOpenError::BadTag};
   }
   if (magic != kMagic || version != kProtocolVersion || type != static_cast<std::uint8_t>(MessageType::PathOpen)) {
     return {PathOpenError::Malformed};
   }
-  if (!constantTimeEquals(token, credentials->token)) return {PathOpenError::Stranger};
+  if (!constantTimeEqual(token, credentials->token)) return {PathOpenError::Stranger};
   // Last, after authentication: only an authentic datagram may be judged a replay (RFC 6347 §4.1.2.6 order).
   if (sequence <= credentials->highestSequence) return {PathOpenError::Replayed};
   return {PathOpenError::None, peer, sequence};

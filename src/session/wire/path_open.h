@@ -2,6 +2,7 @@
 // The path-open datagram (client → host; byte layout in wire_format.h, "Path-open datagram"): it tells the host
 // which UDP address to send a client's coefficient datagrams to, and keeps NAT bindings alive. Pure codec.
 
+#include "session/wire/datagram_mac.h"
 #include "session/wire/lock_messages.h"
 #include "session/wire/wire_format.h"
 
@@ -26,10 +27,10 @@ enum class PathOpenError : std::uint8_t { None, Truncated, Stranger, BadTag, Mal
 
 const char* toString(PathOpenError error);
 
-/// What the host knows of a joined client: its datagram key, path token and the highest PathOpen sequence it
-/// accepted from it (0: none yet, so every sequence ≥ 1 is fresh).
+/// What the host knows of a joined client: the MAC keyed with its datagram key (kept per peer, not null), its path
+/// token and the highest PathOpen sequence it accepted from it (0: none yet, so every sequence ≥ 1 is fresh).
 struct PathCredentials {
-  QByteArray key;
+  const DatagramMac* mac = nullptr;
   QByteArray token;
   std::uint32_t highestSequence = 0;
 };
