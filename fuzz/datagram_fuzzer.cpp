@@ -2,7 +2,8 @@
 //
 // Input: one mode byte, then a datagram. Mode (low 2 bits):
 //   0  coefficient datagram as is: the pre-authentication checks (length, tag) of CoefficientDecoder;
-//   1  coefficient datagram body: the harness appends its valid tag, so the fuzzer reaches the post-authentication
+//   1  coefficient datagram body: the harness appends its valid tag (over the extended sequence a fresh decoder
+//      derives from the header), so the fuzzer reaches the post-authentication
 //      parsing (header ranges, exponents, rows), the replay window and FrameAssembler;
 //   2  path-open datagram as is (decodePathOpen: length, peer lookup, tag);
 //   3  path-open body (26 bytes expected): valid tag appended, so magic/version/type, token and sequence are reached.
@@ -16,6 +17,7 @@
 #include "session/wire/path_open.h"
 
 #include <QtCore/QByteArray>
+#include <QtCore/QtEndian>
 
 namespace {
 
@@ -26,6 +28,11 @@ constexpr int kAssemblerRows = 100;  ///< m of the seed frames (fuzz/seed_genera
 QByteArray key() {
   const auto bytes = sc::fuzz::fixedKey();
   return QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
+}
+
+/// The header's 16-bit sequence (offset 6; 0 when shorter): a fresh decoder extends it to itself.
+std::uint64_t wireSequence(const QByteArray& datagram) {
+  return datagram.size() >= 8 ? qFromBigEndian<std::uint16_t>(datagram.constData() + 6) : 0;
 }
 
 QByteArray pathToken() { return QByteArray(kPathTokenSize, '\x5a'); }
@@ -70,7 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       fuzzCoefficientDatagram(datagram);
       break;
     case 1:
-      fuzzCoefficientDatagram(datagram + datagramTag(key(), datagram));
+      fuzzCoefficientDatagram(datagram + coefficientTag(key(), wireSequence(datagram), datagram));
       break;
     case 2:
       fuzzPathOpen(datagram);

@@ -44,7 +44,8 @@ template <typename Edit>
 QByteArray resigned(QByteArray datagram, Edit edit) {
   QByteArray body = datagram.left(datagram.size() - kTagSize);
   edit(body);
-  return body + datagramTag(kKey, body);
+  // A fresh decoder extends the 16-bit sequence (offset 6) to itself: the tag covers it as a 64-bit number.
+  return body + coefficientTag(kKey, qFromBigEndian<std::uint16_t>(body.constData() + 6), body);
 }
 
 DecodeError decodeOnce(const QByteArray& bytes) {
@@ -191,9 +192,38 @@ TEST(CoefficientCodec, SequenceWrapsAt65535) {
       sent.push_back(std::move(p));
     }
   }
-  EXPECT_EQ(decoder.replayWindow().newest(), 4) << "65531 + 10 datagrams wraps to 4";
+  EXPECT_EQ(decoder.replayWindow().newest(), 65540u) << "sequences 65531..65540: extended past the 16-bit wrap";
+  EXPECT_EQ(d.header.sequence, 4) << "the wire carries the low 16 bits";
   EXPECT_EQ(decoder.decode(sent[3], d), DecodeError::Replayed) << "65534 replayed after the wrap";
   EXPECT_EQ(decoder.decode(sent[5], d), DecodeError::Replayed) << "0 replayed";
+}
+
+TEST(CoefficientCodec, ReplayAfterSequenceWrapDoesNotFreezeTheStream) {
+  // Issue 14 item 5: a genuine stream runs past 65535 (its 16-bit wire sequence wraps); an attacker then replays a
+  // datagram recorded before the wrap whose 16-bit number reads as ~190 ahead of the newest. It must be dropped and
+  // must not move the replay window, so the genuine datagrams after it are still accepted.
+  CoefficientEncoder encoder(kKey, kPeer);
+  CoefficientDecoder decoder(kKey, kPeer);
+  DecodedDatagram d;
+  const Eigen::MatrixXd Z = randomZ(1, 8);
+  QByteArray recorded;  // sequence 200 of the first cycle (frame 100)
+  std::uint32_t frame = 0;
+  std::uint64_t accepted = 0;
+  while (accepted < 65536 + 10) {  // every datagram decoded, as a client would: the wrap is genuine
+    for (const QByteArray& p : encoder.encodeFrame(frame, Z)) {
+      ASSERT_EQ(decoder.decode(p, d), DecodeError::None) << "datagram " << accepted;
+      if (accepted == 200) recorded = p;
+      ++accepted;
+    }
+    ++frame;
+  }
+  ASSERT_EQ(decoder.replayWindow().newest() & 0xffffu, 9u) << "65536 + 10 datagrams: the 16-bit number wrapped";
+  EXPECT_NE(decoder.decode(recorded, d), DecodeError::None) << "the replayed pre-wrap datagram is dropped";
+  for (int k = 0; k < 100; ++k, ++frame) {
+    for (const QByteArray& p : encoder.encodeFrame(frame, Z)) {
+      EXPECT_EQ(decoder.decode(p, d), DecodeError::None) << "genuine datagram " << k << " after the replay";
+    }
+  }
 }
 
 TEST(ReplayWindow, JumpsAndOutOfOrder) {
@@ -202,10 +232,24 @@ TEST(ReplayWindow, JumpsAndOutOfOrder) {
   EXPECT_EQ(w.check(64990), ReplayVerdict::Fresh) << "late but inside the window";
   w.accept(64990);
   EXPECT_EQ(w.check(64990), ReplayVerdict::Replayed);
-  w.accept(static_cast<std::uint16_t>(65000 + 1000));  // wraps: a big jump clears the bitmap
+  w.accept(65000 + 1000);  // past the 16-bit wrap: a big jump clears the bitmap
   EXPECT_EQ(w.check(65000), ReplayVerdict::Stale);
-  EXPECT_EQ(w.check(static_cast<std::uint16_t>(65000 + 1000 - 63)), ReplayVerdict::Fresh);
-  EXPECT_EQ(w.check(static_cast<std::uint16_t>(65000 + 1000 + 32768)), ReplayVerdict::Stale) << "half-way reads as old";
+  EXPECT_EQ(w.check(65000 + 1000 - 63), ReplayVerdict::Fresh);
+  EXPECT_EQ(w.check(65000 + 1000 - 64), ReplayVerdict::Stale);
+  EXPECT_EQ(w.check(65000 + 1000 + 40000), ReplayVerdict::Fresh) << "64-bit numbers never read as old";
+}
+
+TEST(ReplayWindow, ExtendsThe16BitNumberToTheClosest64BitOne) {
+  ReplayWindow w;
+  EXPECT_EQ(w.extend(5), 5u) << "before any accept: the first cycle";
+  w.accept(65530);
+  EXPECT_EQ(w.extend(3), 65539u) << "just past the wrap: the next cycle";
+  EXPECT_EQ(w.extend(65000), 65000u) << "a little behind: this cycle";
+  w.accept(65539);
+  EXPECT_EQ(w.extend(65535), 65535u) << "reordered from before the wrap: the previous cycle";
+  EXPECT_EQ(w.extend(100), 65636u);
+  EXPECT_EQ(w.extend(static_cast<std::uint16_t>(3 + 32768)), 65536u + 3 + 32768) << "32768 ahead: still ahead";
+  EXPECT_EQ(w.extend(static_cast<std::uint16_t>(3 + 32769)), 3u + 32769) << "32767 behind: behind";
 }
 
 TEST(CoefficientCodec, BandExponentIsTheSmallestSufficientStep) {

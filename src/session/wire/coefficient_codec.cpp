@@ -1,6 +1,9 @@
 #include "session/wire/coefficient_codec.h"
 
+#include <QtCore/QtEndian>
+
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <utility>
@@ -20,6 +23,18 @@ std::vector<int> partRows(const DatagramHeader& header) {
   for (int k = header.protectedRows + header.partIndex; k < header.rowCount; k += header.partCount) rows.push_back(k);
   return rows;
 }
+
+/// The extended sequence as the 8 big-endian bytes the tag covers before the datagram.
+std::array<char, 8> sequenceBytes(std::uint64_t sequence) {
+  std::array<char, 8> out{};
+  qToBigEndian(sequence, out.data());
+  return out;
+}
+
+QByteArrayView view(const std::array<char, 8>& bytes) { return QByteArrayView(bytes.data(), bytes.size()); }
+
+/// Offset of the 16-bit sequence in the header (wire_format.h), read before authentication to extend it.
+constexpr qsizetype kSequenceOffset = 6;
 
 double finiteOrZero(double v) { return std::isfinite(v) ? v : 0.0; }
 
@@ -65,6 +80,11 @@ int bandExponent(double maxAbs) {
 
 QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes) {
   const DatagramTag tag = DatagramMac(key).tag({bytes});
+  return QByteArray(tag.data(), kTagSize);
+}
+
+QByteArray coefficientTag(const QByteArray& key, std::uint64_t sequence, QByteArrayView body) {
+  const DatagramTag tag = DatagramMac(key).tag({view(sequenceBytes(sequence)), body});
   return QByteArray(tag.data(), kTagSize);
 }
 
@@ -115,14 +135,14 @@ std::vector<QByteArray> CoefficientEncoder::encodeFrame(std::uint32_t frame, con
   parts.reserve(header.partCount);
   for (int j = 0; j < header.partCount; ++j) {
     header.partIndex = static_cast<std::uint8_t>(j);
-    header.sequence = m_sequence++;
-    parts.push_back(encodePart(header, Z, exponents));
+    header.sequence = static_cast<std::uint16_t>(m_sequence);  // the low 16 bits go on the wire
+    parts.push_back(encodePart(header, m_sequence++, Z, exponents));
   }
   return parts;
 }
 
-QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, const Eigen::MatrixXd& Z,
-                                          const std::vector<int>& exponents) {
+QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, std::uint64_t sequence,
+                                          const Eigen::MatrixXd& Z, const std::vector<int>& exponents) {
   QByteArray out;
   out.reserve(expectedDatagramSize(header));
   encodeDatagramHeader(header, out);
@@ -131,7 +151,7 @@ QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, const Ei
     const int e = exponents[static_cast<std::size_t>(k / header.bandRows)];
     for (int c = 0; c < 3; ++c) appendInt16(out, quantise(Z(k, c), e));
   }
-  const DatagramTag tag = m_mac.tag({out});
+  const DatagramTag tag = m_mac.tag({view(sequenceBytes(sequence)), out});
   out.append(tag.data(), kTagSize);
   assert(out.size() == expectedDatagramSize(header) && out.size() <= kMaxDatagramSize);
   return out;
@@ -144,9 +164,11 @@ CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId) : m
 DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& out) {
   if (bytes.size() < kDatagramMinSize) return DecodeError::Truncated;
   const QByteArrayView body = bytes.first(bytes.size() - kTagSize);
-  if (!m_mac.verify({body}, bytes.last(kTagSize))) return DecodeError::BadTag;
+  const std::uint64_t sequence = m_window.extend(qFromBigEndian<std::uint16_t>(bytes.data() + kSequenceOffset));
+  if (!m_mac.verify({view(sequenceBytes(sequence)), body}, bytes.last(kTagSize))) return DecodeError::BadTag;
   if (const DecodeError error = parse(body, out); error != DecodeError::None) return error;
-  switch (m_window.check(out.header.sequence)) {
+  out.sequence = sequence;
+  switch (m_window.check(sequence)) {
     case ReplayVerdict::Replayed:
       return DecodeError::Replayed;
     case ReplayVerdict::Stale:
@@ -154,7 +176,7 @@ DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& ou
     case ReplayVerdict::Fresh:
       break;
   }
-  m_window.accept(out.header.sequence);
+  m_window.accept(sequence);
   return DecodeError::None;
 }
 

@@ -41,13 +41,19 @@ const char* toString(DecodeError error);
 /// One decoded datagram: which rows of which frame it carries, dequantised.
 struct DecodedDatagram {
   DatagramHeader header;
-  std::vector<int> rows;   ///< row indices k in [0, m), protected rows first.
-  Eigen::MatrixXd values;  ///< rows.size() by 3, dequantised.
+  std::uint64_t sequence = 0;  ///< extended (64-bit) sequence number; its low 16 bits are header.sequence
+  std::vector<int> rows;       ///< row indices k in [0, m), protected rows first.
+  Eigen::MatrixXd values;      ///< rows.size() by 3, dequantised.
 };
 
 /// HMAC-SHA256(key, bytes) truncated to kTagSize bytes, on a one-off DatagramMac (for tests and tools; the codecs
 /// keep one per peer). Cost: O(#bytes) plus one OpenSSL context.
 QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes);
+
+/// The tag of a coefficient datagram: HMAC-SHA256(key, u64 BE extended sequence ‖ body), truncated (wire_format.h).
+/// The extended sequence is not on the wire (only its low 16 bits are); authenticating it is what makes a datagram
+/// recorded in an earlier 16-bit cycle fail when replayed in a later one. One-off context: for tests and tools.
+QByteArray coefficientTag(const QByteArray& key, std::uint64_t sequence, QByteArrayView body);
 
 /// Host side, one per client (per-client key and sequence). Not thread-safe.
 class CoefficientEncoder {
@@ -57,7 +63,7 @@ class CoefficientEncoder {
   CoefficientEncoder(QByteArray key, std::uint16_t peerId, CodecOptions options = {});
 
   /// Quantises Z and returns its P datagrams, each authenticated and ≤ kMaxDatagramSize bytes. Non-finite
-  /// entries are sent as 0. Consumes P sequence numbers.
+  /// entries are sent as 0. Consumes P (64-bit, never wrapping) sequence numbers.
   /// @param[in] frame  frame number (the caller increments it per frame).
   /// @param[in] Z  m by 3 displacement coefficients, 1 ≤ m ≤ kMaxRows.
   /// @param[in] timestamp  the header's timestamp field (host clock, µs mod 2³²; wire_format.h).
@@ -66,21 +72,24 @@ class CoefficientEncoder {
 
   /// Parts a frame of m rows is split into (≥ options.partsPerFrame when needed for the size limit).
   int partCount(int m) const;
-  std::uint16_t nextSequence() const { return m_sequence; }
-  void setNextSequence(std::uint16_t sequence) { m_sequence = sequence; }
+  /// The extended sequence number of the next datagram (the wire carries its low 16 bits).
+  std::uint64_t nextSequence() const { return m_sequence; }
+  void setNextSequence(std::uint64_t sequence) { m_sequence = sequence; }
 
  private:
-  QByteArray encodePart(const DatagramHeader& header, const Eigen::MatrixXd& Z, const std::vector<int>& exponents);
+  QByteArray encodePart(const DatagramHeader& header, std::uint64_t sequence, const Eigen::MatrixXd& Z,
+                        const std::vector<int>& exponents);
 
   DatagramMac m_mac;
   std::uint16_t m_peerId;
   CodecOptions m_options;
-  std::uint16_t m_sequence = 0;
+  std::uint64_t m_sequence = 0;
 };
 
 /// Client side: authenticates, parses and de-duplicates datagrams from the host. Not thread-safe.
-/// Order of checks as in wire_format.h: the tag is verified before any field is read; the replay window is
-/// updated only for datagrams that pass every check.
+/// Order of checks as in wire_format.h: the tag is verified (over the sequence extended by the replay window, see
+/// ReplayWindow::extend) before any other field is read; the replay window is updated only for datagrams that pass
+/// every check.
 class CoefficientDecoder {
  public:
   /// @param[in] key  this client's datagram key.
@@ -88,7 +97,7 @@ class CoefficientDecoder {
   CoefficientDecoder(QByteArray key, std::uint16_t peerId);
 
   /// Decodes one datagram into `out` (left unspecified on failure). Never reads past `bytes`.
-  /// Cost: one HMAC over the datagram plus O(rows).
+  /// Cost: one HMAC over 8 + the datagram's bytes plus O(rows).
   DecodeError decode(QByteArrayView bytes, DecodedDatagram& out);
 
   const ReplayWindow& replayWindow() const { return m_window; }

@@ -20,7 +20,9 @@
 //     2    1   version          kProtocolVersion
 //     3    1   type             MessageType (CoefficientFrame)
 //     4    2   peerId           receiving peer's id (selects the per-client key on the host side)
-//     6    2   sequence         per-peer datagram sequence number, +1 per datagram, wraps at 65535 -> 0
+//     6    2   sequence         low 16 bits of the per-peer 64-bit extended sequence number S (+1 per datagram,
+//                               never wraps; the receiver extends the 16 bits to the S closest to its newest,
+//                               ReplayWindow::extend, and the tag covers the whole S)
 //     8    4   frame            frame number, +1 per frame (serial-number arithmetic, wraps)
 //    12    1   partIndex        j in [0, partCount)
 //    13    1   partCount        P in [1, kMaxParts]
@@ -34,11 +36,14 @@
 //    22    B   bandExponent[B]  int8 e_b per band, B = ceil(m / bandRows); value = q · 2^e_b
 //   22+B  6·p  protected        p rows × (x, y, z) int16
 //   ...   6·r  interleaved      r = number of k in [p, m) with (k − p) mod P == j, rows × (x, y, z) int16
-//   end−T  T   tag              HMAC-SHA256(perClientKey, all preceding bytes), truncated to T = kTagSize bytes
+//   end−T  T   tag              HMAC-SHA256(perClientKey, u64 BE S ‖ all preceding bytes), truncated to
+//                               T = kTagSize bytes (S is not sent: a datagram of an earlier 16-bit cycle replayed
+//                               later extends to another S and fails the tag; since version 3)
 //
 // Sizes for m = 100, p = 10, bandRows = 10, P = 2: 22 + 10 + 60 + 45·6 + 16 = 378 bytes per part, 756 per frame.
 //
-// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), tag (BadTag), magic (BadMagic), version
+// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), extend the sequence, tag (BadTag), magic
+// (BadMagic), version
 // (BadVersion), type and field ranges (Malformed), exact length (Truncated/Malformed), then the replay window
 // (Replayed/Stale), which is updated only after everything else succeeded (RFC 6347 §4.1.2.6).
 //
@@ -156,8 +161,8 @@
 
 namespace sc::session {
 
-inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 2;
+inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
+inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (extended sequence, path challenge)
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
