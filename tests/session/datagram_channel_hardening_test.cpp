@@ -1,7 +1,8 @@
 // Issue 14 ("Hardening II"), datagram items, over real UDP sockets on 127.0.0.1 (host_datagram_channel.cpp,
 // client_datagram_channel.cpp): a datagram replayed after the 16-bit sequence wrapped does not freeze the client
 // (item 5); a PathOpen from a new address does not move the stream before that address echoes the host's
-// challenge, and until then the host sends it at most the bytes it received from it (item 6); each channel reads a
+// challenge, and until then the host sends it at most the bytes it received from it, and a wrong echo moves nothing
+// (item 6); each channel reads a
 // bounded number of datagrams per event-loop pass (item 11). Set-up: datagram_session.h.
 #include "datagram_session.h"
 
@@ -72,7 +73,37 @@ TEST(DatagramHardening, NewPathIsUsedOnlyAfterItEchoesTheChallenge) {
   waitUntil([] { return false; }, 50);  // anything sent to the victim has arrived
   const std::uint64_t victimBytes = drain(victim.socket);
   EXPECT_LE(victimBytes, static_cast<std::uint64_t>(kOpens * kPathOpenSize));
+  EXPECT_GE(victimBytes, static_cast<std::uint64_t>(kPathProbeSize)) << "the challenges were sent";
   EXPECT_EQ(s.host.peerPort(kPeer), clientPort);
+
+  // An address that does receive (it echoes the challenge) gets the stream: the path moves.
+  QSignalSpy opened(&s.host, &HostDatagramChannel::pathOpened);
+  victim.send(encodePathOpen(peer, kToken, 2000000, kKey), s.host.port());
+  ASSERT_TRUE(victim.answerChallenge(s.host.port()));
+  ASSERT_TRUE(waitUntil([&] { return s.host.peerPort(kPeer) == victim.socket.localPort(); }));
+  EXPECT_EQ(opened.count(), 1);
+  s.host.sendFrame(21, frameZ(21), sessionNow());
+  ASSERT_TRUE(waitUntil([&] { return victim.socket.hasPendingDatagrams(); }));
+  waitUntil([] { return false; }, 50);
+  EXPECT_EQ(drain(victim.socket), 2u * 378u) << "one frame, 2 datagrams of 378 bytes";
+}
+
+TEST(DatagramHardening, ChallengeWithAWrongValueOrFromElsewhereDoesNotMoveThePath) {
+  Session s;
+  ASSERT_TRUE(s.open());
+  Stranger candidate, elsewhere;
+  const auto peer = static_cast<std::uint16_t>(kPeer);
+  candidate.send(encodePathOpen(peer, kToken, 1000000, kKey), s.host.port());
+  ASSERT_TRUE(waitUntil([&] { return candidate.socket.hasPendingDatagrams(); }));
+  const DatagramMac mac(kKey);
+  const PathProbeResult challenge =
+      decodePathProbe(candidate.socket.receiveDatagram().data(), MessageType::PathChallenge, mac);
+  ASSERT_EQ(challenge.error, PathOpenError::None);
+  // A guessed value from the candidate, and the right value from another address: neither validates.
+  candidate.send(encodePathProbe(MessageType::PathResponse, peer, challenge.challenge + 1, mac), s.host.port());
+  elsewhere.send(encodePathProbe(MessageType::PathResponse, peer, challenge.challenge, mac), s.host.port());
+  ASSERT_TRUE(waitUntil([&] { return s.host.drops(PathOpenError::WrongChallenge) == 2; }));
+  EXPECT_EQ(s.host.peerPort(kPeer), s.client.localPort());
 }
 
 /// Sends 4 × bound short datagrams to `port`, then runs one event-loop pass at a time until the receiver has read
@@ -89,7 +120,8 @@ std::uint64_t readInFirstPass(quint16 port, int bound, const std::function<std::
   return first;
 }
 
-constexpr int kBound = 64;
+constexpr int kBound = HostDatagramChannel::kMaxDatagramsPerPass;
+static_assert(ClientDatagramChannel::kMaxDatagramsPerPass == kBound);
 
 TEST(DatagramHardening, HostReadsABoundedNumberOfDatagramsPerEventLoopPass) {
   HostDatagramChannel host;

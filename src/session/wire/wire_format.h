@@ -49,9 +49,9 @@
 //
 // ==================================================================================================================
 // Path-open datagram (UDP, client -> host), MessageType::PathOpen: opens (and keeps open, through NATs) the path
-// the host sends coefficient datagrams on. The host answers nothing; it records the datagram's source address as
-// the client's UDP address. Sent after the Welcome every 500 ms until the first coefficient datagram arrives, then
-// every kPathRefreshMs. 42 bytes:
+// the host sends coefficient datagrams on. The host answers at most a PathChallenge (below) to a new address; it
+// records the datagram's source address as the client's candidate UDP address. Sent after the Welcome every 500 ms
+// until the first coefficient datagram arrives, then every kPathRefreshMs. 42 bytes:
 //
 //  offset size field      meaning
 //     0    2   magic      0x5343
@@ -64,8 +64,31 @@
 //
 // Host order of checks: exact length (Truncated), peerId known (Stranger), tag (BadTag), magic/version/type
 // (Malformed), token (Stranger), sequence > the highest accepted from that peer since its Welcome (Replayed).
-// Every drop is counted. Only an accepted PathOpen raises the highest sequence and may move the path to its
-// source address and port, so a recorded PathOpen resent from another address moves nothing.
+// Every drop is counted. Only an accepted PathOpen raises the highest sequence; since version 3 it does not move
+// the path by itself: its source address and port become the peer's *candidate* path, which must prove that it
+// receives (below) before any coefficient datagram goes there.
+//
+// ==================================================================================================================
+// Path challenge and response (UDP; since version 3): validation of a candidate path, as QUIC's PATH_CHALLENGE /
+// PATH_RESPONSE (RFC 9000 §8.2). For each accepted PathOpen from a candidate address the host sends that address a
+// PathChallenge carrying a random u64 (new per candidate, repeated while the same candidate keeps sending), but only
+// while the bytes it sent there stay ≤ the bytes of accepted PathOpens it received from there (no amplification:
+// 30 ≤ 42). The client answers each authentic PathChallenge with a PathResponse carrying the same value, to the
+// host's address. A PathResponse from the candidate address and port with the candidate's value validates the
+// path: from then on the coefficient datagrams go there. Until then they keep going to the old validated path (or
+// nowhere, before the first). 30 bytes, both types:
+//
+//  offset size field      meaning
+//     0    2   magic      0x5343
+//     2    1   version    kProtocolVersion
+//     3    1   type       MessageType::PathChallenge (host → client) or PathResponse (client → host)
+//     4    2   peerId     the client's id (selects the key)
+//    6     8   challenge  u64, random (host's CSPRNG), echoed unchanged
+//    14   16   tag        HMAC-SHA256(datagramKey, bytes 0..13), truncated
+//
+// Order of checks on both ends: exact length and type byte (else not a probe), peerId (Stranger), tag (BadTag),
+// magic/version (Malformed); the host then needs a candidate path of that peer with the datagram's source address,
+// port and value (else WrongChallenge). Nothing else is ever answered.
 //
 // ==================================================================================================================
 // Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
@@ -168,7 +191,9 @@ inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (extended 
 enum class MessageType : std::uint8_t {
   CoefficientFrame = 0x01,
   PathOpen = 0x02,
-  Count,  ///< one past the last datagram type; keep last among datagram types.
+  PathChallenge = 0x03,  ///< host → client: prove that this address receives (since version 3)
+  PathResponse = 0x04,   ///< client → host: the challenge echoed back
+  Count,                 ///< one past the last datagram type; keep last among datagram types.
   // Control (TCP) messages; layouts in the "control messages" section. Hello and Refused are frozen forever.
   Hello = 0x40,
   Refused = 0x41,
@@ -225,7 +250,10 @@ inline constexpr int kLevelEntrySize = 13;  ///< one LevelList entry
 inline constexpr int kMaxHandles = 64;
 inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
 inline constexpr int kHandleEntrySize = 2 + 12 * 8;
-inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;  ///< 42 bytes
+inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;           ///< 42 bytes
+inline constexpr int kPathChallengeValueSize = 8;                              ///< random u64 of a path challenge
+inline constexpr int kPathProbeSize = 6 + kPathChallengeValueSize + kTagSize;  ///< 30 bytes, ≤ kPathOpenSize
+static_assert(kPathProbeSize <= kPathOpenSize, "a challenge must not send more than the PathOpen that caused it");
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
