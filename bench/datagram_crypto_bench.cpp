@@ -1,12 +1,17 @@
-// shapecast-bench-datagram: per-datagram cost of authenticating (and, with the AEAD, encrypting) one coefficient
-// datagram of the default layout (m = 100, 2 parts: 378 bytes), median over rounds of many datagrams:
-//   qt-hmac      a new QMessageAuthenticationCode per datagram (what the codec did before Issue 14)
-//   openssl-hmac the per-peer DatagramMac (an EVP_MAC context keyed once, re-initialised per datagram)
-//   encode/decode the whole codec path per datagram (quantise + protect / check + parse + replay window)
+// shapecast-bench-datagram: per-datagram cost of authenticating and encrypting one coefficient datagram of the default
+// layout (m = 100, 2 parts: 378 bytes), median over rounds of many datagrams:
+//   qt-hmac      a new QMessageAuthenticationCode per datagram (what the codec did before Issue 14), over the
+//                378-byte datagram's authenticated bytes
+//   openssl-hmac the per-peer DatagramMac (an EVP_MAC context keyed once, re-initialised per datagram): PathOpen
+//                and path probes
+//   gcm-seal/open AES-128-GCM on the per-peer DatagramCipher (keyed once; per datagram only the nonce), header as
+//                AAD: what coefficient datagrams cost since protocol version 3
+//   encode/decode the whole codec path (quantise + seal / open + parse + replay window)
 // Usage: shapecast-bench-datagram [datagrams per round = 20000] [rounds = 15]
 
 #include "experiments/report/machine_info.h"
 #include "session/wire/coefficient_codec.h"
+#include "session/wire/datagram_cipher.h"
 #include "session/wire/datagram_mac.h"
 
 #include <QtCore/QCryptographicHash>
@@ -66,10 +71,28 @@ int main(int argc, char** argv) {
   const double openssl = medianMicros(count, rounds, [&] { sink = static_cast<char>(sink ^ mac.tag({body})[0]); });
   std::printf("openssl-hmac  %.3f us/datagram (per-peer EVP_MAC context)\n", openssl);
 
+  const DatagramCipher sealer(key, DatagramDirection::HostToClient), opener(key, DatagramDirection::HostToClient);
+  const QByteArrayView header = body.first(kDatagramHeaderSize), payload = body.sliced(kDatagramHeaderSize);
+  QByteArray sealed;
+  sealed.reserve(kMaxDatagramSize);
+  std::uint64_t sequence = 0;
+  const double seal = medianMicros(count, rounds, [&] {
+    sealed.resize(0);
+    sealer.seal(sequence++, header, payload, sealed);
+    sink = static_cast<char>(sink ^ sealed.at(0));
+  });
+  std::printf("gcm-seal      %.3f us/datagram (AES-128-GCM, per-peer EVP_CIPHER_CTX, header as AAD)\n", seal);
+  sealed.resize(0);
+  sealer.seal(7, header, payload, sealed);
+  QByteArray opened;
+  int rejected = 0;
+  const double open = medianMicros(count, rounds, [&] { rejected += !opener.open(7, header, sealed, opened); });
+  std::printf("gcm-open      %.3f us/datagram (decrypt + tag check), %d rejected\n", open, rejected);
+
   std::uint32_t frameNumber = 2;
   const double encode = medianMicros(
       count, rounds, [&] { sink = static_cast<char>(sink ^ encoder.encodeFrame(frameNumber++, Z).front().at(30)); });
-  std::printf("encode        %.3f us/frame of 2 datagrams (quantise + protect)\n", encode);
+  std::printf("encode        %.3f us/frame of 2 datagrams (quantise + seal)\n", encode);
   // Decoding: a fresh stream per round would be needed for the replay window; decode distinct datagrams instead.
   std::vector<QByteArray> stream;
   CoefficientEncoder streamEncoder(key, 7);
@@ -82,6 +105,6 @@ int main(int argc, char** argv) {
     DecodedDatagram out;
     failures += decoder.decode(stream[next++], out) != DecodeError::None;
   });
-  std::printf("decode        %.3f us/datagram (check + parse + replay window), %d failed\n", decode, failures);
+  std::printf("decode        %.3f us/datagram (open + parse + replay window), %d failed\n", decode, failures);
   return sink == 127 ? 1 : 0;  // keeps the results observable
 }

@@ -39,13 +39,17 @@ Eigen::MatrixXd decodeAll(CoefficientDecoder& decoder, const std::vector<QByteAr
   return Z;
 }
 
-/// Replaces the tag of `datagram` after `edit` changed its body: a validly signed but otherwise bad datagram.
+/// Decrypts `datagram`, lets `edit` change its clear form (header ‖ payload), and seals it again: an authentic but
+/// otherwise bad datagram.
 template <typename Edit>
-QByteArray resigned(QByteArray datagram, Edit edit) {
-  QByteArray body = datagram.left(datagram.size() - kTagSize);
-  edit(body);
-  // A fresh decoder extends the 16-bit sequence (offset 6) to itself: the tag covers it as a 64-bit number.
-  return body + coefficientTag(kKey, qFromBigEndian<std::uint16_t>(body.constData() + 6), body);
+QByteArray resigned(const QByteArray& datagram, Edit edit) {
+  // A fresh decoder extends the 16-bit sequence (offset 6) to itself: the nonce holds it as a 64-bit number.
+  const std::optional<QByteArray> opened =
+      openCoefficientDatagram(kKey, qFromBigEndian<std::uint16_t>(datagram.constData() + 6), datagram);
+  EXPECT_TRUE(opened.has_value());
+  QByteArray clear = opened.value_or(QByteArray());
+  edit(clear);
+  return sealCoefficientDatagram(kKey, qFromBigEndian<std::uint16_t>(clear.constData() + 6), clear);
 }
 
 DecodeError decodeOnce(const QByteArray& bytes) {
@@ -224,6 +228,25 @@ TEST(CoefficientCodec, ReplayAfterSequenceWrapDoesNotFreezeTheStream) {
       EXPECT_EQ(decoder.decode(p, d), DecodeError::None) << "genuine datagram " << k << " after the replay";
     }
   }
+}
+
+TEST(CoefficientCodec, PayloadIsCiphertextUnderANoncePerSequence) {
+  // Datagram confidentiality (Issue 14): the same frame sent at two sequence numbers must not show the same
+  // payload bytes (in clear, the quantised rows were identical), and no 6-byte quantised row appears as is.
+  const Eigen::MatrixXd Z = randomZ(100, 9);
+  CoefficientEncoder first(kKey, kPeer), second(kKey, kPeer);
+  second.setNextSequence(2);
+  const QByteArray a = first.encodeFrame(5, Z).front(), b = second.encodeFrame(5, Z).front();
+  ASSERT_EQ(a.size(), b.size());
+  const qsizetype payload = kDatagramHeaderSize, end = a.size() - kTagSize;
+  EXPECT_EQ(a.first(kDatagramHeaderSize).sliced(8), b.first(kDatagramHeaderSize).sliced(8)) << "header: clear";
+  int equal = 0;
+  for (qsizetype i = payload; i < end; ++i) equal += a[i] == b[i];
+  EXPECT_LT(equal, (end - payload) / 16) << "payload bytes equal at two sequence numbers";
+  CoefficientDecoder decoder(kKey, kPeer);
+  DecodedDatagram d;
+  ASSERT_EQ(decoder.decode(a, d), DecodeError::None);
+  EXPECT_LE((d.values.row(0) - Z.row(0)).cwiseAbs().maxCoeff(), 1e-3) << "and it still decodes";
 }
 
 TEST(ReplayWindow, JumpsAndOutOfOrder) {

@@ -3,7 +3,6 @@
 #include <QtCore/QtEndian>
 
 #include <algorithm>
-#include <array>
 #include <cassert>
 #include <cmath>
 #include <utility>
@@ -23,15 +22,6 @@ std::vector<int> partRows(const DatagramHeader& header) {
   for (int k = header.protectedRows + header.partIndex; k < header.rowCount; k += header.partCount) rows.push_back(k);
   return rows;
 }
-
-/// The extended sequence as the 8 big-endian bytes the tag covers before the datagram.
-std::array<char, 8> sequenceBytes(std::uint64_t sequence) {
-  std::array<char, 8> out{};
-  qToBigEndian(sequence, out.data());
-  return out;
-}
-
-QByteArrayView view(const std::array<char, 8>& bytes) { return QByteArrayView(bytes.data(), bytes.size()); }
 
 /// Offset of the 16-bit sequence in the header (wire_format.h), read before authentication to extend it.
 constexpr qsizetype kSequenceOffset = 6;
@@ -83,15 +73,29 @@ QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes) {
   return QByteArray(tag.data(), kTagSize);
 }
 
-QByteArray coefficientTag(const QByteArray& key, std::uint64_t sequence, QByteArrayView body) {
-  const DatagramTag tag = DatagramMac(key).tag({view(sequenceBytes(sequence)), body});
-  return QByteArray(tag.data(), kTagSize);
+QByteArray sealCoefficientDatagram(const QByteArray& key, std::uint64_t sequence, QByteArrayView clear) {
+  const qsizetype header = std::min<qsizetype>(clear.size(), kDatagramHeaderSize);
+  QByteArray out = clear.first(header).toByteArray();
+  DatagramCipher(key, DatagramDirection::HostToClient).seal(sequence, clear.first(header), clear.sliced(header), out);
+  return out;
+}
+
+std::optional<QByteArray> openCoefficientDatagram(const QByteArray& key, std::uint64_t sequence,
+                                                  QByteArrayView datagram) {
+  if (datagram.size() < kDatagramMinSize) return std::nullopt;
+  QByteArray payload;
+  const QByteArrayView header = datagram.first(kDatagramHeaderSize);
+  if (!DatagramCipher(key, DatagramDirection::HostToClient)
+           .open(sequence, header, datagram.sliced(kDatagramHeaderSize), payload)) {
+    return std::nullopt;
+  }
+  return header.toByteArray() + payload;
 }
 
 // === encoder
 
 CoefficientEncoder::CoefficientEncoder(QByteArray key, std::uint16_t peerId, CodecOptions options)
-    : m_mac(key), m_peerId(peerId), m_options(options) {
+    : m_cipher(key, DatagramDirection::HostToClient), m_peerId(peerId), m_options(options) {
   assert(!key.isEmpty() && "a datagram key is required");
   assert(m_options.bandRows >= 1 && m_options.bandRows <= 255 && "bandRows must be in 1..255");
   assert(m_options.partsPerFrame >= 1 && m_options.partsPerFrame <= kMaxParts && "partsPerFrame in 1..kMaxParts");
@@ -146,27 +150,31 @@ QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, std::uin
   QByteArray out;
   out.reserve(expectedDatagramSize(header));
   encodeDatagramHeader(header, out);
-  for (int e : exponents) out.append(static_cast<char>(static_cast<std::int8_t>(e)));
+  m_payload.resize(0);  // keeps its capacity
+  for (int e : exponents) m_payload.append(static_cast<char>(static_cast<std::int8_t>(e)));
   for (int k : partRows(header)) {
     const int e = exponents[static_cast<std::size_t>(k / header.bandRows)];
-    for (int c = 0; c < 3; ++c) appendInt16(out, quantise(Z(k, c), e));
+    for (int c = 0; c < 3; ++c) appendInt16(m_payload, quantise(Z(k, c), e));
   }
-  const DatagramTag tag = m_mac.tag({view(sequenceBytes(sequence)), out});
-  out.append(tag.data(), kTagSize);
+  m_cipher.seal(sequence, out, m_payload, out);  // the header is the additional authenticated data
   assert(out.size() == expectedDatagramSize(header) && out.size() <= kMaxDatagramSize);
   return out;
 }
 
 // === decoder
 
-CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId) : m_mac(key), m_peerId(peerId) {}
+CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId)
+    : m_cipher(key, DatagramDirection::HostToClient), m_peerId(peerId) {}
 
 DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& out) {
   if (bytes.size() < kDatagramMinSize) return DecodeError::Truncated;
-  const QByteArrayView body = bytes.first(bytes.size() - kTagSize);
   const std::uint64_t sequence = m_window.extend(qFromBigEndian<std::uint16_t>(bytes.data() + kSequenceOffset));
-  if (!m_mac.verify({view(sequenceBytes(sequence)), body}, bytes.last(kTagSize))) return DecodeError::BadTag;
-  if (const DecodeError error = parse(body, out); error != DecodeError::None) return error;
+  const QByteArrayView header = bytes.first(kDatagramHeaderSize);
+  if (!m_cipher.open(sequence, header, bytes.sliced(kDatagramHeaderSize), m_payload)) return DecodeError::BadTag;
+  m_clear.resize(0);  // keeps its capacity
+  m_clear.append(header);
+  m_clear.append(m_payload);
+  if (const DecodeError error = parse(m_clear, out); error != DecodeError::None) return error;
   out.sequence = sequence;
   switch (m_window.check(sequence)) {
     case ReplayVerdict::Replayed:

@@ -8,7 +8,7 @@
 //     (style.md item 6), never asserted on.
 //
 // ==================================================================================================================
-// Coefficient datagram (UDP, host -> client), MessageType::CoefficientFrame
+// Coefficient datagram (UDP, host -> client), MessageType::CoefficientFrame; encrypted since version 3
 // ==================================================================================================================
 // One frame's m×3 displacement coefficients Z are sent as P datagrams ("parts"). Rows 0..p−1 (the protected low
 // frequencies) are repeated in every part; the other rows are interleaved: part j carries rows k ≥ p with
@@ -36,13 +36,16 @@
 //    22    B   bandExponent[B]  int8 e_b per band, B = ceil(m / bandRows); value = q · 2^e_b
 //   22+B  6·p  protected        p rows × (x, y, z) int16
 //   ...   6·r  interleaved      r = number of k in [p, m) with (k − p) mod P == j, rows × (x, y, z) int16
-//   end−T  T   tag              HMAC-SHA256(perClientKey, u64 BE S ‖ all preceding bytes), truncated to
-//                               T = kTagSize bytes (S is not sent: a datagram of an earlier 16-bit cycle replayed
-//                               later extends to another S and fails the tag; since version 3)
+//   end−T  T   tag              AES-128-GCM tag (T = kTagSize = 16 bytes). Bytes 22..end−T (exponents and rows)
+//                               are AES-128-GCM ciphertext; the 22-byte header is additional authenticated data
+//                               (clear). Key: HKDF-SHA256(perClientKey, info "ShapeCast v3 datagram host->client"),
+//                               16 bytes; nonce: u32 BE 1 (host → client) ‖ u64 BE S (datagram_cipher.h). S is not
+//                               sent: a datagram of an earlier 16-bit cycle replayed later extends to another S
+//                               and fails the tag.
 //
 // Sizes for m = 100, p = 10, bandRows = 10, P = 2: 22 + 10 + 60 + 45·6 + 16 = 378 bytes per part, 756 per frame.
 //
-// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), extend the sequence, tag (BadTag), magic
+// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), extend the sequence, decrypt + tag (BadTag), magic
 // (BadMagic), version
 // (BadVersion), type and field ranges (Malformed), exact length (Truncated/Malformed), then the replay window
 // (Replayed/Stale), which is updated only after everything else succeeded (RFC 6347 §4.1.2.6).
@@ -185,7 +188,7 @@
 namespace sc::session {
 
 inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (extended sequence, path challenge)
+inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (encrypted datagrams, path challenge)
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
@@ -222,7 +225,7 @@ static_assert(static_cast<std::uint8_t>(MessageType::ControlEnd) - 1 <= kMessage
 
 // === size table
 inline constexpr int kDatagramHeaderSize = 22;  ///< fixed header, offsets 0..21.
-inline constexpr int kTagSize = 16;             ///< truncated HMAC-SHA256 tag.
+inline constexpr int kTagSize = 16;             ///< AES-GCM tag (coefficients), truncated HMAC-SHA256 (path).
 inline constexpr int kDatagramMinSize = kDatagramHeaderSize + kTagSize;
 inline constexpr int kMaxDatagramSize = 1200;  ///< QUIC's floor; every datagram we send is at most this.
 inline constexpr int kValueSize = 2;           ///< one int16 coefficient.
