@@ -13,7 +13,7 @@
 // (frame_predictor.h) turns the assembler's Z into the displayed Z, and a precise single-shot timer at its
 // nextDue() shows predicted frames while the next frame is overdue (frameUpdated(k + j)) and takes them back
 // (predictionWithdrawn(k), then frameUpdated(k)). Datagrams are not filtered by source address:
-// the per-client HMAC tag is the check. Drops are counted by reason in assembler(); nothing is asserted on input.
+// the per-client AEAD tag is the check. Drops are counted by reason in assembler(); nothing is asserted on input.
 // Not thread-safe: use from the thread that owns it.
 
 #include "session/engine/frame_assembler.h"

@@ -72,7 +72,7 @@ class HostDatagramChannel : public QObject {
   /// @param[in] Z  m by 3 coefficients, 1 ≤ m ≤ kMaxRows.
   /// @param[in] inputArrivedAt  session clock when the input that produced the frame arrived; written into the
   ///            header as wireTimestamp(inputArrivedAt) (receivers derive jitter and, on one machine, latency).
-  /// Cost per open path: CoefficientEncoder::encodeFrame (O(m) + P HMACs) plus P sendto() calls. A failed send
+  /// Cost per open path: CoefficientEncoder::encodeFrame (O(m) + P AES-GCM seals) plus P sendto() calls. A failed send
   /// (e.g. a full socket buffer) is counted in sendErrors() and otherwise ignored: datagrams are not retried.
   void sendFrame(std::uint32_t frame, const Eigen::MatrixXd& Z, Micros inputArrivedAt);
 
