@@ -78,12 +78,21 @@ void datagramSeeds(const fs::path& root) {
     for (std::size_t j = 0; j < parts.size() && j < 2; ++j) {
       const std::string name = std::string(layout.name) + "-part" + std::to_string(j);
       seeds.write(name + "-full", 0, parts[j]);
-      seeds.write(name + "-body", 1, parts[j].first(parts[j].size() - kTagSize));
+      const std::optional<QByteArray> clear =
+          openCoefficientDatagram(key(), encoder.nextSequence() - parts.size() + j, parts[j]);
+      if (clear) seeds.write(name + "-body", 1, *clear);
     }
   }
   const QByteArray pathOpen = encodePathOpen(sc::fuzz::kFixedPeer, QByteArray(kPathTokenSize, '\x5a'), 1, key());
   seeds.write("path-open-full", 2, pathOpen);
   seeds.write("path-open-body", 3, pathOpen.first(pathOpen.size() - kTagSize));
+  const DatagramMac mac(key());
+  const QByteArray challenge =
+      encodePathProbe(MessageType::PathChallenge, sc::fuzz::kFixedPeer, 0x0123456789abcdefu, mac);
+  const QByteArray response = encodePathProbe(MessageType::PathResponse, sc::fuzz::kFixedPeer, 42, mac);
+  seeds.write("path-challenge-full", 4, challenge);
+  seeds.write("path-response-full", 4, response);
+  seeds.write("path-response-body", 5, response.first(response.size() - kTagSize));
 }
 
 /// A small level: an icosahedron, P mapping vertex i to full-resolution vertices i and (i + 1) mod n, K n by 4.

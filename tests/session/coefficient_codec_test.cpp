@@ -39,12 +39,17 @@ Eigen::MatrixXd decodeAll(CoefficientDecoder& decoder, const std::vector<QByteAr
   return Z;
 }
 
-/// Replaces the tag of `datagram` after `edit` changed its body: a validly signed but otherwise bad datagram.
+/// Decrypts `datagram`, lets `edit` change its clear form (header ‖ payload), and seals it again: an authentic but
+/// otherwise bad datagram.
 template <typename Edit>
-QByteArray resigned(QByteArray datagram, Edit edit) {
-  QByteArray body = datagram.left(datagram.size() - kTagSize);
-  edit(body);
-  return body + datagramTag(kKey, body);
+QByteArray resigned(const QByteArray& datagram, Edit edit) {
+  // A fresh decoder extends the 16-bit sequence (offset 6) to itself: the nonce holds it as a 64-bit number.
+  const std::optional<QByteArray> opened =
+      openCoefficientDatagram(kKey, qFromBigEndian<std::uint16_t>(datagram.constData() + 6), datagram);
+  EXPECT_TRUE(opened.has_value());
+  QByteArray clear = opened.value_or(QByteArray());
+  edit(clear);
+  return sealCoefficientDatagram(kKey, qFromBigEndian<std::uint16_t>(clear.constData() + 6), clear);
 }
 
 DecodeError decodeOnce(const QByteArray& bytes) {
@@ -191,9 +196,57 @@ TEST(CoefficientCodec, SequenceWrapsAt65535) {
       sent.push_back(std::move(p));
     }
   }
-  EXPECT_EQ(decoder.replayWindow().newest(), 4) << "65531 + 10 datagrams wraps to 4";
+  EXPECT_EQ(decoder.replayWindow().newest(), 65540u) << "sequences 65531..65540: extended past the 16-bit wrap";
+  EXPECT_EQ(d.header.sequence, 4) << "the wire carries the low 16 bits";
   EXPECT_EQ(decoder.decode(sent[3], d), DecodeError::Replayed) << "65534 replayed after the wrap";
   EXPECT_EQ(decoder.decode(sent[5], d), DecodeError::Replayed) << "0 replayed";
+}
+
+TEST(CoefficientCodec, ReplayAfterSequenceWrapDoesNotFreezeTheStream) {
+  // Issue 14 item 5: a genuine stream runs past 65535 (its 16-bit wire sequence wraps); an attacker then replays a
+  // datagram recorded before the wrap whose 16-bit number reads as ~190 ahead of the newest. It must be dropped and
+  // must not move the replay window, so the genuine datagrams after it are still accepted.
+  CoefficientEncoder encoder(kKey, kPeer);
+  CoefficientDecoder decoder(kKey, kPeer);
+  DecodedDatagram d;
+  const Eigen::MatrixXd Z = randomZ(1, 8);
+  QByteArray recorded;  // sequence 200 of the first cycle (frame 100)
+  std::uint32_t frame = 0;
+  std::uint64_t accepted = 0;
+  while (accepted < 65536 + 10) {  // every datagram decoded, as a client would: the wrap is genuine
+    for (const QByteArray& p : encoder.encodeFrame(frame, Z)) {
+      ASSERT_EQ(decoder.decode(p, d), DecodeError::None) << "datagram " << accepted;
+      if (accepted == 200) recorded = p;
+      ++accepted;
+    }
+    ++frame;
+  }
+  ASSERT_EQ(decoder.replayWindow().newest() & 0xffffu, 9u) << "65536 + 10 datagrams: the 16-bit number wrapped";
+  EXPECT_NE(decoder.decode(recorded, d), DecodeError::None) << "the replayed pre-wrap datagram is dropped";
+  for (int k = 0; k < 100; ++k, ++frame) {
+    for (const QByteArray& p : encoder.encodeFrame(frame, Z)) {
+      EXPECT_EQ(decoder.decode(p, d), DecodeError::None) << "genuine datagram " << k << " after the replay";
+    }
+  }
+}
+
+TEST(CoefficientCodec, PayloadIsCiphertextUnderANoncePerSequence) {
+  // Datagram confidentiality (Issue 14): the same frame sent at two sequence numbers must not show the same
+  // payload bytes (in clear, the quantised rows were identical), and no 6-byte quantised row appears as is.
+  const Eigen::MatrixXd Z = randomZ(100, 9);
+  CoefficientEncoder first(kKey, kPeer), second(kKey, kPeer);
+  second.setNextSequence(2);
+  const QByteArray a = first.encodeFrame(5, Z).front(), b = second.encodeFrame(5, Z).front();
+  ASSERT_EQ(a.size(), b.size());
+  const qsizetype payload = kDatagramHeaderSize, end = a.size() - kTagSize;
+  EXPECT_EQ(a.first(kDatagramHeaderSize).sliced(8), b.first(kDatagramHeaderSize).sliced(8)) << "header: clear";
+  int equal = 0;
+  for (qsizetype i = payload; i < end; ++i) equal += a[i] == b[i];
+  EXPECT_LT(equal, (end - payload) / 16) << "payload bytes equal at two sequence numbers";
+  CoefficientDecoder decoder(kKey, kPeer);
+  DecodedDatagram d;
+  ASSERT_EQ(decoder.decode(a, d), DecodeError::None);
+  EXPECT_LE((d.values.row(0) - Z.row(0)).cwiseAbs().maxCoeff(), 1e-3) << "and it still decodes";
 }
 
 TEST(ReplayWindow, JumpsAndOutOfOrder) {
@@ -202,10 +255,24 @@ TEST(ReplayWindow, JumpsAndOutOfOrder) {
   EXPECT_EQ(w.check(64990), ReplayVerdict::Fresh) << "late but inside the window";
   w.accept(64990);
   EXPECT_EQ(w.check(64990), ReplayVerdict::Replayed);
-  w.accept(static_cast<std::uint16_t>(65000 + 1000));  // wraps: a big jump clears the bitmap
+  w.accept(65000 + 1000);  // past the 16-bit wrap: a big jump clears the bitmap
   EXPECT_EQ(w.check(65000), ReplayVerdict::Stale);
-  EXPECT_EQ(w.check(static_cast<std::uint16_t>(65000 + 1000 - 63)), ReplayVerdict::Fresh);
-  EXPECT_EQ(w.check(static_cast<std::uint16_t>(65000 + 1000 + 32768)), ReplayVerdict::Stale) << "half-way reads as old";
+  EXPECT_EQ(w.check(65000 + 1000 - 63), ReplayVerdict::Fresh);
+  EXPECT_EQ(w.check(65000 + 1000 - 64), ReplayVerdict::Stale);
+  EXPECT_EQ(w.check(65000 + 1000 + 40000), ReplayVerdict::Fresh) << "64-bit numbers never read as old";
+}
+
+TEST(ReplayWindow, ExtendsThe16BitNumberToTheClosest64BitOne) {
+  ReplayWindow w;
+  EXPECT_EQ(w.extend(5), 5u) << "before any accept: the first cycle";
+  w.accept(65530);
+  EXPECT_EQ(w.extend(3), 65539u) << "just past the wrap: the next cycle";
+  EXPECT_EQ(w.extend(65000), 65000u) << "a little behind: this cycle";
+  w.accept(65539);
+  EXPECT_EQ(w.extend(65535), 65535u) << "reordered from before the wrap: the previous cycle";
+  EXPECT_EQ(w.extend(100), 65636u);
+  EXPECT_EQ(w.extend(static_cast<std::uint16_t>(3 + 32768)), 65536u + 3 + 32768) << "32768 ahead: still ahead";
+  EXPECT_EQ(w.extend(static_cast<std::uint16_t>(3 + 32769)), 3u + 32769) << "32767 behind: behind";
 }
 
 TEST(CoefficientCodec, BandExponentIsTheSmallestSufficientStep) {

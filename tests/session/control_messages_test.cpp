@@ -88,7 +88,7 @@ TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
-  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534302026162"));  // frozen: length, type, magic, version, name
+  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534303026162"));  // frozen: length, type, magic, version (3), name
 }
 
 TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
@@ -163,12 +163,12 @@ TEST(ControlMessages, HelloOfAnotherVersionDecodesForARefusal) {
   ASSERT_EQ(decoded.error, ControlError::None);
   EXPECT_EQ(std::get<Hello>(decoded.message).version, 7);
   EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("000001")).error, ControlError::Malformed);  // magic
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430200ff")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430300ff")).error, ControlError::Malformed);
 }
 
 TEST(ControlMessages, InvalidUtf8IsMalformed) {
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430202c328")).error, ControlError::Malformed);
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430202c3a9")).error, ControlError::None);  // "é"
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c328")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c3a9")).error, ControlError::None);  // "é"
 }
 
 TEST(ControlMessages, EveryTruncationIsIncompleteOrMalformed) {
@@ -238,7 +238,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
   }
   ControlFrameReader reader;  // exactly the maximum is not oversize (here: a Hello with trailing bytes)
   reader.append(frame(kMaxControlMessageSize, 0x40,
-                      QByteArray::fromHex("53430200") + QByteArray(kMaxControlMessageSize - 5, 'x')));
+                      QByteArray::fromHex("53430300") + QByteArray(kMaxControlMessageSize - 5, 'x')));
   const auto result = reader.next();
   ASSERT_TRUE(result.has_value());
   EXPECT_EQ(result->error, ControlError::Malformed);

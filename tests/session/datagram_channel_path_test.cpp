@@ -141,7 +141,9 @@ TEST(DatagramChannel, HostDropsBadPathOpensByReason) {
   ASSERT_TRUE(waitUntil([&] { return totalDrops() == 11; }));
   EXPECT_EQ(host.drops(PathOpenError::None), 2u);
   EXPECT_EQ(host.drops(PathOpenError::Replayed), 3u);
-  EXPECT_TRUE(host.pathOpen(kPeer));
+  EXPECT_FALSE(host.pathOpen(kPeer)) << "accepted, but not validated before the challenge is answered";
+  ASSERT_TRUE(stranger.answerChallenge(host.port()));
+  ASSERT_TRUE(waitUntil([&] { return host.pathOpen(kPeer); }));
   EXPECT_EQ(host.peerPort(kPeer), stranger.socket.localPort());
   EXPECT_EQ(opened.count(), 1);  // the same address twice: one signal
 
@@ -150,7 +152,8 @@ TEST(DatagramChannel, HostDropsBadPathOpensByReason) {
   EXPECT_FALSE(host.pathOpen(kPeer));
   stranger.send(encodePathOpen(peer, kToken, 1, kKey), host.port());
   ASSERT_TRUE(waitUntil([&] { return host.drops(PathOpenError::None) == 3; }));
-  EXPECT_TRUE(host.pathOpen(kPeer));
+  ASSERT_TRUE(stranger.answerChallenge(host.port()));
+  ASSERT_TRUE(waitUntil([&] { return host.pathOpen(kPeer); }));
   EXPECT_EQ(host.drops(PathOpenError::Replayed), 3u);
 
   // A removed peer's PathOpen is a stranger's.

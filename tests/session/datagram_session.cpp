@@ -9,7 +9,10 @@
 #include <QtCore/QEventLoop>
 #include <QtCore/QTimer>
 
+#include <QtNetwork/QNetworkDatagram>
+
 #include <algorithm>
+#include <optional>
 #include <random>
 #include <utility>
 
@@ -62,5 +65,21 @@ bool Session::stream(std::uint32_t first, int frames, int batch) {
 Stranger::Stranger() { EXPECT_TRUE(socket.bind(kLoopback, 0)); }
 
 void Stranger::send(const QByteArray& bytes, quint16 port) { socket.writeDatagram(bytes, kLoopback, port); }
+
+bool Stranger::answerChallenge(quint16 port) {
+  const DatagramMac mac(kKey);
+  std::optional<std::uint64_t> challenge;
+  const bool answered = waitUntil([&] {
+    while (socket.hasPendingDatagrams()) {  // the latest challenge counts (the host repeats it per PathOpen)
+      const QByteArray bytes = socket.receiveDatagram().data();
+      const PathProbeResult result = decodePathProbe(bytes, MessageType::PathChallenge, mac);
+      if (result.error == PathOpenError::None) challenge = result.challenge;
+    }
+    return challenge.has_value();
+  });
+  if (!answered) return false;
+  send(encodePathProbe(MessageType::PathResponse, static_cast<std::uint16_t>(kPeer), *challenge, mac), port);
+  return true;
+}
 
 }  // namespace sc::session::testing

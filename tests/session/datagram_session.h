@@ -52,6 +52,9 @@ struct Stranger {
   Stranger();
   /// Sends `bytes` to 127.0.0.1:`port`.
   void send(const QByteArray& bytes, quint16 port);
+  /// Waits for a PathChallenge for kPeer (kKey) on this socket, reading and discarding anything else, and answers
+  /// it with the PathResponse to 127.0.0.1:`port`: what a client at this address does. False after the timeout.
+  bool answerChallenge(quint16 port);
   QUdpSocket socket;
 };
 

@@ -184,17 +184,21 @@ TEST(Handshake, ClientWithoutPasswordOnAProtectedSessionGetsAClearLocalError) {
 }
 
 TEST(Handshake, VersionMismatchIsRefusedBeforeAnyChallenge) {
-  // Our encoder writes only our version, so a future client's Hello is spelled out: L = 6, type 0x40, magic,
-  // version 3, and a byte a later version might add (the host must not read past the version).
-  Link link(hostConfig(QStringLiteral("pw")), clientConfig(QStringLiteral("pw")));
-  link.client.start();  // the client's own Hello is replaced by the raw one below
-  link.toHost.append(QByteArray::fromHex("0000000540534303ff"));
-  link.sendToHost({});
-  expectRefused(link, RefuseReason::VersionMismatch);  // no Challenge before the Refused
-  ASSERT_TRUE(link.client.refusal());
-  EXPECT_EQ(link.client.refusal()->hostVersion, kProtocolVersion);
-  EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version 2")));
-  EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version 3")));
+  // Our encoder writes only our version, so an older (version 2: datagrams without the extended sequence) and a
+  // future client's Hello are spelled out: L = 6, type 0x40, magic, version, and a byte a later version might add
+  // (the host must not read past the version).
+  for (const std::uint8_t version : {std::uint8_t{2}, static_cast<std::uint8_t>(kProtocolVersion + 1)}) {
+    Link link(hostConfig(QStringLiteral("pw")), clientConfig(QStringLiteral("pw")));
+    link.client.start();  // the client's own Hello is replaced by the raw one below
+    link.toHost.append(QByteArray::fromHex("00000005405343") + QByteArray(1, static_cast<char>(version)) +
+                       QByteArray::fromHex("ff"));
+    link.sendToHost({});
+    expectRefused(link, RefuseReason::VersionMismatch);  // no Challenge before the Refused
+    ASSERT_TRUE(link.client.refusal());
+    EXPECT_EQ(link.client.refusal()->hostVersion, kProtocolVersion);
+    EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version %1").arg(kProtocolVersion)));
+    EXPECT_TRUE(link.client.errorText().contains(QStringLiteral("version %1").arg(version)));
+  }
 }
 
 TEST(Handshake, SessionFullIsRefused) {

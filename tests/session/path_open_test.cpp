@@ -10,16 +10,17 @@ namespace {
 
 const QByteArray kKey(kDatagramKeySize, 'k');
 const QByteArray kToken(kPathTokenSize, 't');
+const DatagramMac kMac(kKey);
 
 std::optional<PathCredentials> lookup(PeerId peer) {
-  if (peer == 9) return PathCredentials{kKey, kToken};
+  if (peer == 9) return PathCredentials{&kMac, kToken};
   return std::nullopt;
 }
 
 /// Peer 9 after the host accepted PathOpens up to `highest`.
 auto lookupAfter(std::uint32_t highest) {
   return [highest](PeerId peer) -> std::optional<PathCredentials> {
-    if (peer == 9) return PathCredentials{kKey, kToken, highest};
+    if (peer == 9) return PathCredentials{&kMac, kToken, highest};
     return std::nullopt;
   };
 }

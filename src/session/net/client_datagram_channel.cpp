@@ -61,6 +61,7 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
   m_hostPort = udpPort;
   m_self = peer;
   m_key = key;
+  m_mac = std::make_unique<DatagramMac>(key);
   m_token = std::move(token);
   m_pathSequence = 0;
   m_assembler = std::make_unique<FrameAssembler>(std::move(key), peer, m, m_options.concealment);
@@ -163,11 +164,22 @@ void ClientDatagramChannel::sendPathOpen() {
   if (m_socket->writeDatagram(pathOpen, m_host, m_hostPort) == pathOpen.size()) ++m_pathOpensSent;
 }
 
+bool ClientDatagramChannel::answerPathChallenge(const QByteArray& bytes) {
+  if (!looksLikePathProbe(bytes, MessageType::PathChallenge)) return false;
+  if (!m_open || !m_mac || pathProbePeer(bytes) != m_self) return true;  // not ours: ignored
+  const PathProbeResult result = decodePathProbe(bytes, MessageType::PathChallenge, *m_mac);
+  if (result.error != PathOpenError::None) return true;
+  const QByteArray response = encodePathProbe(MessageType::PathResponse, m_self, result.challenge, *m_mac);
+  if (m_socket->writeDatagram(response, m_host, m_hostPort) == response.size()) ++m_pathChallengesAnswered;
+  return true;
+}
+
 void ClientDatagramChannel::readPending() {
   bool queued = false;
-  while (m_socket->hasPendingDatagrams()) {
+  for (int read = 0; read < kMaxDatagramsPerPass && m_socket->hasPendingDatagrams(); ++read) {
     const QNetworkDatagram datagram = m_socket->receiveDatagram();
     if (!datagram.isValid()) break;  // a socket error (e.g. a pending ICMP report): nothing to read
+    if (answerPathChallenge(datagram.data())) continue;
     ++m_datagramsRead;
     if (!m_open || !m_assembler) {
       ++m_unopenedDrops;
@@ -182,6 +194,10 @@ void ClientDatagramChannel::readPending() {
     }
   }
   if (queued) releaseDue();
+  // More pending: the rest is read in a later pass. The socket notifier is level-triggered, so readyRead fires
+  // again on the next pass, after the events that queued up meanwhile. Not a queued call of readPending(): reading
+  // outside readyRead can leave QAbstractSocket's unbuffered read notifier disabled with data pending (measured:
+  // the client then stalled with 400 datagrams unread).
 }
 
 void ClientDatagramChannel::releaseDue() {

@@ -4,20 +4,23 @@
 // NetworkImpairment, feeding ReceiverStatistics. The thin socket/timer adapter over the pure engines
 // (style.md item 11); the TCP SessionClient owns it and opens it after the Welcome.
 //
-// Receive path: readyRead → every pending datagram → [NetworkImpairment::push(bytes, now); a precise single-shot
+// Receive path: readyRead → at most kMaxDatagramsPerPass pending datagrams (the rest in the next event-loop pass)
+// → an authentic PathChallenge from the host is answered at once with a PathResponse (path_open.h), anything else
+// → [NetworkImpairment::push(bytes, now); a precise single-shot
 // timer at nextDue() releases them] → FrameAssembler::receive. Every datagram that passes authentication (also
 // one then dropped as Late) is recorded in the statistics (sequence, unwrapped header timestamp, arrival, payload
 // and payload + 28 bytes); one that changed Z emits frameUpdated(). With Concealment::Extrapolate a FramePredictor
 // (frame_predictor.h) turns the assembler's Z into the displayed Z, and a precise single-shot timer at its
 // nextDue() shows predicted frames while the next frame is overdue (frameUpdated(k + j)) and takes them back
 // (predictionWithdrawn(k), then frameUpdated(k)). Datagrams are not filtered by source address:
-// the per-client HMAC tag is the check. Drops are counted by reason in assembler(); nothing is asserted on input.
+// the per-client AEAD tag is the check. Drops are counted by reason in assembler(); nothing is asserted on input.
 // Not thread-safe: use from the thread that owns it.
 
 #include "session/engine/frame_assembler.h"
 #include "session/engine/frame_predictor.h"
 #include "session/engine/network_impairment.h"
 #include "session/engine/receiver_statistics.h"
+#include "session/wire/datagram_mac.h"
 #include "session/wire/lock_messages.h"
 
 #include <Eigen/Core>
@@ -48,6 +51,8 @@ class ClientDatagramChannel : public QObject {
  public:
   /// Interval of PathOpen datagrams until the first coefficient datagram is accepted (then kPathRefreshMs).
   static constexpr int kPathOpenIntervalMs = 500;
+  /// Datagrams read per event-loop pass (Issue 14 item 11); readyRead fires again for the rest.
+  static constexpr int kMaxDatagramsPerPass = 64;
 
   explicit ClientDatagramChannel(ClientDatagramOptions options = {}, QObject* parent = nullptr);
   ~ClientDatagramChannel() override;
@@ -96,8 +101,10 @@ class ClientDatagramChannel : public QObject {
   /// Datagrams dropped by the assembler (every reason) plus those read while closed or before open(). Losses
   /// simulated by the impairment are not drops (they show as loss in report(); see impairment()->dropped()).
   std::uint64_t droppedDatagrams() const;
-  /// Datagrams read from the socket (before the impairment).
+  /// Datagrams read from the socket (before the impairment), path challenges not included.
   std::uint64_t datagramsRead() const { return m_datagramsRead; }
+  /// Authentic PathChallenges answered (each with one PathResponse).
+  std::uint64_t pathChallengesAnswered() const { return m_pathChallengesAnswered; }
   /// PathOpen datagrams sent (over every open()).
   std::uint64_t pathOpensSent() const { return m_pathOpensSent; }
   /// Current PathOpen interval: kPathOpenIntervalMs until the first accepted datagram, then kPathRefreshMs;
@@ -138,6 +145,8 @@ class ClientDatagramChannel : public QObject {
   void predictDue();
   void process(const QByteArray& bytes, Micros now);
   void sendPathOpen();
+  /// True when `bytes` was a PathChallenge (answered if authentic); false: a coefficient datagram to process.
+  bool answerPathChallenge(const QByteArray& bytes);
 
   ClientDatagramOptions m_options;
   QUdpSocket* m_socket = nullptr;    ///< child of this
@@ -147,10 +156,11 @@ class ClientDatagramChannel : public QObject {
   bool m_open = false;
   QHostAddress m_host;
   quint16 m_hostPort = 0;
-  std::uint16_t m_self = 0;          ///< peer id for the PathOpens
-  QByteArray m_key;                  ///< datagram key (PathOpen tag)
-  QByteArray m_token;                ///< path token
-  std::uint32_t m_pathSequence = 0;  ///< of the last PathOpen sent; 0 after open()
+  std::uint16_t m_self = 0;            ///< peer id for the PathOpens
+  QByteArray m_key;                    ///< datagram key (PathOpen tag)
+  std::unique_ptr<DatagramMac> m_mac;  ///< keyed with m_key: path challenges and responses
+  QByteArray m_token;                  ///< path token
+  std::uint32_t m_pathSequence = 0;    ///< of the last PathOpen sent; 0 after open()
   std::unique_ptr<FrameAssembler> m_assembler;
   std::unique_ptr<FramePredictor> m_predictor;
   std::unique_ptr<NetworkImpairment> m_impairment;
@@ -161,6 +171,7 @@ class ClientDatagramChannel : public QObject {
   std::uint64_t m_unopenedDrops = 0;
   std::uint64_t m_datagramsRead = 0;
   std::uint64_t m_pathOpensSent = 0;
+  std::uint64_t m_pathChallengesAnswered = 0;
 };
 
 }  // namespace sc::session

@@ -4,11 +4,16 @@
 // socket adapter over the pure codecs (style.md item 11); the TCP SessionHost owns it and tells it who joined.
 //
 // Path rule (docs/protocol.md, "Datagram key and path"): a peer added with addPeer() receives nothing until a
-// PathOpen with its peer id, key and token arrives; the datagram's source address and port become the peer's UDP
-// address, and a later valid PathOpen from another address moves it there (NAT rebinding). A PathOpen is valid
-// only if its sequence is above the highest accepted from that peer since addPeer(), so a recorded one resent
-// from elsewhere is dropped as Replayed and moves nothing. Invalid datagrams are dropped and counted per
-// PathOpenError (style.md item 6), never answered.
+// PathOpen with its peer id, key and token arrives; the datagram's source address and port become the peer's
+// *candidate* path, and the host sends it a PathChallenge (a random u64, path_open.h). Only a PathResponse with
+// that value from that address and port validates the path: from then on the peer's coefficient datagrams go
+// there (first path, and later a move: NAT rebinding). Until then they keep going to the previous validated path,
+// and the candidate gets nothing but challenges, at most as many bytes as the accepted PathOpens it sent (Issue 14
+// item 6: a member can no longer point its stream at a victim). A PathOpen is valid only if its sequence is above
+// the highest accepted from that peer since addPeer(), so a recorded one resent from elsewhere is dropped as
+// Replayed. Invalid datagrams are dropped and counted per PathOpenError (style.md item 6), never answered.
+// Receive loop: at most kMaxDatagramsPerPass datagrams per readyRead; the rest waits for the next event-loop pass
+// (readyRead fires again), so a flood cannot hold the event loop (timers, TCP) for long.
 // Not thread-safe: use from the thread that owns it (its socket's thread).
 
 #include "session/engine/receiver_statistics.h"
@@ -40,6 +45,9 @@ class HostDatagramChannel : public QObject {
 
  public:
   /// @param[in] codec  datagram layout of every peer's encoder (parts, protected rows, band size).
+  /// Datagrams read per event-loop pass (item 11 of Issue 14): ≈ 64 × 1 µs of work before other events run.
+  static constexpr int kMaxDatagramsPerPass = 64;
+
   explicit HostDatagramChannel(CodecOptions codec = {}, QObject* parent = nullptr);
   ~HostDatagramChannel() override;
 
@@ -56,7 +64,7 @@ class HostDatagramChannel : public QObject {
   void addPeer(PeerId peer, QByteArray key, QByteArray token);
   /// Forgets a peer (it left): nothing more is sent to it and its PathOpens count as Stranger.
   void removePeer(PeerId peer);
-  /// True once a valid (accepted) PathOpen of this (added) peer arrived.
+  /// True once a path of this (added) peer was validated (PathOpen, then the PathResponse to its challenge).
   bool pathOpen(PeerId peer) const;
 
   /// Encodes Z once per open path (each peer has its own key and sequence numbers) and sends the datagrams.
@@ -64,7 +72,7 @@ class HostDatagramChannel : public QObject {
   /// @param[in] Z  m by 3 coefficients, 1 ≤ m ≤ kMaxRows.
   /// @param[in] inputArrivedAt  session clock when the input that produced the frame arrived; written into the
   ///            header as wireTimestamp(inputArrivedAt) (receivers derive jitter and, on one machine, latency).
-  /// Cost per open path: CoefficientEncoder::encodeFrame (O(m) + P HMACs) plus P sendto() calls. A failed send
+  /// Cost per open path: CoefficientEncoder::encodeFrame (O(m) + P AES-GCM seals) plus P sendto() calls. A failed send
   /// (e.g. a full socket buffer) is counted in sendErrors() and otherwise ignored: datagrams are not retried.
   void sendFrame(std::uint32_t frame, const Eigen::MatrixXd& Z, Micros inputArrivedAt);
 
@@ -76,7 +84,7 @@ class HostDatagramChannel : public QObject {
   /// sessionNow(); wire = payload + kUdpIpv4Overhead per datagram. Cost: O(datagrams in the last second).
   PeerTraffic traffic(PeerId peer) const;
 
-  /// PathOpen datagrams dropped for `reason` (None: the count of accepted ones).
+  /// PathOpen and PathResponse datagrams dropped for `reason` (None: the count of accepted PathOpens).
   std::uint64_t drops(PathOpenError reason) const;
   /// Datagrams the socket refused to send.
   std::uint64_t sendErrors() const { return m_sendErrors; }
@@ -85,12 +93,14 @@ class HostDatagramChannel : public QObject {
   quint16 peerPort(PeerId peer) const;
 
  signals:
-  /// The first accepted PathOpen of a peer, and again whenever an accepted one comes from another address or port.
+  /// A peer's first path was validated, and again whenever another address or port was validated.
   void pathOpened(PeerId peer);
 
  private:
   struct Peer;
   void readPending();
+  void onPathOpen(PeerId id, const QHostAddress& address, quint16 port);
+  void onPathResponse(const QByteArray& bytes, const QHostAddress& address, quint16 port);
 
   CodecOptions m_codec;
   QUdpSocket* m_socket = nullptr;  ///< child of this

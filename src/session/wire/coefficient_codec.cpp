@@ -1,7 +1,6 @@
 #include "session/wire/coefficient_codec.h"
 
-#include <QtCore/QCryptographicHash>
-#include <QtCore/QMessageAuthenticationCode>
+#include <QtCore/QtEndian>
 
 #include <algorithm>
 #include <cassert>
@@ -24,19 +23,14 @@ std::vector<int> partRows(const DatagramHeader& header) {
   return rows;
 }
 
+/// Offset of the 16-bit sequence in the header (wire_format.h), read before authentication to extend it.
+constexpr qsizetype kSequenceOffset = 6;
+
 double finiteOrZero(double v) { return std::isfinite(v) ? v : 0.0; }
 
 std::int16_t quantise(double v, int exponent) {
   const double q = std::nearbyint(std::ldexp(finiteOrZero(v), -exponent));
   return static_cast<std::int16_t>(std::clamp(q, -kMaxQuantised, kMaxQuantised));
-}
-
-/// Constant-time comparison of two tags of equal length.
-bool tagsEqual(QByteArrayView a, QByteArrayView b) {
-  if (a.size() != b.size()) return false;
-  unsigned diff = 0;
-  for (qsizetype i = 0; i < a.size(); ++i) diff |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return diff == 0;
 }
 
 }  // namespace
@@ -75,16 +69,34 @@ int bandExponent(double maxAbs) {
 }
 
 QByteArray datagramTag(const QByteArray& key, QByteArrayView bytes) {
-  QMessageAuthenticationCode mac(QCryptographicHash::Sha256, key);
-  mac.addData(bytes.data(), bytes.size());
-  return mac.result().left(kTagSize);
+  const DatagramTag tag = DatagramMac(key).tag({bytes});
+  return QByteArray(tag.data(), kTagSize);
+}
+
+QByteArray sealCoefficientDatagram(const QByteArray& key, std::uint64_t sequence, QByteArrayView clear) {
+  const qsizetype header = std::min<qsizetype>(clear.size(), kDatagramHeaderSize);
+  QByteArray out = clear.first(header).toByteArray();
+  DatagramCipher(key, DatagramDirection::HostToClient).seal(sequence, clear.first(header), clear.sliced(header), out);
+  return out;
+}
+
+std::optional<QByteArray> openCoefficientDatagram(const QByteArray& key, std::uint64_t sequence,
+                                                  QByteArrayView datagram) {
+  if (datagram.size() < kDatagramMinSize) return std::nullopt;
+  QByteArray payload;
+  const QByteArrayView header = datagram.first(kDatagramHeaderSize);
+  if (!DatagramCipher(key, DatagramDirection::HostToClient)
+           .open(sequence, header, datagram.sliced(kDatagramHeaderSize), payload)) {
+    return std::nullopt;
+  }
+  return header.toByteArray() + payload;
 }
 
 // === encoder
 
 CoefficientEncoder::CoefficientEncoder(QByteArray key, std::uint16_t peerId, CodecOptions options)
-    : m_key(std::move(key)), m_peerId(peerId), m_options(options) {
-  assert(!m_key.isEmpty() && "a datagram key is required");
+    : m_cipher(key, DatagramDirection::HostToClient), m_peerId(peerId), m_options(options) {
+  assert(!key.isEmpty() && "a datagram key is required");
   assert(m_options.bandRows >= 1 && m_options.bandRows <= 255 && "bandRows must be in 1..255");
   assert(m_options.partsPerFrame >= 1 && m_options.partsPerFrame <= kMaxParts && "partsPerFrame in 1..kMaxParts");
 }
@@ -127,23 +139,24 @@ std::vector<QByteArray> CoefficientEncoder::encodeFrame(std::uint32_t frame, con
   parts.reserve(header.partCount);
   for (int j = 0; j < header.partCount; ++j) {
     header.partIndex = static_cast<std::uint8_t>(j);
-    header.sequence = m_sequence++;
-    parts.push_back(encodePart(header, Z, exponents));
+    header.sequence = static_cast<std::uint16_t>(m_sequence);  // the low 16 bits go on the wire
+    parts.push_back(encodePart(header, m_sequence++, Z, exponents));
   }
   return parts;
 }
 
-QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, const Eigen::MatrixXd& Z,
-                                          const std::vector<int>& exponents) {
+QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, std::uint64_t sequence,
+                                          const Eigen::MatrixXd& Z, const std::vector<int>& exponents) {
   QByteArray out;
   out.reserve(expectedDatagramSize(header));
   encodeDatagramHeader(header, out);
-  for (int e : exponents) out.append(static_cast<char>(static_cast<std::int8_t>(e)));
+  m_payload.resize(0);  // keeps its capacity
+  for (int e : exponents) m_payload.append(static_cast<char>(static_cast<std::int8_t>(e)));
   for (int k : partRows(header)) {
     const int e = exponents[static_cast<std::size_t>(k / header.bandRows)];
-    for (int c = 0; c < 3; ++c) appendInt16(out, quantise(Z(k, c), e));
+    for (int c = 0; c < 3; ++c) appendInt16(m_payload, quantise(Z(k, c), e));
   }
-  out.append(datagramTag(m_key, out));
+  m_cipher.seal(sequence, out, m_payload, out);  // the header is the additional authenticated data
   assert(out.size() == expectedDatagramSize(header) && out.size() <= kMaxDatagramSize);
   return out;
 }
@@ -151,14 +164,19 @@ QByteArray CoefficientEncoder::encodePart(const DatagramHeader& header, const Ei
 // === decoder
 
 CoefficientDecoder::CoefficientDecoder(QByteArray key, std::uint16_t peerId)
-    : m_key(std::move(key)), m_peerId(peerId) {}
+    : m_cipher(key, DatagramDirection::HostToClient), m_peerId(peerId) {}
 
 DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& out) {
   if (bytes.size() < kDatagramMinSize) return DecodeError::Truncated;
-  const QByteArrayView body = bytes.first(bytes.size() - kTagSize);
-  if (!tagsEqual(datagramTag(m_key, body), bytes.last(kTagSize))) return DecodeError::BadTag;
-  if (const DecodeError error = parse(body, out); error != DecodeError::None) return error;
-  switch (m_window.check(out.header.sequence)) {
+  const std::uint64_t sequence = m_window.extend(qFromBigEndian<std::uint16_t>(bytes.data() + kSequenceOffset));
+  const QByteArrayView header = bytes.first(kDatagramHeaderSize);
+  if (!m_cipher.open(sequence, header, bytes.sliced(kDatagramHeaderSize), m_payload)) return DecodeError::BadTag;
+  m_clear.resize(0);  // keeps its capacity
+  m_clear.append(header);
+  m_clear.append(m_payload);
+  if (const DecodeError error = parse(m_clear, out); error != DecodeError::None) return error;
+  out.sequence = sequence;
+  switch (m_window.check(sequence)) {
     case ReplayVerdict::Replayed:
       return DecodeError::Replayed;
     case ReplayVerdict::Stale:
@@ -166,7 +184,7 @@ DecodeError CoefficientDecoder::decode(QByteArrayView bytes, DecodedDatagram& ou
     case ReplayVerdict::Fresh:
       break;
   }
-  m_window.accept(out.header.sequence);
+  m_window.accept(sequence);
   return DecodeError::None;
 }
 

@@ -2,6 +2,7 @@
 // The path-open datagram (client → host; byte layout in wire_format.h, "Path-open datagram"): it tells the host
 // which UDP address to send a client's coefficient datagrams to, and keeps NAT bindings alive. Pure codec.
 
+#include "session/wire/datagram_mac.h"
 #include "session/wire/lock_messages.h"
 #include "session/wire/wire_format.h"
 
@@ -22,14 +23,25 @@ QByteArray encodePathOpen(std::uint16_t peerId, QByteArrayView token, std::uint3
 
 /// Why the host dropped a path-open datagram. `None`: accepted. `Replayed`: authentic, but its sequence is not
 /// above the highest accepted for that peer (a recorded PathOpen resent, or an old one delivered late).
-enum class PathOpenError : std::uint8_t { None, Truncated, Stranger, BadTag, Malformed, Replayed, Count };
+/// `WrongChallenge`: an authentic PathResponse that does not answer the peer's current challenge from the candidate
+/// address and port (late, repeated, or from elsewhere).
+enum class PathOpenError : std::uint8_t {
+  None,
+  Truncated,
+  Stranger,
+  BadTag,
+  Malformed,
+  Replayed,
+  WrongChallenge,
+  Count
+};
 
 const char* toString(PathOpenError error);
 
-/// What the host knows of a joined client: its datagram key, path token and the highest PathOpen sequence it
-/// accepted from it (0: none yet, so every sequence ≥ 1 is fresh).
+/// What the host knows of a joined client: the MAC keyed with its datagram key (kept per peer, not null), its path
+/// token and the highest PathOpen sequence it accepted from it (0: none yet, so every sequence ≥ 1 is fresh).
 struct PathCredentials {
-  QByteArray key;
+  const DatagramMac* mac = nullptr;
   QByteArray token;
   std::uint32_t highestSequence = 0;
 };
@@ -45,5 +57,24 @@ struct PathOpenResult {
 };
 PathOpenResult decodePathOpen(QByteArrayView bytes,
                               const std::function<std::optional<PathCredentials>(PeerId)>& lookup);
+
+/// A PathChallenge (host → client) or PathResponse (client → host), kPathProbeSize bytes (wire_format.h, "Path
+/// challenge and response"): `type` is one of the two, `mac` the peer's (keyed with its datagram key).
+/// Deterministic. Cost: one HMAC over 14 bytes.
+QByteArray encodePathProbe(MessageType type, std::uint16_t peerId, std::uint64_t challenge, const DatagramMac& mac);
+
+/// True when `bytes` has a probe's length and `type` in its type byte: cheap dispatch before authentication.
+bool looksLikePathProbe(QByteArrayView bytes, MessageType type);
+
+/// The peer id field of a datagram that looksLikePathProbe() (selects the MAC); kNoPeer when too short.
+PeerId pathProbePeer(QByteArrayView bytes);
+
+/// Checks a probe of `type` for a peer whose MAC is `mac` (order in wire_format.h: length and type, tag,
+/// magic/version) and returns its challenge value; error != None when dropped. Never reads outside `bytes`.
+struct PathProbeResult {
+  PathOpenError error = PathOpenError::Truncated;
+  std::uint64_t challenge = 0;  ///< set when error == None
+};
+PathProbeResult decodePathProbe(QByteArrayView bytes, MessageType type, const DatagramMac& mac);
 
 }  // namespace sc::session

@@ -1,5 +1,6 @@
 #pragma once
-// Sliding replay window over 16-bit datagram sequence numbers (style.md item 11; RFC 6347 §4.1.2.6, ENet).
+// Sliding replay window over 64-bit extended datagram sequence numbers (RFC 6347 §4.1.2.6; the extension of the
+// 16-bit wire number as SRTP's index, RFC 3711 §3.3.1, Appendix A).
 
 #include <cstdint>
 
@@ -12,26 +13,34 @@ enum class ReplayVerdict {
   Stale,     ///< older than the window: kWindowSize or more behind the newest accepted number.
 };
 
-/// Contract: remembers the newest accepted sequence number s and a 64-bit bitmap of which of s−63..s were accepted.
-/// A number n is compared with s in serial-number arithmetic, d = int16(n − s):
-///   - d > 0 (up to 32767 ahead, wrap 65535 → 0 included): fresh, becomes the new newest;
-///   - −64 < d ≤ 0: fresh unless its bit is set (Replayed);
-///   - d ≤ −64 (or more than 32767 "ahead", which reads as behind): Stale.
-/// check() never changes state; call accept() only after the datagram was authenticated and parsed, so forged
-/// datagrams cannot move the window. The first accepted number initialises it. Cost: O(1), 16 bytes.
+/// Contract: remembers the newest accepted extended (64-bit) sequence number s and a 64-bit bitmap of which of
+/// s−63..s were accepted. Numbers never wrap (2⁶⁴ datagrams), so a number n is simply compared with s:
+///   - n > s: fresh, becomes the new newest;
+///   - s − 64 < n ≤ s: fresh unless its bit is set (Replayed);
+///   - n ≤ s − 64: Stale.
+/// The wire carries only the low 16 bits; extend() maps them to the 64-bit number closest to s (ahead by at most
+/// 32768, behind by at most 32767). The sender authenticates the full 64-bit number (the MAC covers it), so a
+/// datagram recorded in an earlier 16-bit cycle and replayed later extends to a number it was not sent under and
+/// fails authentication instead of moving the window 65536·k ahead (Issue 14 item 5: before, one such replay froze
+/// a client for 65 s). check() never changes state; call accept() only after the datagram was authenticated and
+/// parsed, so forged datagrams cannot move the window. The first accepted number initialises it. Cost: O(1),
+/// 24 bytes. Limit: a receiver that misses 32768 or more consecutive datagrams extends wrongly from then on (as
+/// SRTP); at the default 2 datagrams per frame that is over 2 minutes of total loss at 125 frames/s.
 class ReplayWindow {
  public:
   static constexpr int kWindowSize = 64;
 
-  ReplayVerdict check(std::uint16_t sequence) const;
-  void accept(std::uint16_t sequence);
+  /// The extended number closest to newest() whose low 16 bits are `wire` (the number itself before any accept).
+  std::uint64_t extend(std::uint16_t wire) const;
+  ReplayVerdict check(std::uint64_t sequence) const;
+  void accept(std::uint64_t sequence);
 
   bool empty() const { return !m_initialised; }
-  std::uint16_t newest() const { return m_newest; }
+  std::uint64_t newest() const { return m_newest; }
 
  private:
   std::uint64_t m_bits = 0;  ///< bit i set: newest − i was accepted.
-  std::uint16_t m_newest = 0;
+  std::uint64_t m_newest = 0;
   bool m_initialised = false;
 };
 

@@ -8,7 +8,7 @@
 //     (style.md item 6), never asserted on.
 //
 // ==================================================================================================================
-// Coefficient datagram (UDP, host -> client), MessageType::CoefficientFrame
+// Coefficient datagram (UDP, host -> client), MessageType::CoefficientFrame; encrypted since version 3
 // ==================================================================================================================
 // One frame's m×3 displacement coefficients Z are sent as P datagrams ("parts"). Rows 0..p−1 (the protected low
 // frequencies) are repeated in every part; the other rows are interleaved: part j carries rows k ≥ p with
@@ -20,7 +20,9 @@
 //     2    1   version          kProtocolVersion
 //     3    1   type             MessageType (CoefficientFrame)
 //     4    2   peerId           receiving peer's id (selects the per-client key on the host side)
-//     6    2   sequence         per-peer datagram sequence number, +1 per datagram, wraps at 65535 -> 0
+//     6    2   sequence         low 16 bits of the per-peer 64-bit extended sequence number S (+1 per datagram,
+//                               never wraps; the receiver extends the 16 bits to the S closest to its newest,
+//                               ReplayWindow::extend, and the tag covers the whole S)
 //     8    4   frame            frame number, +1 per frame (serial-number arithmetic, wraps)
 //    12    1   partIndex        j in [0, partCount)
 //    13    1   partCount        P in [1, kMaxParts]
@@ -34,19 +36,25 @@
 //    22    B   bandExponent[B]  int8 e_b per band, B = ceil(m / bandRows); value = q · 2^e_b
 //   22+B  6·p  protected        p rows × (x, y, z) int16
 //   ...   6·r  interleaved      r = number of k in [p, m) with (k − p) mod P == j, rows × (x, y, z) int16
-//   end−T  T   tag              HMAC-SHA256(perClientKey, all preceding bytes), truncated to T = kTagSize bytes
+//   end−T  T   tag              AES-128-GCM tag (T = kTagSize = 16 bytes). Bytes 22..end−T (exponents and rows)
+//                               are AES-128-GCM ciphertext; the 22-byte header is additional authenticated data
+//                               (clear). Key: HKDF-SHA256(perClientKey, info "ShapeCast v3 datagram host->client"),
+//                               16 bytes; nonce: u32 BE 1 (host → client) ‖ u64 BE S (datagram_cipher.h). S is not
+//                               sent: a datagram of an earlier 16-bit cycle replayed later extends to another S
+//                               and fails the tag.
 //
 // Sizes for m = 100, p = 10, bandRows = 10, P = 2: 22 + 10 + 60 + 45·6 + 16 = 378 bytes per part, 756 per frame.
 //
-// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), tag (BadTag), magic (BadMagic), version
+// Receiver order of checks: length ≥ kDatagramMinSize (Truncated), extend the sequence, decrypt + tag (BadTag), magic
+// (BadMagic), version
 // (BadVersion), type and field ranges (Malformed), exact length (Truncated/Malformed), then the replay window
 // (Replayed/Stale), which is updated only after everything else succeeded (RFC 6347 §4.1.2.6).
 //
 // ==================================================================================================================
 // Path-open datagram (UDP, client -> host), MessageType::PathOpen: opens (and keeps open, through NATs) the path
-// the host sends coefficient datagrams on. The host answers nothing; it records the datagram's source address as
-// the client's UDP address. Sent after the Welcome every 500 ms until the first coefficient datagram arrives, then
-// every kPathRefreshMs. 42 bytes:
+// the host sends coefficient datagrams on. The host answers at most a PathChallenge (below) to a new address; it
+// records the datagram's source address as the client's candidate UDP address. Sent after the Welcome every 500 ms
+// until the first coefficient datagram arrives, then every kPathRefreshMs. 42 bytes:
 //
 //  offset size field      meaning
 //     0    2   magic      0x5343
@@ -59,8 +67,31 @@
 //
 // Host order of checks: exact length (Truncated), peerId known (Stranger), tag (BadTag), magic/version/type
 // (Malformed), token (Stranger), sequence > the highest accepted from that peer since its Welcome (Replayed).
-// Every drop is counted. Only an accepted PathOpen raises the highest sequence and may move the path to its
-// source address and port, so a recorded PathOpen resent from another address moves nothing.
+// Every drop is counted. Only an accepted PathOpen raises the highest sequence; since version 3 it does not move
+// the path by itself: its source address and port become the peer's *candidate* path, which must prove that it
+// receives (below) before any coefficient datagram goes there.
+//
+// ==================================================================================================================
+// Path challenge and response (UDP; since version 3): validation of a candidate path, as QUIC's PATH_CHALLENGE /
+// PATH_RESPONSE (RFC 9000 §8.2). For each accepted PathOpen from a candidate address the host sends that address a
+// PathChallenge carrying a random u64 (new per candidate, repeated while the same candidate keeps sending), but only
+// while the bytes it sent there stay ≤ the bytes of accepted PathOpens it received from there (no amplification:
+// 30 ≤ 42). The client answers each authentic PathChallenge with a PathResponse carrying the same value, to the
+// host's address. A PathResponse from the candidate address and port with the candidate's value validates the
+// path: from then on the coefficient datagrams go there. Until then they keep going to the old validated path (or
+// nowhere, before the first). 30 bytes, both types:
+//
+//  offset size field      meaning
+//     0    2   magic      0x5343
+//     2    1   version    kProtocolVersion
+//     3    1   type       MessageType::PathChallenge (host → client) or PathResponse (client → host)
+//     4    2   peerId     the client's id (selects the key)
+//    6     8   challenge  u64, random (host's CSPRNG), echoed unchanged
+//    14   16   tag        HMAC-SHA256(datagramKey, bytes 0..13), truncated
+//
+// Order of checks on both ends: exact length and type byte (else not a probe), peerId (Stranger), tag (BadTag),
+// magic/version (Malformed); the host then needs a candidate path of that peer with the datagram's source address,
+// port and value (else WrongChallenge). Nothing else is ever answered.
 //
 // ==================================================================================================================
 // Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
@@ -156,14 +187,16 @@
 
 namespace sc::session {
 
-inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 2;
+inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
+inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (encrypted datagrams, path challenge)
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
   CoefficientFrame = 0x01,
   PathOpen = 0x02,
-  Count,  ///< one past the last datagram type; keep last among datagram types.
+  PathChallenge = 0x03,  ///< host → client: prove that this address receives (since version 3)
+  PathResponse = 0x04,   ///< client → host: the challenge echoed back
+  Count,                 ///< one past the last datagram type; keep last among datagram types.
   // Control (TCP) messages; layouts in the "control messages" section. Hello and Refused are frozen forever.
   Hello = 0x40,
   Refused = 0x41,
@@ -192,7 +225,7 @@ static_assert(static_cast<std::uint8_t>(MessageType::ControlEnd) - 1 <= kMessage
 
 // === size table
 inline constexpr int kDatagramHeaderSize = 22;  ///< fixed header, offsets 0..21.
-inline constexpr int kTagSize = 16;             ///< truncated HMAC-SHA256 tag.
+inline constexpr int kTagSize = 16;             ///< AES-GCM tag (coefficients), truncated HMAC-SHA256 (path).
 inline constexpr int kDatagramMinSize = kDatagramHeaderSize + kTagSize;
 inline constexpr int kMaxDatagramSize = 1200;  ///< QUIC's floor; every datagram we send is at most this.
 inline constexpr int kValueSize = 2;           ///< one int16 coefficient.
@@ -220,7 +253,10 @@ inline constexpr int kLevelEntrySize = 13;  ///< one LevelList entry
 inline constexpr int kMaxHandles = 64;
 inline constexpr int kPeerEntryMinSize = 9;  ///< PeerList entry without its name.
 inline constexpr int kHandleEntrySize = 2 + 12 * 8;
-inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;  ///< 42 bytes
+inline constexpr int kPathOpenSize = 10 + kPathTokenSize + kTagSize;           ///< 42 bytes
+inline constexpr int kPathChallengeValueSize = 8;                              ///< random u64 of a path challenge
+inline constexpr int kPathProbeSize = 6 + kPathChallengeValueSize + kTagSize;  ///< 30 bytes, ≤ kPathOpenSize
+static_assert(kPathProbeSize <= kPathOpenSize, "a challenge must not send more than the PathOpen that caused it");
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
