@@ -48,7 +48,7 @@ struct FrameCounts {
 /// arithmetic on 32 bits). A datagram of a newer frame starts that frame: with ZeroFill every row is reset to 0
 /// first, with HoldLast rows keep their values. Rows a datagram carries overwrite the row (latest wins; the
 /// protected rows come in every datagram). Datagrams of older frames are dropped as Late, never mixed in.
-/// Before any datagram Z is zero (the rest shape). Memory O(m); cost per datagram: one HMAC + O(rows).
+/// Before any datagram Z is zero (the rest shape). Memory O(m); cost per datagram: one AES-GCM open + O(rows).
 class FrameAssembler {
  public:
   /// @param[in] key, peerId  this client's datagram key and peer id (see CoefficientDecoder).
