@@ -33,23 +33,26 @@ namespace {
 
 using State = SessionController::State;
 
-/// Closes the next fingerprint error box (objectName "fingerprintRefusedBox") once it is shown, keeping its texts.
+/// Closes the next error box named `objectName` (the fingerprint refusal by default) once it is shown, keeping its
+/// texts and the format its text is shown in.
 class RefusalBoxCatcher {
  public:
-  RefusalBoxCatcher() {
+  explicit RefusalBoxCatcher(QString objectName = QStringLiteral("fingerprintRefusedBox")) {
     m_timer.setInterval(20);
-    QObject::connect(&m_timer, &QTimer::timeout, [this] {
+    QObject::connect(&m_timer, &QTimer::timeout, [this, objectName] {
       auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
-      if (box == nullptr || box->objectName() != QStringLiteral("fingerprintRefusedBox")) return;
+      if (box == nullptr || box->objectName() != objectName) return;
       title = box->windowTitle();
       text = box->text();
       advice = box->informativeText();
+      format = box->textFormat();
       box->accept();
       m_timer.stop();
     });
     m_timer.start();
   }
   QString title, text, advice;
+  Qt::TextFormat format = Qt::AutoText;
 
  private:
   QTimer m_timer;
@@ -174,6 +177,7 @@ TEST_F(SessionFingerprintTest, WrongPinnedFingerprintIsRefusedWithBothInTheDialo
     EXPECT_TRUE(message.contains(session::formatFingerprint(wrong))) << message.toStdString();
     EXPECT_EQ(box.title, QStringLiteral("Host fingerprint does not match"));
     EXPECT_EQ(box.advice, fingerprintRefusedAdvice());
+    EXPECT_EQ(box.format, Qt::PlainText);  // the message quotes what the host sent
     EXPECT_TRUE(box.advice.contains(QStringLiteral("Host fingerprint")));
   }
   EXPECT_FALSE(remembered().has_value());          // a refused certificate is not remembered
@@ -188,6 +192,19 @@ TEST_F(SessionFingerprintTest, WrongPinnedFingerprintIsRefusedWithBothInTheDialo
       << clientWindow.session()->errorText().toStdString();
   EXPECT_EQ(clientWindow.session()->hostFingerprint(), m_fingerprint);
   ASSERT_TRUE(QTest::qWaitFor([this] { return m_hosting->peers().peers.size() == 2; }, 10000));
+}
+
+TEST_F(SessionFingerprintTest, TheHostsRefusalIsShownAsPlainTextNeverRichText) {
+  // The failure box showed the host's Refused text in Qt's AutoText: a hostile host's "<a href=…>" or "<img>" would
+  // have been rendered. A name the host already has is refused with a text of the host's.
+  MainWindow clientWindow;
+  JoinSettings settings = joinSettings(m_fingerprint);
+  settings.name = QStringLiteral("alice");  // the host's own name
+  RefusalBoxCatcher box(QStringLiteral("sessionFailedBox"));
+  ASSERT_EQ(joinAndWait(clientWindow, settings), State::Failed);
+  ASSERT_TRUE(QTest::qWaitFor([&box] { return !box.text.isEmpty(); }, 10000));
+  EXPECT_EQ(box.format, Qt::PlainText);
+  EXPECT_EQ(box.text, clientWindow.session()->errorText());
 }
 
 TEST_F(SessionFingerprintTest, TrustOnFirstUseRemembersAndRefusesAChangedFingerprintUntilPinned) {
