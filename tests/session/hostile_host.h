@@ -5,6 +5,7 @@
 // stream of chunks behind it, a 1-iteration Challenge, absurd levels, huge coefficients) and records what the
 // client sends. The mirror of RawControlPeer (a hand-driven client against a real SessionHost).
 
+#include "received_messages.h"
 #include "session/net/tls_identity.h"
 #include "session/net/tls_server.h"
 #include "session/wire/control_frame.h"
@@ -50,20 +51,7 @@ class HostileHost {
   /// Waits for the first received message of type T not yet taken, and takes it; nullopt after `timeoutMs`.
   template <typename T>
   std::optional<T> take(int timeoutMs = kHostileWaitMs) {
-    std::optional<T> found;
-    (void)QTest::qWaitFor(
-        [&] {
-          for (auto it = m_received.begin(); it != m_received.end(); ++it) {
-            if (std::holds_alternative<T>(*it)) {
-              found = std::get<T>(*it);
-              m_received.erase(it);
-              return true;
-            }
-          }
-          return false;
-        },
-        timeoutMs);
-    return found;
+    return takeReceived<T>(m_received, timeoutMs);
   }
 
  private:

@@ -5,6 +5,7 @@
 // place, RawControlPeer's constructor (raw_control_peer.cpp), so that the fault tests follow the control channel when
 // it moves to TLS.
 
+#include "received_messages.h"
 #include "session/wire/control_frame.h"
 #include "session/wire/control_messages.h"
 
@@ -45,20 +46,7 @@ class RawControlPeer {
   /// Waits for the first received message of type T not yet taken, and takes it; nullopt after `timeoutMs`.
   template <typename T>
   std::optional<T> take(int timeoutMs = kRawWaitMs) {
-    std::optional<T> found;
-    (void)QTest::qWaitFor(
-        [&] {
-          for (auto it = m_received.begin(); it != m_received.end(); ++it) {
-            if (std::holds_alternative<T>(*it)) {
-              found = std::get<T>(*it);
-              m_received.erase(it);
-              return true;
-            }
-          }
-          return false;
-        },
-        timeoutMs);
-    return found;
+    return takeReceived<T>(m_received, timeoutMs);
   }
   /// Hello (open session) → the Welcome; nullopt if none came.
   std::optional<Welcome> join(const QString& name);

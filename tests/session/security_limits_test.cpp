@@ -5,6 +5,7 @@
 #include "security_fixture.h"
 
 #include "raw_control_peer.h"
+#include "silent_connections.h"
 
 #include <QtCore/QtEndian>
 #include <QtNetwork/QTcpSocket>
@@ -40,18 +41,6 @@ TEST_F(Security, OversizedMessageClosesThatConnectionAndTheHostKeepsServing) {
   EXPECT_TRUE(settle(*later)) << later->errorText().toStdString();
 }
 
-/// Opens `count` TCP connections from `source` to the host that never start TLS.
-std::vector<std::unique_ptr<QTcpSocket>> flood(const QHostAddress& source, quint16 port, int count) {
-  std::vector<std::unique_ptr<QTcpSocket>> sockets;
-  for (int i = 0; i < count; ++i) {
-    auto socket = std::make_unique<QTcpSocket>();
-    socket->bind(source);
-    socket->connectToHost(QHostAddress::LocalHost, port);
-    sockets.push_back(std::move(socket));
-  }
-  return sockets;
-}
-
 int stillOpen(const std::vector<std::unique_ptr<QTcpSocket>>& sockets) {
   return static_cast<int>(std::count_if(sockets.begin(), sockets.end(),
                                         [](const auto& s) { return s->state() != QAbstractSocket::UnconnectedState; }));
@@ -61,7 +50,7 @@ TEST_F(Security, ConnectionsOverThePerAddressLimitAreClosedWhileAnHonestClientJo
   SessionHostOptions options = hostOptions();
   options.maxPendingPerAddress = 4;
   auto host = startHost(options);
-  const auto sockets = flood(QHostAddress(QStringLiteral("127.0.0.2")), host->tcpPort(), 10);
+  const auto sockets = testing::openSilentConnections(QHostAddress(QStringLiteral("127.0.0.2")), host->tcpPort(), 10);
   ASSERT_TRUE(QTest::qWaitFor([&] { return host->counters().connectionsOverLimit == 6; }, kWaitMs));
   EXPECT_TRUE(QTest::qWaitFor([&] { return stillOpen(sockets) == 4; }, kWaitMs));
   auto honest = start(clientOptions(host->tcpPort(), QStringLiteral("honest")));
@@ -74,7 +63,7 @@ TEST_F(Security, PendingConnectionsAreCappedAndClosedAtTheHandshakeDeadline) {
   options.maxPendingHandshakes = 3;
   options.handshakeTimeout = std::chrono::milliseconds(1000);
   auto host = startHost(options);
-  const auto sockets = flood(QHostAddress(QStringLiteral("127.0.0.2")), host->tcpPort(), 5);
+  const auto sockets = testing::openSilentConnections(QHostAddress(QStringLiteral("127.0.0.2")), host->tcpPort(), 5);
   ASSERT_TRUE(QTest::qWaitFor([&] { return host->counters().connectionsOverLimit == 2; }, kWaitMs));
   // A TLS peer that completes TLS but never says Hello is closed at the deadline too.
   testing::RawControlPeer silent(host->tcpPort());
