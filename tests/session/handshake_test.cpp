@@ -140,9 +140,11 @@ TEST(Handshake, OpenSessionIgnoresAPasswordTheClientHappensToHave) {
 
 TEST(Handshake, RightPasswordJoins) {
   Link link(hostConfig(QStringLiteral("correct horse")), clientConfig(QStringLiteral("correct horse")));
+  EXPECT_TRUE(link.client.holdsPassword());
   link.run();
   expectJoined(link);
   EXPECT_EQ(link.seenByClient, (std::vector<MessageType>{MessageType::Challenge, MessageType::Welcome}));
+  EXPECT_FALSE(link.client.holdsPassword());  // dropped once the proof was made (it was kept for the session's life)
 }
 
 TEST(Handshake, WrongPasswordIsRefusedAndTheReasonReachesTheClient) {

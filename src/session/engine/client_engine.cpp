@@ -38,6 +38,7 @@ ClientActions ClientEngine::onSecured(QByteArray channelBinding, Micros now) {
   ClientActions out;
   m_handshake = ClientHandshake(
       ClientHandshakeConfig{m_config.name, m_config.password, std::move(channelBinding), m_config.minPbkdf2Iterations});
+  m_config.password.reset();  // the handshake holds the one copy now, until its proof
   m_lastHeard = now;
   changeState(ClientState::Handshaking, out);
   send(m_handshake.start(), out);

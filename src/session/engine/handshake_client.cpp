@@ -96,6 +96,9 @@ void ClientHandshake::changeState(State next, HandshakeOutput& out) {
       assert(m_challenge && m_config.password && "entered only on a Challenge with a password");
       const QByteArray key = derivePasswordKey(*m_config.password, m_challenge->salt, m_challenge->iterations);
       out.send.emplace_back(answerChallenge(key, *m_challenge, m_config.channelBinding));
+      // The proof is made: the password is not needed again (overwritten where this is its only holder).
+      m_config.password->fill(QChar(u'\0'));
+      m_config.password.reset();
       break;
     }
     case State::Refused:

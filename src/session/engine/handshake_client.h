@@ -70,6 +70,8 @@ class ClientHandshake {
   [[nodiscard]] const std::optional<Refused>& refusal() const { return m_refusal; }
   /// Readable reason for the UI: the host's text, or a local explanation; empty unless Refused.
   [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  /// Whether the password is still held: only until the ChallengeResponse is made (then overwritten and dropped).
+  [[nodiscard]] bool holdsPassword() const { return m_config.password.has_value(); }
 
  private:
   HandshakeOutput handleChallenge(const Challenge& challenge);

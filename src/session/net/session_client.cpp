@@ -30,6 +30,7 @@ ClientEngineConfig engineConfig(const SessionClientOptions& options) {
 
 SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
     : QObject(parent), m_options(std::move(options)), m_engine(engineConfig(m_options)) {
+  m_options.password.reset();  // the engine holds it (and drops it once its proof is made)
   m_socket = new QSslSocket(this);
   m_socket->setSslConfiguration(clientTlsConfiguration());
   m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}}, this);
