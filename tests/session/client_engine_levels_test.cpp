@@ -43,8 +43,18 @@ TEST_F(ClientEngineLevels, InstallingALevelPublishesItsFirstFrameThenReady) {
   EXPECT_EQ(std::get<client_action::StateChanged>(out[2]).state, ClientState::Ready);
   EXPECT_EQ(std::get<client_action::LevelReady>(out[3]).vertexCount, 3u);
   EXPECT_FALSE(engine.levelDecoding());
-  EXPECT_EQ(engine.levelPayload(), QByteArray("payload"));
+  EXPECT_TRUE(engine.levelPayload().isEmpty()) << "freed once decoded (it was kept for the session's life)";
   EXPECT_EQ(engine.framesPublished(), 1u);
+}
+
+TEST_F(ClientEngineLevels, TheInstalledPayloadIsKeptOnlyWhenAskedFor) {
+  ClientEngineConfig keeping = config("keeper");
+  keeping.keepLevelPayload = true;
+  ClientEngine keeper(keeping);
+  joinSession(keeper, kT0);
+  startedJob(deliverTransfer(keeper, tinyPayload("a"), 1, kT0));
+  (void)keeper.onLevelDecoded(decodedLevel());
+  EXPECT_EQ(keeper.levelPayload(), QByteArray("payload"));
 }
 
 TEST_F(ClientEngineLevels, OneDecodeAtATimeAndTheLatestTransferSupersedes) {

@@ -22,6 +22,7 @@ SessionClientOptions clientOptions(quint16 port, const QString& name, std::optio
   options.name = name;
   options.password = std::move(password);
   options.minPbkdf2Iterations = kTestPbkdf2Iterations;  // the fixtures' hosts derive fast
+  options.keepLevelPayload = true;                      // the tests compare what arrived with what was sent
   return options;
 }
 

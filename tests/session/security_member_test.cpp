@@ -30,7 +30,7 @@ class HostileMember : public Security {
 
   /// Starts a host with `options`, an honest client, and a raw member (4 KiB receive buffer) that takes the lock
   /// and stops reading.
-  void SetUp(SessionHostOptions options) {
+  void startSession(SessionHostOptions options) {
     m_host = startHost(options);
     m_honest = start(clientOptions(m_host->tcpPort(), QStringLiteral("honest"), std::nullopt));
     ASSERT_TRUE(settle(*m_honest)) << m_honest->errorText().toStdString();
@@ -83,7 +83,7 @@ TEST_F(HostileMember, MemberThatNeverReadsIsDroppedAtTheSendBudget) {
   SessionHostOptions options = memberHostOptions(false);
   options.sendBudgetBytes = 128 * 1024;
   options.sendStallTimeout = std::chrono::milliseconds(10000);  // the budget, not the stall, must catch it
-  ASSERT_NO_FATAL_FAILURE(SetUp(options));
+  ASSERT_NO_FATAL_FAILURE(startSession(options));
   const qint64 elapsedMs = floodUntilDropped(20, 20, true);  // 2,000 messages/s
   EXPECT_LT(elapsedMs, 4000);
   EXPECT_EQ(m_host->counters().slowPeersDropped, 1u);
@@ -92,7 +92,7 @@ TEST_F(HostileMember, MemberThatNeverReadsIsDroppedAtTheSendBudget) {
 }
 
 TEST_F(HostileMember, MemberThatNeverReadsAndFloodsIsDroppedAtTheMessageRate) {
-  ASSERT_NO_FATAL_FAILURE(SetUp(memberHostOptions(true)));
+  ASSERT_NO_FATAL_FAILURE(startSession(memberHostOptions(true)));
   const qint64 elapsedMs = floodUntilDropped(100, 5, false);  // 40,000 messages/s
   EXPECT_LT(elapsedMs, 2000);
   EXPECT_EQ(m_host->counters().floodingPeersDropped, 1u);

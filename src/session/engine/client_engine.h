@@ -60,6 +60,9 @@ struct ClientEngineConfig {
   Millis hostTimeout{10000};            ///< a host silent this long fails the session
   /// The fewest PBKDF2 iterations a Challenge may ask for (ClientHandshakeConfig::minIterations).
   std::uint32_t minPbkdf2Iterations = kMinPbkdf2Iterations;
+  /// Keep the installed level's wire payload (levelPayload()) for tests and diagnostics; by default it is freed once
+  /// the level is decoded (the DisplayLevel is what the client shows).
+  bool keepLevelPayload = false;
 };
 
 /// The datagram receiver's figures for a StatsReport (ReceiverStatistics::report() starts a new loss interval:
@@ -133,6 +136,7 @@ class ClientEngine {
   [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
   [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_level; }
   [[nodiscard]] std::uint32_t levelVertexCount() const { return m_level ? m_level->vertexCount() : 0; }
+  /// The installed level's payload when ClientEngineConfig::keepLevelPayload, else empty.
   [[nodiscard]] const QByteArray& levelPayload() const { return m_levelPayload; }
   [[nodiscard]] const QString& levelError() const { return m_levelError; }
   [[nodiscard]] bool levelDecoding() const { return m_decoding; }

@@ -74,7 +74,9 @@ ClientActions ClientEngine::onLevelDecoded(DecodedLevel result) {
 
 void ClientEngine::install(DecodedLevel& decoded, ClientActions& out) {
   m_level = std::move(decoded.level);
-  m_levelPayload = std::move(decoded.payload);
+  // The payload is not needed once decoded: freed here unless kept for diagnostics (it is the size of the level).
+  m_levelPayload = m_config.keepLevelPayload ? std::move(decoded.payload) : QByteArray();
+  decoded.payload = QByteArray();
   m_levelError.clear();
   out.emplace_back(client_action::Notify{ClientNotice::LevelInstalled});
   publishFrame(out);

@@ -23,7 +23,8 @@ ClientEngineConfig engineConfig(const SessionClientOptions& options) {
                             options.level,
                             options.levelFraction,
                             std::chrono::duration_cast<Millis>(options.hostTimeout),
-                            options.minPbkdf2Iterations};
+                            options.minPbkdf2Iterations,
+                            options.keepLevelPayload};
 }
 
 }  // namespace

@@ -90,9 +90,10 @@ struct SessionClientOptions {
   /// A Challenge asking for fewer PBKDF2 iterations is refused without a proof (password_auth.h): only tests
   /// whose hosts use fewer lower it.
   std::uint32_t minPbkdf2Iterations = kMinPbkdf2Iterations;
-  QByteArray fingerprint;        ///< pinned SHA-256 of the host's certificate; empty: see trustOnFirstUse
-  bool trustOnFirstUse = false;  ///< remember the first fingerprint per host:port (KnownHosts), refuse a change
-  QString knownHostsFile;        ///< KnownHosts store; empty: the application's QSettings
+  QByteArray fingerprint;         ///< pinned SHA-256 of the host's certificate; empty: see trustOnFirstUse
+  bool trustOnFirstUse = false;   ///< remember the first fingerprint per host:port (KnownHosts), refuse a change
+  QString knownHostsFile;         ///< KnownHosts store; empty: the application's QSettings
+  bool keepLevelPayload = false;  ///< keep the installed level's wire payload (levelPayload()): tests, diagnostics
 };
 
 class SessionClient final : public QObject {
