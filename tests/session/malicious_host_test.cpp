@@ -2,6 +2,7 @@
 // attack ends in a readable refusal, nothing absurd is shown, and the client's memory stays bounded. The host is
 // HostileHost (hostile_host.h), scripted message by message; the session is tiny (m = 2, n = 3: the
 // client_engine_fixture.h level), so that sizes are exact and every test takes well under a second.
+#include "address_sanitizer.h"
 #include "client_engine_fixture.h"
 #include "hostile_host.h"
 #include "session/net/session_client.h"
@@ -100,7 +101,10 @@ TEST_F(MaliciousHost, AnOversizedAnnouncementIsRefusedBeforeTheClientAllocatesIt
   EXPECT_TRUE(waitFor(*client, SessionClient::State::Failed));
   EXPECT_TRUE(client->errorText().contains(QStringLiteral("level list"))) << client->errorText().toStdString();
   EXPECT_LT(written, 1024) << "the client closed the connection";
-  EXPECT_LT(after, before + (16u << 20)) << "resident memory grew by " << (after - before) / (1 << 20) << " MiB";
+  // ASan's quarantine keeps freed blocks resident (20 MiB measured in the sanitiser job): a wider bound there, still
+  // well under the 64 MiB offered (the unfixed client grew by 72 MiB).
+  const std::uint64_t bound = (sc::testing::kAddressSanitizer ? 40u : 16u) << 20;
+  EXPECT_LT(after, before + bound) << "resident memory grew by " << (after - before) / (1 << 20) << " MiB";
 }
 
 TEST_F(MaliciousHost, ALevelWithHugeCoordinatesIsRefusedAndNothingIsShown) {

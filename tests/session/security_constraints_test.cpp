@@ -3,6 +3,7 @@
 // of CPU time in all (so no stall of its loop can be longer), because each accepted set (about 10–15 ms of work) is
 // factored on a worker thread. CPU time, not wall gaps: the shared test machine's scheduling noise alone makes
 // 15 ms gaps. Real TLS over loopback sockets, host and test in one thread. Fixture: security_fixture.h.
+#include "address_sanitizer.h"
 #include "security_fixture.h"
 
 #include "raw_control_peer.h"
@@ -67,9 +68,11 @@ TEST_F(HostileConstraints, ABurstOfTheLargestConstraintsDoesNotStallTheHost) {
   RecordProperty("extraCpuMs", std::to_string(burstMs - idleMs));
   EXPECT_GE(accepted, 5u) << "the burst and at least one deferred set were factored";
   EXPECT_GT(host->counters().requestsThrottled, 0u);
-  // Every stall of the host's loop is at most the extra CPU time its thread spent: under one frame interval.
-  EXPECT_LT(burstMs - idleMs, 16.0) << "the host's thread spent " << burstMs - idleMs << " ms more than idle on "
-                                    << accepted << " sets (idle " << idleMs << " ms)";
+  // Every stall of the host's loop is at most the extra CPU time its thread spent: under one frame interval (16 ms).
+  // Instrumented code (the sanitiser job, -O1) runs the validation 2-3x slower: 22 ms measured there.
+  const double budgetMs = sc::testing::kAddressSanitizer ? 48.0 : 16.0;
+  EXPECT_LT(burstMs - idleMs, budgetMs) << "the host's thread spent " << burstMs - idleMs << " ms more than idle on "
+                                        << accepted << " sets (idle " << idleMs << " ms)";
   EXPECT_EQ(host->lockHolder(), welcome->peerId);
 }
 
