@@ -20,13 +20,17 @@
 
 #include <gtest/gtest.h>
 
+#include <QApplication>
 #include <QComboBox>
 #include <QImage>
 #include <QLabel>
+#include <QMessageBox>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QTcpServer>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTimer>
 
 #include <cmath>
 #include <memory>
@@ -331,6 +335,33 @@ TEST(SessionDialogs, RecentSessionsNeverStorePasswords) {
   QFile raw(file);
   ASSERT_TRUE(raw.open(QIODevice::ReadOnly));
   EXPECT_FALSE(raw.readAll().contains("hunter2"));
+}
+
+TEST(SessionCancel, CancellingAJoinShowsNoErrorDialog) {
+  // Cancel showed a modal "Cancelled." warning, as if something had gone wrong.
+  if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (needs an X server)";
+  QTcpServer silent;  // accepts, never answers TLS: the join stays Connecting
+  ASSERT_TRUE(silent.listen(QHostAddress::LocalHost));
+  QTemporaryDir dir;
+  ASSERT_TRUE(dir.isValid());
+  MainWindow window;  // error dialogs on
+  int boxes = 0;
+  QTimer watcher;
+  QObject::connect(&watcher, &QTimer::timeout, [&boxes] {
+    if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+      ++boxes;
+      box->reject();
+    }
+  });
+  watcher.start(20);
+  window.joinSession(sc::testing::loopbackJoinSettings(silent.serverPort(), dir.filePath(QStringLiteral("known.ini"))));
+  ASSERT_TRUE(QTest::qWaitFor([&window] { return window.session() != nullptr; }, 5000));
+  ASSERT_EQ(window.session()->state(), SessionController::State::Connecting);
+  window.session()->cancel();
+  QTest::qWait(300);
+  EXPECT_EQ(window.session()->state(), SessionController::State::Failed);
+  EXPECT_TRUE(window.session()->cancelledByUser());
+  EXPECT_EQ(boxes, 0);
 }
 
 }  // namespace

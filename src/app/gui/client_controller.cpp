@@ -102,7 +102,9 @@ void ClientController::onLevelReady() {
 }
 
 void ClientController::cancel() {
-  if (state() == State::Connecting) fail(tr("Cancelled."));
+  if (state() != State::Connecting) return;
+  markCancelledByUser();
+  fail(tr("Cancelled."));
 }
 
 void ClientController::stop() {

@@ -149,8 +149,9 @@ void HostController::onFrame() {
 // ---------------------------------------------------------------------------------------------------- ending
 
 void HostController::cancel() {
-  if (state() == State::Preparing && m_preparation) m_preparation->cancel();
-  // finishPreparation() reports the cancellation once the worker stops.
+  if (state() != State::Preparing || !m_preparation) return;
+  markCancelledByUser();
+  m_preparation->cancel();  // finishPreparation() reports the cancellation once the worker stops
 }
 
 void HostController::stop() {

@@ -313,7 +313,8 @@ void MainWindow::onSessionFailed(const QString& message) {
   updateLockControls();
   statusBar()->showMessage(message, kStatusMessageMs);
   emit sessionFailed(message);
-  if (!m_errorDialogsEnabled) return;
+  // The user's own Cancel is no error: the status bar says "Cancelled.", no dialog.
+  if (!m_errorDialogsEnabled || (m_session != nullptr && m_session->cancelledByUser())) return;
   if (m_session != nullptr && m_session->fingerprintRefused()) {
     QMessageBox box(QMessageBox::Critical, tr("Host fingerprint does not match"), message, QMessageBox::Ok, this);
     box.setTextFormat(Qt::PlainText);  // the reason may quote the host: never rich text

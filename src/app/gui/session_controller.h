@@ -66,6 +66,8 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] const QString& errorText() const { return m_errorText; }
   /// Cancels a running preparation (host) or connection (client): state Failed with failed("Cancelled.").
   virtual void cancel() = 0;
+  /// Whether the session failed (or is about to) because the user cancelled it: no error to report.
+  [[nodiscard]] bool cancelledByUser() const { return m_cancelledByUser; }
   /// Leaves the session (client: Leave to the host; host: Leave to every peer). State Left. No-op when not
   /// Preparing, Connecting or Live.
   void leave();
@@ -198,6 +200,8 @@ class SessionController : public QObject, protected EditTarget {
   /// The session's lock changed: (re)sends constraints when it was granted, ends a drag when it was lost.
   void onLockChanged();
   [[nodiscard]] bool leaving() const { return m_leaving; }
+  /// cancel() took effect (see cancelledByUser()).
+  void markCancelledByUser() { m_cancelledByUser = true; }
   void setLevelTarget(std::uint32_t target) { m_levelTarget = target; }
   [[nodiscard]] ConstraintEditor& editor() { return m_editor; }
   [[nodiscard]] const ConstraintEditor& editor() const { return m_editor; }
@@ -213,6 +217,7 @@ class SessionController : public QObject, protected EditTarget {
   State m_state = State::Idle;
   QString m_errorText;
   bool m_leaving = false;
+  bool m_cancelledByUser = false;
   std::uint32_t m_levelTarget = 0;
   spectral::SharedDisplayLevel m_level;
   spectral::DisplayFrame m_frame;
