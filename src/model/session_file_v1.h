@@ -60,8 +60,8 @@ struct LegacySessionFile {
   int historyIndex = 0;  ///< drags applied, 0..history.size()
 };
 
-/// The whole version-1 file (header, payload, SHA-256) as ShapeCast 1 wrote it, for the tests and fuzz seeds.
-/// Cost: O(size).
+/// The whole version-1 file (header, payload, SHA-256) as ShapeCast before issue 15 wrote it, for the tests and
+/// fuzz seeds. Cost: O(size).
 [[nodiscard]] QByteArray encodeLegacySessionFile(const LegacySessionFile& file);
 
 /// Parses a version-1 payload (the bytes between the header and the checksum), checks it with version 1's rules
