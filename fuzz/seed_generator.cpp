@@ -6,6 +6,7 @@
 #include "fuzz_support.h"
 #include "mesh_files.h"
 #include "model/session_file.h"
+#include "model/session_file_v1.h"
 #include "session/wire/coefficient_codec.h"
 #include "session/wire/control_messages.h"
 #include "session/wire/model_transfer.h"
@@ -198,8 +199,10 @@ void basisCacheSeeds(const fs::path& root) {
   fs::remove(file);
 }
 
-/// Sessions of a small torus: without and with a current state and a history whose states share their lists
-/// ("same as previous"), each whole (mode 0) and as a payload to be sealed (mode 1).
+/// Sessions of a small torus: version 2 without and with current constraints and edit steps (named, unnamed,
+/// undone), each whole (mode 0) and as a payload to be sealed (mode 1); version 1 with a current state and a history
+/// whose states share their lists ("same as previous"), whole and as a payload (mode 3), so the legacy reader stays
+/// fuzzed.
 void sessionFileSeeds(const fs::path& root) {
   const SeedWriter seeds(root, "session_file");
   const sc::testing::GeneratedMesh mesh = sc::testing::torus(8, 6);
@@ -213,29 +216,43 @@ void sessionFileSeeds(const fs::path& root) {
   seeds.write("torus-plain", 0, plain);
   seeds.write("torus-plain-payload", 1, payload(plain));
 
-  sc::model::SavedDeformation rest;
+  file.mode = sc::spectral::DeformationMode::Rigid;
+  file.current = sc::model::SavedConstraints{{0, 1, 2}, {20, 21, 22, 23, 30}};
+  file.steps = {{QStringLiteral("Alice"), 0.1 * coefficients(file.m), false},
+                {QString::fromUtf8("Zoë"), -0.05 * coefficients(file.m), false},
+                {QString(), 0.2 * coefficients(file.m), true}};
+  const QByteArray steps = sc::model::encodeSessionFile(file);
+  seeds.write("torus-steps", 0, steps);
+  seeds.write("torus-steps-payload", 1, payload(steps));
+
+  sc::model::v1::SavedDeformation rest;
   rest.handle = {0, 1, 2};
   rest.anchors = {20, 21, 22, 23, 30};
-  sc::model::SavedDeformation moved = rest;
+  sc::model::v1::SavedDeformation moved = rest;
   moved.translation = Eigen::Vector3d(0.1, 0.2, -0.1);
-  sc::model::SavedDeformation turned = moved;
+  sc::model::v1::SavedDeformation turned = moved;
   turned.rotation = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  sc::model::SavedDeformation other;
+  sc::model::v1::SavedDeformation other;
   other.handle = {5};
   other.anchors = {40, 41};
-  file.mode = sc::spectral::DeformationMode::Rigid;
-  file.current = turned;
-  file.history = {{rest, moved}, {moved, turned}, {turned, other}};
-  file.historyIndex = 2;
-  const QByteArray history = sc::model::encodeSessionFile(file);
-  seeds.write("torus-history", 0, history);
-  seeds.write("torus-history-payload", 1, payload(history));
+  sc::model::v1::LegacySessionFile legacy;
+  legacy.V = file.V;
+  legacy.F = file.F;
+  legacy.m = file.m;
+  legacy.mode = file.mode;
+  legacy.Z = file.Z;
+  legacy.current = turned;
+  legacy.history = {{rest, moved}, {moved, turned}, {turned, other}};
+  legacy.historyIndex = 2;
+  const QByteArray history = sc::model::v1::encodeLegacySessionFile(legacy);
+  seeds.write("torus-v1-history", 0, history);
+  seeds.write("torus-v1-history-payload", 3, payload(history));
   // An anchor list longer than the mesh (ids repeated), repeated by every later state: refused as it is read
   // (issue 14; before, such lists were copied for every "same as previous" before any check).
-  for (int i = 0; i < 2 * static_cast<int>(file.V.rows()); ++i) other.anchors.push_back(i % 40);
-  file.history.back().after = other;
-  file.history.push_back({other, other});
-  seeds.write("torus-long-list", 0, sc::model::encodeSessionFile(file));
+  for (int i = 0; i < 2 * static_cast<int>(legacy.V.rows()); ++i) other.anchors.push_back(i % 40);
+  legacy.history.back().after = other;
+  legacy.history.push_back({other, other});
+  seeds.write("torus-v1-long-list", 0, sc::model::v1::encodeLegacySessionFile(legacy));
 }
 
 void meshSeeds(const fs::path& root) {

@@ -1,10 +1,13 @@
-// Fuzz target "session_file": decodeSessionFile(), the saved-session (.shapecast) reader (model/session_file.h).
+// Fuzz target "session_file": decodeSessionFile(), the saved-session (.shapecast) reader (model/session_file.h),
+// version 2 and the legacy version 1 (model/session_file_v1.h).
 //
 // Input: one mode byte, then bytes. Mode bit 0 clear: the bytes are a whole file, decoded as they are. Bit 0 set:
-// the bytes are a payload, sealed first with the header (magic, version 1, its length) and a valid SHA-256, so the
-// fuzzer gets past the checksum to the payload parser (counts, id lists, "same as previous" lists, poses, Z).
-// Invariants checked: a decoded file passes validateSessionFile(); its constraint lists hold at most
-// kMaxSessionFileIds ids in all (the expansion bound); encoding it and decoding again gives the same file.
+// the bytes are a payload, sealed first with the header (magic, version 2 — or 1 when bit 1 is set —, its length)
+// and a valid SHA-256, so the fuzzer gets past the checksum to the payload parsers (counts, id lists, edit steps
+// and their author names and ΔZ; version 1's "same as previous" lists and poses).
+// Invariants checked: a decoded file passes validateSessionFile(); it holds at most kMaxSavedEditSteps steps and
+// its constraint lists at most #V ids; encoding it (always version 2) and decoding again gives the same file
+// (but for droppedLegacyDrags, which version 2 does not store).
 
 #include "fuzz_support.h"
 #include "model/session_file.h"
@@ -18,26 +21,16 @@
 
 namespace {
 
-/// `payload` with the header and a valid checksum around it.
-QByteArray sealed(const QByteArray& payload) {
+/// `payload` with the header of `version` and a valid checksum around it.
+QByteArray sealed(const QByteArray& payload, std::uint32_t version) {
   QByteArray out(sc::model::kSessionFileMagic, sizeof(sc::model::kSessionFileMagic));
-  const std::uint32_t version = qToLittleEndian(sc::model::kSessionFileVersion);
+  const std::uint32_t le = qToLittleEndian(version);
   const std::uint64_t length = qToLittleEndian(static_cast<std::uint64_t>(payload.size()));
-  out.append(reinterpret_cast<const char*>(&version), sizeof version);
+  out.append(reinterpret_cast<const char*>(&le), sizeof le);
   out.append(reinterpret_cast<const char*>(&length), sizeof length);
   out.append(payload);
   out.append(QCryptographicHash::hash(out, QCryptographicHash::Sha256));
   return out;
-}
-
-/// Ids held by every list of `file` (as expanded in memory).
-qint64 idsHeld(const sc::model::SessionFile& file) {
-  const auto ids = [](const sc::model::SavedDeformation& d) {
-    return static_cast<qint64>(d.handle.size() + d.anchors.size());
-  };
-  qint64 total = file.current ? ids(*file.current) : 0;
-  for (const sc::model::SavedDrag& drag : file.history) total += ids(drag.before) + ids(drag.after);
-  return total;
 }
 
 }  // namespace
@@ -45,7 +38,7 @@ qint64 idsHeld(const sc::model::SessionFile& file) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const sc::fuzz::Input input = sc::fuzz::splitMode(data, size);
   QByteArray bytes(reinterpret_cast<const char*>(input.rest.data()), static_cast<qsizetype>(input.rest.size()));
-  if ((input.mode & 1) != 0) bytes = sealed(bytes);
+  if ((input.mode & 1) != 0) bytes = sealed(bytes, (input.mode & 2) != 0 ? 1 : sc::model::kSessionFileVersion);
   const sc::model::SessionFileResult result = sc::model::decodeSessionFile(bytes);
   const auto* file = std::get_if<sc::model::SessionFile>(&result);
   if (file == nullptr) {
@@ -53,9 +46,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   sc::fuzz::check(sc::model::validateSessionFile(*file).isEmpty(), "a decoded file is valid");
-  sc::fuzz::check(idsHeld(*file) <= sc::model::kMaxSessionFileIds, "the id lists expand within the bound");
+  sc::fuzz::check(file->steps.size() <= static_cast<std::size_t>(sc::model::kMaxSavedEditSteps), "steps bounded");
+  const qint64 ids =
+      file->current ? static_cast<qint64>(file->current->handle.size() + file->current->anchors.size()) : 0;
+  sc::fuzz::check(ids <= file->V.rows(), "the id lists (disjoint) hold at most #V ids");
   const sc::model::SessionFileResult again = sc::model::decodeSessionFile(sc::model::encodeSessionFile(*file));
   const auto* reread = std::get_if<sc::model::SessionFile>(&again);
-  sc::fuzz::check(reread != nullptr && sc::model::sameSessionFile(*reread, *file), "encode + decode round trip");
+  sc::fuzz::check(reread != nullptr && reread->droppedLegacyDrags == 0, "re-encoded as version 2");
+  sc::model::SessionFile expected = *file;
+  expected.droppedLegacyDrags = 0;
+  sc::fuzz::check(sc::model::sameSessionFile(*reread, expected), "encode + decode round trip");
   return 0;
 }
