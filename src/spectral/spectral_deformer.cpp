@@ -61,6 +61,14 @@ bool SpectralDeformer::setConstraints(const ConstraintSet& constraints) {
   return true;
 }
 
+bool SpectralDeformer::setConstraints(const ConstraintSet& constraints, const Eigen::MatrixXd& base) {
+  if (!validBase(base)) return false;
+  std::optional<PreparedConstraints> prepared = prepare(constraints);
+  if (!prepared) return false;
+  install(std::move(*prepared), base);
+  return true;
+}
+
 std::optional<PreparedConstraints> SpectralDeformer::prepare(const ConstraintSet& constraints) const {
   if (!validConstraints(constraints, m_rest.rows())) return std::nullopt;
   const Eigen::VectorXd& lambda = m_basis.eigenvalues;
@@ -109,10 +117,40 @@ void SpectralDeformer::install(PreparedConstraints prepared) {
   if (m_options.mode == DeformationMode::Rigid && !m_rigid)
     m_rigid = std::make_unique<RigidSubspace>(m_basis, m_operators, m_rest, m_options.rigidClusters);
   m_Z.setZero(m_basis.size(), 3);
+  m_base.setZero(m_basis.size(), 3);
+  m_energyBase.setZero(m_basis.size(), 3);
+}
+
+void SpectralDeformer::install(PreparedConstraints prepared, const Eigen::MatrixXd& base) {
+  install(std::move(prepared));
+  rebase(base);
+}
+
+bool SpectralDeformer::validBase(const Eigen::MatrixXd& base) const {
+  return base.rows() == m_basis.size() && base.cols() == 3 && base.allFinite();
+}
+
+bool SpectralDeformer::rebase(const Eigen::MatrixXd& base) {
+  if (!validBase(base)) return false;
+  // Moments and centroids about the base shape X₀ = X̂ + H Z₀: w² Σ_i H_iᵀ (x₀_i − c₀)ᵀ per group.
+  for (std::size_t g = 0; g < m_constraints.handles.size(); ++g) {
+    const std::vector<int>& ids = m_constraints.handles[g].vertices;
+    const Eigen::MatrixXd Hg = m_basis.vectors(ids, Eigen::all);
+    const Eigen::MatrixX3d Xg = m_rest(ids, Eigen::all) + Hg * base;
+    const Eigen::Vector3d centroid = Xg.colwise().mean().transpose();
+    m_groupCentroids[g] = centroid;
+    m_groupMoments[g] = m_weight * Hg.transpose() * (Xg.rowwise() - centroid.transpose());
+  }
+  m_base = base;
+  m_energyBase = m_options.mode == DeformationMode::Rigid
+                     ? Eigen::MatrixXd(m_basis.eigenvalues.cwiseMax(0.0).asDiagonal() * base)
+                     : Eigen::MatrixXd::Zero(base.rows(), 3);
+  m_Z = base;
+  return true;
 }
 
 Eigen::MatrixXd SpectralDeformer::constraintRightHandSide(std::span<const HandleTransform> transforms) const {
-  // w² H_Cᵀ (P_C − X̂_C) with, per group, P − X̂ = (R − I)(x̂ − c) + t; anchors contribute zero.
+  // w² H_Cᵀ (P_C − X₀_C) with, per group, P − X₀ = (R − I)(x₀ − c) + t; anchors contribute zero.
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m_basis.size(), 3);
   const std::size_t groups = std::min(transforms.size(), m_groupMoments.size());
   for (std::size_t g = 0; g < groups; ++g) {
@@ -131,13 +169,15 @@ const Eigen::MatrixXd& SpectralDeformer::solve(std::span<const HandleTransform> 
     return m_Z;
   }
   const Eigen::MatrixXd rhs = constraintRightHandSide(transforms);
+  // Z = Z₀ + ΔZ. Linear: A ΔZ = rhs. Rigid: the normal equations A Z = w² H_CᵀH_C Z₀ + rhs + r(Z) in ΔZ form,
+  // A ΔZ = rhs + r(Z) − E Z₀ (r the rotation term, E the energy diagonal), warm-started from the last Z.
   Eigen::MatrixXd Z;
   if (m_options.mode == DeformationMode::Linear) {
-    Z = m_factor.solve(rhs);
+    Z = m_base + m_factor.solve(rhs);
   } else {
     Z = m_Z;
     for (int iteration = 0; iteration < m_options.rigidIterations; ++iteration)
-      Z = m_factor.solve(rhs + m_rigid->rotationRightHandSide(Z));
+      Z = m_base + m_factor.solve(rhs + m_rigid->rotationRightHandSide(Z) - m_energyBase);
   }
   if (!Z.allFinite()) {
     ++m_rejectedSolves;
@@ -155,7 +195,7 @@ Eigen::MatrixX3d SpectralDeformer::targets(std::span<const HandleTransform> tran
   for (std::size_t g = 0; g < m_constraints.handles.size(); ++g) {
     const HandleTransform T = g < transforms.size() ? transforms[g] : HandleTransform{};
     for (int v : m_constraints.handles[g].vertices) {
-      const Eigen::Vector3d x = m_rest.row(v).transpose();
+      const Eigen::Vector3d x = (m_rest.row(v) + m_basis.vectors.row(v) * m_base).transpose();
       P.row(row++) = (T.rotation * (x - m_groupCentroids[g]) + m_groupCentroids[g] + T.translation).transpose();
     }
   }
@@ -175,7 +215,8 @@ ConstraintResidual SpectralDeformer::residual(std::span<const HandleTransform> t
       sumSquares += miss * miss;
     }
   if (row > 0) r.rmsHandle = std::sqrt(sumSquares / static_cast<double>(row));
-  for (int v : m_constraints.anchors) r.maxAnchor = std::max(r.maxAnchor, (m_basis.vectors.row(v) * m_Z).norm());
+  const Eigen::MatrixXd change = m_Z - m_base;
+  for (int v : m_constraints.anchors) r.maxAnchor = std::max(r.maxAnchor, (m_basis.vectors.row(v) * change).norm());
   return r;
 }
 

@@ -1,6 +1,14 @@
 #pragma once
 // Spectral mesh deformation in displacement form: X = X̂ + HZ, handles solved in the m-dimensional subspace.
 // See shared/design/spectral.md §3 (linear) and §5 (rigid, subspace ARAP).
+//
+// Edits build on each other (issue 15): a constraint set acts from a BASE shape X₀ = X̂ + H Z₀ (rest by default;
+// rebase() moves it to the current shape). Anchors hold where they are in X₀, a handle group's pose moves it from
+// where it is in X₀ about its centroid there, and a solve returns Z = Z₀ + ΔZ with ΔZ the smoothest change that
+// meets the targets: in linear mode, min tr(ΔZᵀΛ²ΔZ) + w² ‖H_C ΔZ − (P_C − X₀_C)‖², so identity poses give
+// exactly Z₀ (nothing moves when someone new takes over). In rigid mode the ARAP energy is still measured against
+// the rest shape (its rotations fit rest edges), with the targets above: the constrained vertices hold, the free
+// parts relax as-rigid-as-possible around them.
 
 #include "spectral/harmonic_basis.h"
 #include "spectral/laplace_operators.h"
@@ -23,13 +31,14 @@ struct HandleGroup {
   std::vector<int> vertices;
 };
 
-/// What the user constrains: handle groups (moved) and anchors (held at their rest positions).
+/// What the user constrains: handle groups (moved) and anchors (held where they are in the base shape).
 struct ConstraintSet {
   std::vector<HandleGroup> handles;
   std::vector<int> anchors;
 };
 
-/// The pose of one handle group: target x = R (x̂ − c) + c + t, c the group's rest centroid.
+/// The pose of one handle group: target x = R (x₀ − c) + c + t, x₀ the vertex in the base shape and c the group's
+/// centroid there (the rest shape and rest centroid until SpectralDeformer::rebase()).
 struct HandleTransform {
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
@@ -78,7 +87,7 @@ struct DeformerOptions {
 struct ConstraintResidual {
   double maxHandle = 0.0;  ///< max ‖x_i − target_i‖ over handle vertices.
   double rmsHandle = 0.0;  ///< root mean square of the same.
-  double maxAnchor = 0.0;  ///< max ‖x_i − x̂_i‖ over anchors.
+  double maxAnchor = 0.0;  ///< max ‖x_i − x₀_i‖ over anchors (x₀: the base shape).
 };
 
 /// A constraint set with its factored m×m system and per-group moments: made by SpectralDeformer::prepare() (const,
@@ -86,7 +95,7 @@ struct ConstraintResidual {
 struct PreparedConstraints {
   ConstraintSet constraints;
   double weight = 0.0;
-  std::vector<Eigen::MatrixX3d> groupMoments;
+  std::vector<Eigen::MatrixX3d> groupMoments;  ///< about the rest shape; rebase() recomputes them
   std::vector<Eigen::VectorXd> groupSums;
   std::vector<Eigen::Vector3d> groupCentroids;
   Eigen::LLT<Eigen::MatrixXd> factor;
@@ -115,8 +124,22 @@ class SpectralDeformer {
   /// The expensive half of setConstraints() (O(c·m² + m³)): reads only the basis, the rest positions and the
   /// options, which never change, so it may run on another thread while this deformer solves. nullopt when invalid.
   std::optional<PreparedConstraints> prepare(const ConstraintSet& constraints) const;
-  /// The cheap half: puts a prepared set in place (moves; builds the rigid clusters on first use) and resets Z.
+  /// The cheap half: puts a prepared set in place (moves; builds the rigid clusters on first use) with the rest
+  /// shape as its base: Z = 0.
   void install(PreparedConstraints prepared);
+  /// install(), then rebase(base): the new constraint set acts from the shape `base` (m by 3, finite) describes.
+  void install(PreparedConstraints prepared, const Eigen::MatrixXd& base);
+  /// setConstraints() from the shape `base` (m by 3, finite): what a session does when someone sets new
+  /// constraints, so that the shape carries on from where it is. False (nothing changed) as setConstraints().
+  bool setConstraints(const ConstraintSet& constraints, const Eigen::MatrixXd& base);
+
+  /// Makes `base` (m by 3 coefficients, finite; else false and nothing changes) the shape the current constraints
+  /// act from, and the current Z: anchors hold where they are in it, and identity poses leave it unchanged. Called
+  /// when a stroke ends (the next one starts from here) or an edit is undone under the current constraints.
+  /// Cost: O(handle vertices · m).
+  bool rebase(const Eigen::MatrixXd& base);
+  /// The base shape's coefficients Z₀ (zero until rebase()).
+  [[nodiscard]] const Eigen::MatrixXd& base() const { return m_base; }
 
   /// Solves one frame: one transform per handle group (fewer: missing groups stay at rest; extra ones ignored).
   /// A used transform out of range (poseInRange() with maxTranslation()) or a solve that is not finite is rejected:
@@ -132,7 +155,8 @@ class SpectralDeformer {
   /// The last Z returned by solve() (zero before any solve).
   const Eigen::MatrixXd& coefficients() const { return m_Z; }
 
-  /// Residual of coefficients() at the constrained vertices for the given transforms. Cost: O(c·m).
+  /// Residual of coefficients() at the constrained vertices for the given transforms (targets from the base
+  /// shape). Cost: O(c·m).
   ConstraintResidual residual(std::span<const HandleTransform> transforms) const;
 
   /// How many times the m×m system was factored (changes only in setConstraints()).
@@ -144,6 +168,7 @@ class SpectralDeformer {
  private:
   /// w² H_Cᵀ (P_C − X̂_C) for the given transforms, from the per-group moments: O(m) per group.
   Eigen::MatrixXd constraintRightHandSide(std::span<const HandleTransform> transforms) const;
+  [[nodiscard]] bool validBase(const Eigen::MatrixXd& base) const;
   /// Target positions of every handle vertex, in group order.
   Eigen::MatrixX3d targets(std::span<const HandleTransform> transforms) const;
 
@@ -152,10 +177,12 @@ class SpectralDeformer {
   const Eigen::MatrixXd& m_rest;
   DeformerOptions m_options;
   ConstraintSet m_constraints;
-  double m_weight = 0.0;                         ///< w² actually used.
-  std::vector<Eigen::MatrixX3d> m_groupMoments;  ///< per group: w² Σ_i H_iᵀ (x̂_i − c)ᵀ, m by 3.
-  std::vector<Eigen::VectorXd> m_groupSums;      ///< per group: w² Σ_i H_iᵀ, m.
-  std::vector<Eigen::Vector3d> m_groupCentroids;
+  double m_weight = 0.0;                          ///< w² actually used.
+  std::vector<Eigen::MatrixX3d> m_groupMoments;   ///< per group: w² Σ_i H_iᵀ (x₀_i − c)ᵀ, m by 3 (base shape)
+  std::vector<Eigen::VectorXd> m_groupSums;       ///< per group: w² Σ_i H_iᵀ, m.
+  std::vector<Eigen::Vector3d> m_groupCentroids;  ///< per group: its centroid c in the base shape
+  Eigen::MatrixXd m_base;                         ///< Z₀, m by 3: the shape the constraints act from
+  Eigen::MatrixXd m_energyBase;                   ///< E Z₀ (rigid mode's energy diagonal times the base)
   Eigen::LLT<Eigen::MatrixXd> m_factor;
   Eigen::MatrixXd m_Z;
   std::unique_ptr<RigidSubspace> m_rigid;  ///< clusters and rotation terms, built on first use of the rigid mode

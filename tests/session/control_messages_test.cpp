@@ -47,7 +47,16 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
       StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
       LevelList{4, {{0, 22982, 45960, 9654321}, {2, 5231, 10458, 2200000}, {3, 1719, 3434, kMaxTransferSize}}},
+      StrokeEnd{42},
+      EditRequest{EditAction::Redo},
+      EditLog{
+          {{1, 1, 0, false, QStringLiteral("host")}, {7, 2, 1, true, QString::fromUtf8("Zoë")}, {9, 0, 0, false, {}}}},
   };
+}
+
+/// A Hello body of this version: magic, kProtocolVersion, then `restHex` (name length and bytes).
+QByteArray helloBody(const char* restHex) {
+  return QByteArray::fromHex("5343") + static_cast<char>(kProtocolVersion) + QByteArray::fromHex(restHex);
 }
 
 QByteArray concatenated(const std::vector<ControlMessage>& messages) {
@@ -88,7 +97,7 @@ TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
-  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534303026162"));  // frozen: length, type, magic, version (3), name
+  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534304026162"));  // frozen: length, type, magic, version (4), name
 }
 
 TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
@@ -116,6 +125,18 @@ TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
   EXPECT_TRUE(encodeControlMessage(Keyframe{1, {1.0, 2.0}}).isEmpty());  // not m×3
   EXPECT_TRUE(encodeControlMessage(Keyframe{1, std::vector<double>(3 * (kMaxRows + 1), 0.0)}).isEmpty());
   EXPECT_TRUE(encodeControlMessage(LockMessage{static_cast<LockRequestKind>(4), 1}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(StrokeEnd{kNoEpoch}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(EditRequest{static_cast<EditAction>(3)}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(EditLog{{{2, 1, 0, false, {}}, {2, 1, 0, false, {}}}}).isEmpty());  // not ascending
+  EXPECT_TRUE(encodeControlMessage(EditLog{{{0, 1, 0, false, {}}}}).isEmpty());                        // step 0
+  EXPECT_TRUE(encodeControlMessage(EditLog{{{1, 1, 0, true, {}}}}).isEmpty());  // redoable but applied
+  EXPECT_TRUE(encodeControlMessage(EditLog{{{1, 0x10000, 0, false, {}}}}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(EditLog{{{1, 1, 0, false, QString(65, QChar('n'))}}}).isEmpty());
+  std::vector<EditLogEntry> tooMany;
+  for (std::uint32_t i = 1; i <= kMaxEditLogSteps + 1; ++i) tooMany.push_back({i, 1, 0, false, {}});
+  EXPECT_TRUE(encodeControlMessage(EditLog{tooMany}).isEmpty());
+  tooMany.pop_back();
+  EXPECT_FALSE(encodeControlMessage(EditLog{tooMany}).isEmpty());
 }
 
 TEST(ControlMessages, LevelListLayoutAndLimits) {
@@ -163,12 +184,12 @@ TEST(ControlMessages, HelloOfAnotherVersionDecodesForARefusal) {
   ASSERT_EQ(decoded.error, ControlError::None);
   EXPECT_EQ(std::get<Hello>(decoded.message).version, 7);
   EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("000001")).error, ControlError::Malformed);  // magic
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430300ff")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, helloBody("00ff")).error, ControlError::Malformed);
 }
 
 TEST(ControlMessages, InvalidUtf8IsMalformed) {
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c328")).error, ControlError::Malformed);
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c3a9")).error, ControlError::None);  // "é"
+  EXPECT_EQ(decodeControlMessage(0x40, helloBody("02c328")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, helloBody("02c3a9")).error, ControlError::None);  // "é"
 }
 
 TEST(ControlMessages, EveryTruncationIsIncompleteOrMalformed) {
@@ -237,8 +258,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
     EXPECT_EQ(reader.buffered(), 0);
   }
   ControlFrameReader reader;  // exactly the maximum is not oversize (here: a Hello with trailing bytes)
-  reader.append(frame(kMaxControlMessageSize, 0x40,
-                      QByteArray::fromHex("53430300") + QByteArray(kMaxControlMessageSize - 5, 'x')));
+  reader.append(frame(kMaxControlMessageSize, 0x40, helloBody("00") + QByteArray(kMaxControlMessageSize - 5, 'x')));
   const auto result = reader.next();
   ASSERT_TRUE(result.has_value());
   EXPECT_EQ(result->error, ControlError::Malformed);
@@ -246,7 +266,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
 }
 
 TEST(ControlFrameReader, UnknownTypesAreReportedAndSkipped) {
-  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x52, 0x7f, 0x80, 0xc0, 0xff}) {
+  for (int type : {0x00, 0x01, 0x02, 0x3f, static_cast<int>(MessageType::ControlEnd), 0x7f, 0x80, 0xc0, 0xff}) {
     ControlFrameReader reader;
     reader.append(frame(3, static_cast<std::uint8_t>(type), "ab") + encodeControlMessage(Heartbeat{5}));
     std::vector<ControlDecodeResult> results;

@@ -33,6 +33,7 @@ enum class ClientNotice : std::uint8_t {
   LevelsChanged,   ///< levels()
   LockChanged,     ///< lock()
   LevelInstalled,  ///< displayLevel() is a new level (announced before its first PublishFrame)
+  EditLogChanged,  ///< editLog()
 };
 
 namespace client_action {

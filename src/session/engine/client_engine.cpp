@@ -180,6 +180,10 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
       sendLock(m_lock->apply(std::get<LockNotice>(message), toMillis(now)), out);
       out.emplace_back(client_action::Notify{ClientNotice::LockChanged});
       return;
+    case MessageType::EditLog:
+      m_editLog = std::get<EditLog>(message);
+      out.emplace_back(client_action::Notify{ClientNotice::EditLogChanged});
+      return;
     case MessageType::Heartbeat:
       return;
     case MessageType::Leave:
@@ -224,6 +228,18 @@ ClientActions ClientEngine::sendConstraints(std::vector<std::vector<std::uint32_
 ClientActions ClientEngine::sendDrag(std::vector<HandleTransform> handles) {
   ClientActions out;
   if (live() && m_lock && m_lock->canDrag()) send(Drag{m_lock->heldEpoch(), std::move(handles)}, out);
+  return out;
+}
+
+ClientActions ClientEngine::endStroke() {
+  ClientActions out;
+  if (live() && m_lock && m_lock->canDrag()) send(StrokeEnd{m_lock->heldEpoch()}, out);
+  return out;
+}
+
+ClientActions ClientEngine::requestEdit(EditAction action) {
+  ClientActions out;
+  if (live()) send(EditRequest{action}, out);
   return out;
 }
 

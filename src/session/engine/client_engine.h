@@ -120,6 +120,10 @@ class ClientEngine {
   ClientActions releaseLock(Micros now);
   ClientActions sendConstraints(std::vector<std::vector<std::uint32_t>> groups, std::vector<std::uint32_t> anchors);
   ClientActions sendDrag(std::vector<HandleTransform> handles);
+  /// The drag ended (StrokeEnd): refused unless the lock is held.
+  ClientActions endStroke();
+  /// Asks the host to undo this user's latest step or redo the one it undid last (EditRequest); refused unless live.
+  ClientActions requestEdit(EditAction action);
   /// Distortion figures (% of the bbox diagonal) for the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
 
@@ -134,6 +138,8 @@ class ClientEngine {
   [[nodiscard]] const PeerList& peers() const { return m_peers; }
   [[nodiscard]] const LevelList& levels() const { return m_levels; }
   [[nodiscard]] const LockClient* lock() const { return m_lock.get(); }
+  /// The host's latest EditLog (the session's recent edit steps), empty before the first.
+  [[nodiscard]] const EditLog& editLog() const { return m_editLog; }
   [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_level; }
   [[nodiscard]] std::uint32_t levelVertexCount() const { return m_level ? m_level->vertexCount() : 0; }
   /// The installed level's payload when ClientEngineConfig::keepLevelPayload, else empty.
@@ -176,6 +182,7 @@ class ClientEngine {
   ClientHandshake m_handshake;
   std::optional<Welcome> m_session;
   PeerList m_peers;
+  EditLog m_editLog;
   LevelList m_levels;
   std::unique_ptr<LockClient> m_lock;
   // levels

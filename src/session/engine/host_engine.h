@@ -41,6 +41,7 @@
 // Network input never asserts (style.md item 6). Cost: O(peers) per event, plus a deformer solve per drag frame.
 // Not thread-safe: one thread drives it.
 
+#include "session/engine/edit_history.h"
 #include "session/engine/handshake_host.h"
 #include "session/engine/host_engine_actions.h"
 #include "session/engine/host_engine_peer.h"
@@ -64,7 +65,6 @@
 
 namespace sc::session {
 
-inline constexpr PeerId kHostPeer = 1;                 ///< the host's own user
 inline constexpr Micros kHousekeepingPeriod{100'000};  ///< handshake deadlines, lock lease, own renew, idle refresh
 inline constexpr Micros kHeartbeatPeriod{1'000'000};
 /// The longest a lock holder keeps the lock while others wait (HostEngineOptions::maxLockHoldWhileWaited).
@@ -97,6 +97,7 @@ struct HostEngineOptions {
   RateLimit lockRequestRate{4.0, 8.0};               ///< LockRequest{Request}; over it: ignored
   RateLimit resolutionRequestRate{2.0, 6.0};         ///< ResolutionRequest; over it: ignored
   RateLimit constraintsRate{4.0, 4.0};               ///< Constraints; over it: rejected
+  RateLimit editRequestRate{4.0, 8.0};               ///< EditRequest (undo / redo); over it: ignored
   /// Constraints whose (handle + anchor ids) · m² exceeds this are rejected: bounds the refactoring's work and its
   /// ids × m temporary (30000 ids at m = 128: 90–150 ms on one core, off the network thread; 31 MB).
   double maxConstraintWork = 30000.0 * 128.0 * 128.0;
@@ -135,6 +136,9 @@ struct HostEngineCounters {
   std::uint64_t connectionsThrottled = 0;    ///< aborted at accept: the address is waiting after wrong passwords
   std::uint64_t wrongPasswords = 0;          ///< wrong password proofs (each logged with its address)
   std::uint64_t locksRevokedForWaiters = 0;  ///< holders revoked after maxLockHoldWhileWaited with others waiting
+  std::uint64_t strokesCommitted = 0;        ///< edit steps recorded (strokes that changed the shape)
+  std::uint64_t editsApplied = 0;            ///< undo / redo requests that changed the shape
+  std::uint64_t editsRefused = 0;            ///< undo / redo requests with nothing to undo / redo
 
   [[nodiscard]] std::uint64_t refusalsFor(RefuseReason reason) const {
     return refusals[static_cast<std::size_t>(reason)];
@@ -196,6 +200,15 @@ class HostEngine {
   HostActions releaseLock(Micros now, bool* sent = nullptr);
   HostActions setConstraints(const spectral::ConstraintSet& constraints, Micros now, bool* accepted = nullptr);
   HostActions drag(std::span<const spectral::HandleTransform> poses, Micros now, bool* accepted = nullptr);
+  /// The host user's drag ended (as a member's StrokeEnd): what it changed becomes an edit step. Needs the lock.
+  HostActions endStroke(Micros now, bool* accepted = nullptr);
+  /// Undoes the latest applied step of ANYBODY (the host's own user moderates the shared history) or redoes the
+  /// step the host's user undid last; `applied`: whether the shape changed. Needs no lock.
+  HostActions edit(EditAction action, Micros now, bool* applied = nullptr);
+  /// A saved session's shape and history, before anyone joined: the coefficients `Z` (m by 3, finite) become the
+  /// current shape and the base of the constraints, and `steps` the history (oldest first). False (nothing
+  /// changed) when `Z` or a step's delta has the wrong size or is not finite.
+  bool restoreEdits(const Eigen::MatrixXd& Z, const std::vector<EditStep>& steps);
 
   // === queries
   [[nodiscard]] PeerList peerList() const;
@@ -214,6 +227,8 @@ class HostEngine {
   /// A member's constraints are being factored (its drag frames wait).
   [[nodiscard]] bool constraintsInFlight() const { return m_constraintsInFlight.has_value(); }
   [[nodiscard]] const LevelLadder& ladder() const { return m_ladder; }
+  /// The session's edit history (every committed stroke, by anyone).
+  [[nodiscard]] const EditHistory& history() const { return m_history; }
   [[nodiscard]] bool isShutDown() const { return m_shutDown; }
   /// When tick() is next due: the earliest of the pending drag frame, the still frame, the next housekeeping and
   /// heartbeat; nullopt before start() and after shutdown(). What every HostActions::wakeAt holds.
@@ -253,11 +268,21 @@ class HostEngine {
   /// The host's own LockClient's message (if any) to the arbiter; `sent`: whether there was one.
   HostActions localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent);
   void handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out);
-  bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now);
+  bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now, HostActions& out);
   bool acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses, Micros arrivedAt,
                   Micros now, HostActions& out);
+  // host_engine_edits.cpp: strokes and the shared edit history
+  /// Ends the stroke going on (the pending pose's frame first): its change since the deformer's base becomes an
+  /// edit step of its author and the base moves to the current shape. No-op without a change.
+  void commitStroke(Micros now, HostActions& out);
+  void applyEdit(PeerId requester, EditAction action, Micros now, HostActions& out);
+  /// Sends the history's log to everybody and tells the adapter.
+  void historyChanged(HostActions& out);
+  [[nodiscard]] QString authorName(PeerId peer) const;
   // host_engine_frames.cpp: frames
-  void produceFrame(Micros now, bool still, HostActions& out);
+  /// Sends the current Z as a frame, solving the pending pose first if there is one. `jumped`: Z changed outside
+  /// a drag (undo / redo), which counts as a moving frame for the still frame.
+  void produceFrame(Micros now, bool still, HostActions& out, bool jumped = false);
   void produceStillFrame(Micros now, HostActions& out);
   void sendKeyframe(PeerId peer, HostActions& out);
 
@@ -290,6 +315,9 @@ class HostEngine {
   Micros m_lastFrameAt{0};
   Micros m_lastDragFrameAt{0};  ///< the coalescing spacing counts from drag frames only
   std::vector<spectral::HandleTransform> m_pendingPoses;
+  PeerId m_pendingAuthor = kNoPeer;  ///< who sent m_pendingPoses
+  PeerId m_strokeAuthor = kNoPeer;   ///< whose poses moved the shape since the deformer's base (kNoPeer: nobody's)
+  EditHistory m_history;
   std::optional<Micros> m_pendingArrival;  ///< set while an accepted drag waits for its frame
   std::optional<Micros> m_coalesceDue;     ///< when the pending pose's frame goes out
   std::optional<Micros> m_stillDue;        ///< when the still frame goes out

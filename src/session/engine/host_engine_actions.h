@@ -94,6 +94,8 @@ struct ExpireHandshake {
 /// Signals for the adapter's observers.
 struct PeersChanged {};
 struct LockChanged {};
+/// The session's edit history changed (HostEngine::history()); its log went to every peer already.
+struct EditHistoryChanged {};
 struct StatsReported {
   PeerId peer = kNoPeer;
   StatsReport report;
@@ -104,7 +106,7 @@ struct LogLine {
 
 using HostAction =
     std::variant<SendToPeer, SendToAll, SendFrame, StartTransfer, RequestLevel, PrefetchLevels, PrepareConstraints,
-                 ClosePeer, ExpireHandshake, PeersChanged, LockChanged, StatsReported, LogLine>;
+                 ClosePeer, ExpireHandshake, PeersChanged, LockChanged, EditHistoryChanged, StatsReported, LogLine>;
 
 struct HostActions {
   std::vector<HostAction> list;  ///< in order

@@ -7,13 +7,14 @@
 
 namespace sc::session {
 
-void HostEngine::produceFrame(Micros now, bool still, HostActions& out) {
+void HostEngine::produceFrame(Micros now, bool still, HostActions& out, bool jumped) {
   if (m_shutDown) return;
   Micros stamp = now;
-  bool moved = false;
+  bool moved = jumped;
   if (m_pendingArrival && !m_constraintsInFlight) {  // poses wait for their constraints' factorisation
     Eigen::MatrixXd Z = m_deformer->solve(m_pendingPoses);
     moved = Z != *m_Z;
+    if (moved) m_strokeAuthor = m_pendingAuthor;
     m_Z = std::make_shared<const Eigen::MatrixXd>(std::move(Z));
     stamp = *m_pendingArrival;
     m_pendingArrival.reset();

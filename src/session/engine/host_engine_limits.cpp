@@ -51,6 +51,9 @@ bool HostEngine::withinRates(Peer& peer, const ControlMessage& message, Micros n
     case MessageType::Constraints:
       bucket = &peer.constraints;
       break;
+    case MessageType::EditRequest:
+      bucket = &peer.editRequests;
+      break;
     default:
       break;
   }

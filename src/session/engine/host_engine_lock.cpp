@@ -26,7 +26,11 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
       }
     }
   }
-  if (!events.empty()) out.add(LockChanged{});
+  if (!events.empty()) {
+    // a stroke ends with its author's tenure (released, revoked, gone): what it did is a step of the history
+    if (m_strokeAuthor != kNoPeer && m_arbiter.holder() != m_strokeAuthor) commitStroke(now, out);
+    out.add(LockChanged{});
+  }
 }
 
 HostActions HostEngine::requestLock(Micros now, bool* sent) {
@@ -47,9 +51,10 @@ HostActions HostEngine::localLockMessage(const std::optional<LockMessage>& messa
 // --- constraints and poses
 
 HostActions HostEngine::setConstraints(const spectral::ConstraintSet& constraints, Micros now, bool* accepted) {
-  const bool ok = applyConstraints(kHostPeer, m_localLock.heldEpoch(), constraints, now);
+  HostActions out;
+  const bool ok = applyConstraints(kHostPeer, m_localLock.heldEpoch(), constraints, now, out);
   if (accepted) *accepted = ok;
-  return finish({});
+  return finish(std::move(out));
 }
 
 HostActions HostEngine::drag(std::span<const spectral::HandleTransform> poses, Micros now, bool* accepted) {
@@ -70,6 +75,7 @@ void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, 
     set->handles.push_back({std::vector<int>(group.begin(), group.end())});
   }
   set->anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
+  commitStroke(now, out);  // the previous constraints' stroke ends here; the new set starts from this shape
   ++m_counters.constraintsAccepted;
   m_pendingArrival.reset();  // a pose for the previous groups means nothing now
   m_coalesceDue.reset();
@@ -87,13 +93,19 @@ HostActions HostEngine::onConstraintsPrepared(std::uint64_t ticket,
     m_pendingArrival.reset();  // its poses were for these constraints
     return finish(std::move(out));
   }
-  m_deformer->install(std::move(*prepared));
+  m_deformer->install(std::move(*prepared), *m_Z);                     // from the shape as it is now, not from rest
   if (m_pendingArrival && !m_shutDown) produceFrame(now, false, out);  // the poses that waited
   return finish(std::move(out));
 }
 
-bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now) {
-  if (m_arbiter.acceptDrag(peer, epoch, toMillis(now)) != DragVerdict::Accepted || !m_deformer->setConstraints(set)) {
+bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now,
+                                  HostActions& out) {
+  if (m_arbiter.acceptDrag(peer, epoch, toMillis(now)) != DragVerdict::Accepted) {
+    ++m_counters.constraintsRejected;
+    return false;
+  }
+  commitStroke(now, out);  // the previous constraints' stroke ends here; the new set starts from this shape
+  if (!m_deformer->setConstraints(set, *m_Z)) {
     ++m_counters.constraintsRejected;
     return false;
   }
@@ -117,6 +129,7 @@ bool HostEngine::acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::
   }
   ++m_counters.dragsAccepted;
   m_pendingPoses = std::move(poses);
+  m_pendingAuthor = peer;
   m_pendingArrival = arrivedAt;
   if (m_coalesceDue || m_constraintsInFlight) return true;  // the pending frame (or the install) sends it
   const Micros since = now - m_lastDragFrameAt;

@@ -67,6 +67,7 @@ Admission HostEngine::onConnectionAttempt(const std::string& addressKey, Micros 
   peer.messages = TokenBucket(m_options.messageRate);
   peer.lockRequests = TokenBucket(m_options.lockRequestRate);
   peer.resolutionRequests = TokenBucket(m_options.resolutionRequestRate);
+  peer.editRequests = TokenBucket(m_options.editRequestRate);
   peer.constraints = TokenBucket(m_options.constraintsRate);
   return admission;
 }
@@ -106,6 +107,7 @@ HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*
   if (m_arbiter.holder() != kNoPeer) {
     out.add(SendToPeer{id, LockNotice{LockNoticeKind::Granted, m_arbiter.holder(), m_arbiter.epoch(), 0, {}}});
   }
+  if (!m_history.steps().empty()) out.add(SendToPeer{id, m_history.log()});
   out.add(LogLine{
       QStringLiteral("%1 joined as peer %2 from %3").arg(name).arg(id).arg(QString::fromStdString(peer.address))});
   out.add(PeersChanged{});
@@ -186,6 +188,14 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
       acceptPose(id, drag.epoch, fromWire(drag.handles, groups), now, now, out);
       break;
     }
+    case MessageType::StrokeEnd:
+      if (m_arbiter.acceptDrag(id, std::get<StrokeEnd>(message).epoch, toMillis(now)) == DragVerdict::Accepted) {
+        commitStroke(now, out);
+      }
+      break;
+    case MessageType::EditRequest:
+      applyEdit(id, std::get<EditRequest>(message).action, now, out);
+      break;
     case MessageType::StatsReport:
       peer->stats = std::get<StatsReport>(message);
       out.add(StatsReported{id, *peer->stats});

@@ -110,6 +110,10 @@ bool SessionClient::sendConstraints(std::vector<std::vector<std::uint32_t>> grou
   return applyCommand(m_engine.sendConstraints(std::move(groups), std::move(anchors)));
 }
 
+bool SessionClient::endStroke() { return applyCommand(m_engine.endStroke()); }
+
+bool SessionClient::requestEdit(EditAction action) { return applyCommand(m_engine.requestEdit(action)); }
+
 bool SessionClient::sendDrag(std::vector<HandleTransform> handles) {
   return applyCommand(m_engine.sendDrag(std::move(handles)));
 }

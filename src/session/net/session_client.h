@@ -121,6 +121,12 @@ class SessionClient final : public QObject {
   bool sendConstraints(std::vector<std::vector<std::uint32_t>> groups, std::vector<std::uint32_t> anchors);
   /// One 3×4 affine per handle group; false without the lock or when the message breaks a limit.
   bool sendDrag(std::vector<HandleTransform> handles);
+  /// The drag ended: the host records what it changed as this user's step (StrokeEnd); false without the lock.
+  bool endStroke();
+  /// Asks the host to undo this user's latest step or redo the one it undid last; false unless joined.
+  bool requestEdit(EditAction action);
+  /// The host's latest EditLog (the session's recent edit steps).
+  [[nodiscard]] const EditLog& editLog() const { return m_engine.editLog(); }
   /// Changes the simulated network conditions on receive, live (ClientDatagramChannel::setImpairment: datagrams
   /// the old impairment holds back are delivered at once); nullopt removes them. Also before start().
   void setImpairment(std::optional<ImpairmentSettings> settings);
@@ -187,6 +193,8 @@ class SessionClient final : public QObject {
   void modelProgress(quint64 received, quint64 total);
   void lockChanged();
   void peersChanged();
+  /// editLog() changed.
+  void editLogChanged();
   /// A LevelList arrived (levels() changed).
   void levelsChanged();
   void keyframeReceived(std::uint32_t frame, const Eigen::MatrixXd& Z);

@@ -84,6 +84,9 @@ void SessionClient::execute(client_action::Notify notify) {
     case ClientNotice::LockChanged:
       emit lockChanged();
       return;
+    case ClientNotice::EditLogChanged:
+      emit editLogChanged();
+      return;
     case ClientNotice::LevelInstalled:
       m_positions.assign(displayLevel()->rest.size(), 0.0f);
       emit displayLevelChanged(displayLevel());

@@ -138,6 +138,18 @@ bool SessionHost::drag(std::span<const spectral::HandleTransform> poses) {
   return accepted;
 }
 
+bool SessionHost::endStroke() {
+  bool accepted = false;
+  apply(m_engine.endStroke(sessionNow(), &accepted));
+  return accepted;
+}
+
+bool SessionHost::edit(EditAction action) {
+  bool applied = false;
+  apply(m_engine.edit(action, sessionNow(), &applied));
+  return applied;
+}
+
 // --- the engine's actions
 
 void SessionHost::onTimer() {
@@ -201,6 +213,8 @@ void SessionHost::applyOne(const HostAction& action) {
     emit peersChanged();
   } else if (std::holds_alternative<LockChanged>(action)) {
     emit lockChanged();
+  } else if (std::holds_alternative<EditHistoryChanged>(action)) {
+    emit editHistoryChanged();
   } else if (const auto* stats = std::get_if<StatsReported>(&action)) {
     emit statsReported(stats->peer, stats->report);
   } else if (const auto* log = std::get_if<LogLine>(&action)) {

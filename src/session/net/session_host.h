@@ -127,10 +127,23 @@ class SessionHost final : public QObject {
   bool setConstraints(const spectral::ConstraintSet& constraints);
   /// Drags as the lock holder (one pose per handle group); false without the lock.
   bool drag(std::span<const spectral::HandleTransform> poses);
+  /// The drag ended: what it changed becomes a step of the session's edit history; false without the lock.
+  bool endStroke();
+  /// Undoes anybody's latest step or redoes the step this user undid last (HostEngine::edit()); true when the
+  /// shape changed.
+  bool edit(EditAction action);
+  /// The session's edit history (every committed stroke, by anyone).
+  [[nodiscard]] const EditHistory& history() const { return m_engine.history(); }
+  /// A saved session's shape and history (HostEngine::restoreEdits); call before anyone joined.
+  bool restoreEdits(const Eigen::MatrixXd& Z, const std::vector<EditStep>& steps) {
+    return m_engine.restoreEdits(Z, steps);
+  }
 
  signals:
   void peersChanged();
   void lockChanged();
+  /// history() changed (a stroke committed, an undo or a redo, by anyone).
+  void editHistoryChanged();
   void frameSent(std::uint32_t frame);
   void statsReported(sc::session::PeerId peer, const sc::session::StatsReport& report);
   void logMessage(const QString& message);

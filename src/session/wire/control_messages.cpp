@@ -327,6 +327,49 @@ bool read(ByteReader& r, LevelList& m) {
   return true;
 }
 
+void write(ByteWriter& w, const StrokeEnd& m) { w.u32(m.epoch); }
+bool read(ByteReader& r, StrokeEnd& m) {
+  m.epoch = r.u32();
+  return m.epoch != kNoEpoch;
+}
+
+void write(ByteWriter& w, const EditRequest& m) { w.u8(static_cast<std::uint8_t>(m.action)); }
+bool read(ByteReader& r, EditRequest& m) {
+  const std::uint8_t action = r.u8();
+  m.action = static_cast<EditAction>(action);
+  return inRange<std::uint8_t>(action, 1, 2);
+}
+
+void write(ByteWriter& w, const EditLog& m) {
+  w.u8(static_cast<std::uint8_t>(m.steps.size()));
+  for (const EditLogEntry& entry : m.steps) {
+    w.u32(entry.step);
+    w.u32(entry.author);
+    w.u32(entry.undoneBy);
+    w.u8(entry.redoable ? 1 : 0);
+    writeText(w, entry.authorName, Prefix::U8);
+  }
+}
+bool read(ByteReader& r, EditLog& m) {
+  const int count = r.u8();
+  if (count > kMaxEditLogSteps) return false;
+  m.steps.resize(static_cast<std::size_t>(count));
+  std::uint32_t previous = 0;
+  for (EditLogEntry& entry : m.steps) {
+    entry.step = r.u32();
+    entry.author = r.u32();
+    entry.undoneBy = r.u32();
+    const std::uint8_t redoable = r.u8();
+    entry.redoable = redoable == 1;
+    if (!r.ok() || entry.step <= previous || entry.author > 0xffff || entry.undoneBy > 0xffff || redoable > 1 ||
+        (entry.redoable && entry.undoneBy == kNoPeer) || !readText(r, entry.authorName, Prefix::U8, kMaxNameBytes)) {
+      return false;
+    }
+    previous = entry.step;
+  }
+  return true;
+}
+
 // === dispatch: variant alternative I has wire type kFirstControlType + I.
 
 constexpr std::size_t kControlTypeCount = std::variant_size_v<ControlMessage>;
@@ -335,6 +378,7 @@ static_assert(std::is_same_v<std::variant_alternative_t<0, ControlMessage>, Hell
 static_assert(std::is_same_v<std::variant_alternative_t<14, ControlMessage>, Heartbeat>);
 static_assert(std::is_same_v<std::variant_alternative_t<16, ControlMessage>, StatsReport>);
 static_assert(std::is_same_v<std::variant_alternative_t<17, ControlMessage>, LevelList>);
+static_assert(std::is_same_v<std::variant_alternative_t<20, ControlMessage>, EditLog>);
 
 template <typename T>
 ControlDecodeResult decodeAs(QByteArrayView body) {

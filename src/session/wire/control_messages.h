@@ -186,10 +186,43 @@ struct LevelList {
 /// when the list is empty. Cost: O(levels).
 const LevelInfo* closestLevel(const LevelList& list, std::uint32_t wanted);
 
+/// The lock holder's drag ended: what it changed becomes one step of the session's edit history, and its next
+/// drag's poses start from the shape as it is now (docs/protocol.md, "Edits").
+struct StrokeEnd {
+  LockEpoch epoch = kNoEpoch;  ///< ≥ 1: the epoch of the lock the sender holds
+  friend bool operator==(const StrokeEnd&, const StrokeEnd&) = default;
+};
+
+enum class EditAction : std::uint8_t {
+  Undo = 1,  ///< undo the sender's latest applied step (the host's own user: anybody's)
+  Redo = 2,  ///< redo the step the sender undid last
+};
+
+struct EditRequest {
+  EditAction action = EditAction::Undo;
+  friend bool operator==(const EditRequest&, const EditRequest&) = default;
+};
+
+/// One step of the session's edit history as the host lists it.
+struct EditLogEntry {
+  std::uint32_t step = 0;     ///< ≥ 1
+  PeerId author = kNoPeer;    ///< kNoPeer: not in this session (restored from a saved session)
+  PeerId undoneBy = kNoPeer;  ///< kNoPeer: applied
+  bool redoable = false;      ///< undoneBy may redo it; false while applied
+  QString authorName;         ///< ≤ kMaxNameBytes in UTF-8
+  friend bool operator==(const EditLogEntry&, const EditLogEntry&) = default;
+};
+
+/// The latest steps of the session's edit history, oldest first (≤ kMaxEditLogSteps, ids strictly ascending).
+struct EditLog {
+  std::vector<EditLogEntry> steps;
+  friend bool operator==(const EditLog&, const EditLog&) = default;
+};
+
 /// Any control message. LockMessage ↔ MessageType::LockRequest, LockNotice ↔ MessageType::LockNotice.
 using ControlMessage = std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk,
                                     ResolutionRequest, PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave,
-                                    Heartbeat, Constraints, StatsReport, LevelList>;
+                                    Heartbeat, Constraints, StatsReport, LevelList, StrokeEnd, EditRequest, EditLog>;
 
 /// The wire type of a message value.
 MessageType messageType(const ControlMessage& message);

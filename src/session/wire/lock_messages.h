@@ -25,6 +25,7 @@ using LockEpoch = std::uint32_t;
 using Millis = std::chrono::milliseconds;  ///< injected monotonic clock reading, origin arbitrary
 
 inline constexpr PeerId kNoPeer = 0;            ///< reserved: "nobody holds the lock"
+inline constexpr PeerId kHostPeer = 1;          ///< the host's own user
 inline constexpr LockEpoch kNoEpoch = 0;        ///< reserved: "never granted" / "whatever I hold or wait for"
 inline constexpr Millis kLockLease{3000};       ///< host revokes after strictly more than this much silence
 inline constexpr Millis kLockRenewEvery{1000};  ///< client renew period: three chances per lease

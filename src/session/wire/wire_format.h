@@ -177,6 +177,18 @@
 //    Lists the levels the host has built so far (it builds the whole ladder in the background after the first
 //    Welcome; count == total: complete); a ResolutionRequest for a listed vertexCount gets exactly that level.
 //
+// 0x52 StrokeEnd (lock holder → host: the drag that  | 0x53 EditRequest (member → host)
+//      was going on ended; it becomes an edit step)  |    0  1  action  1 = undo my latest step (the host's own
+//    0  4  epoch  the held lock's epoch, ≥ 1          |                    user: anybody's), 2 = redo what I undid
+//
+// 0x54 EditLog (host → all: after every change of the session's edit history, and to a newcomer)
+//    0  1  count  c ≤ kMaxEditLogSteps: the latest steps, then c entries, step ids strictly ascending:
+//          +0  4  step      ≥ 1, the step's id in this session
+//          +4  4  author    its author's PeerId; 0 = not in this session (restored from a saved session)
+//          +8  4  undoneBy  who undid it (PeerId), 0 = applied
+//          +12 1  redoable  1 = undoneBy may redo it (0 once undoneBy committed a newer step), 0 when applied
+//          +13 1  nameLen   n ≤ kMaxNameBytes, then n bytes: the author's name, UTF-8
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -187,8 +199,10 @@
 
 namespace sc::session {
 
-inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (encrypted datagrams, path challenge)
+inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
+/// 3: issue 14 (encrypted datagrams, path challenge); 4: issue 15 (strokes and the shared edit history, presence,
+/// moderation).
+inline constexpr std::uint8_t kProtocolVersion = 4;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
@@ -216,7 +230,10 @@ enum class MessageType : std::uint8_t {
   Constraints = 0x4f,
   StatsReport = 0x50,
   LevelList = 0x51,
-  ControlEnd,  ///< one past the last control type; keep last.
+  StrokeEnd = 0x52,    ///< since version 4
+  EditRequest = 0x53,  ///< since version 4
+  EditLog = 0x54,      ///< since version 4
+  ControlEnd,          ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
 inline constexpr std::uint8_t kFirstControlType = 0x40;
@@ -259,6 +276,7 @@ inline constexpr int kPathProbeSize = 6 + kPathChallengeValueSize + kTagSize;  /
 static_assert(kPathProbeSize <= kPathOpenSize, "a challenge must not send more than the PathOpen that caused it");
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
+inline constexpr int kMaxEditLogSteps = 64;  ///< EditLog: the latest steps of the session's edit history
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
 static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));              // largest Keyframe
 static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                              // largest ModelChunk
