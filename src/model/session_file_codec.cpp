@@ -1,6 +1,6 @@
 #include "model/session_file_codec.h"
 
-#include "model/session_file.h"
+#include "model/session_file_content.h"
 
 #include <QtEndian>
 

@@ -3,8 +3,8 @@
 // written, read, checked and (for version 1) expanded. Full-resolution vertex ids as plain ints (the app converts
 // its typed ids). Cost: O(ids) for everything here.
 
-#include "model/session_file.h"
 #include "model/session_file_codec.h"
+#include "model/session_file_content.h"
 
 #include <QString>
 

@@ -14,7 +14,7 @@
 // Its hostile-input guards are kept: lists bounded by #V and, expanded, by kMaxSessionFileIds (counted before any
 // copy); every state's ids in range, handle non-empty, pose finite and a rotation; the history index in range.
 
-#include "model/session_file.h"
+#include "model/session_file_content.h"
 
 #include <QByteArray>
 #include <QByteArrayView>

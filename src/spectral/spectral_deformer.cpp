@@ -37,10 +37,6 @@ double maxPoseTranslation(const Eigen::MatrixXd& rest) {
   return kMaxPoseTranslationDiagonals * std::max(diagonal, 1e-12);
 }
 
-HandleTransform composeHandleTransforms(const HandleTransform& base, const HandleTransform& delta) {
-  return {base.translation + delta.translation, delta.rotation * base.rotation};
-}
-
 SpectralDeformer::SpectralDeformer(const HarmonicBasis& basis, const LaplaceOperators& operators,
                                    const Eigen::MatrixXd& rest, const DeformerOptions& options)
     : m_basis(basis),

@@ -58,14 +58,6 @@ inline constexpr double kPoseRotationTolerance = 1e-3;
 /// deformer of that mesh. Cost: O(#V).
 [[nodiscard]] double maxPoseTranslation(const Eigen::MatrixXd& rest);
 
-/// A drag `delta` measured about the handle's current centroid c₀ (x ↦ R(x − c₀) + c₀ + t), applied after the
-/// pose `base` = (R₀, t₀) about the rest centroid c, as one pose about c: (R·R₀, t₀ + t). Exact when
-/// c₀ = c + t₀ (the handle sits on its target).
-/// @param[in] base  the pose the previous drags left.
-/// @param[in] delta  the drag since then, about the handle's centroid at its start.
-/// @return the composed pose about the rest centroid. Cost: O(1).
-HandleTransform composeHandleTransforms(const HandleTransform& base, const HandleTransform& delta);
-
 enum class DeformationMode {
   Linear,  ///< truncated biharmonic energy tr(ZᵀΛ²Z): one prefactored m×m solve per frame.
   Rigid,   ///< subspace as-rigid-as-possible (clustered local rotations + the same kind of global solve).

@@ -1,6 +1,7 @@
 // ConstraintEditor without a session: a fake EditTarget records what would be sent. Covers when constraints go out
-// (now with the lock, else when it is granted), the id map and the handle-wins rule, the composition of a drag's
-// poses with the previous drags', a lost lock ending a drag, and the state undo/redo reads and restores.
+// (now with the lock, else when it is granted), the id map and the handle-wins rule, each drag's poses sent as they
+// are and ended by a stroke end (the host applies them from the current shape), a lost lock ending a drag, and the
+// constraints a restored session adopts.
 
 #include "app/gui/constraint_editor.h"
 
@@ -31,6 +32,7 @@ class FakeTarget final : public EditTarget {
   bool refuse = false;
   std::vector<std::pair<FullVertexIds, FullVertexIds>> constraints;
   std::vector<spectral::HandleTransform> poses;
+  int strokeEnds = 0;
 
   [[nodiscard]] bool canDrag() const override { return locked; }
   [[nodiscard]] FullVertexIds fullIds(const DisplayVertexIds& ids) const override {
@@ -50,6 +52,11 @@ class FakeTarget final : public EditTarget {
   bool sendPose(const spectral::HandleTransform& pose) override {
     if (refuse) return false;
     poses.push_back(pose);
+    return true;
+  }
+  bool endStroke() override {
+    if (!locked) return false;
+    ++strokeEnds;
     return true;
   }
 };
@@ -78,7 +85,7 @@ TEST(ConstraintEditor, SendsWhenTheLockIsGrantedMappedAndTheHandleWins) {
   EXPECT_EQ(target.constraints.size(), 2u);
 }
 
-TEST(ConstraintEditor, DragsComposeWithThePosePreviousDragsLeft) {
+TEST(ConstraintEditor, EachDragSendsItsOwnPosesAndEndsWithAStrokeEnd) {
   FakeTarget target;
   target.locked = true;
   ConstraintEditor editor(target);
@@ -89,42 +96,45 @@ TEST(ConstraintEditor, DragsComposeWithThePosePreviousDragsLeft) {
   ASSERT_TRUE(editor.beginDrag());
   const Eigen::Matrix3d quarter = Eigen::AngleAxisd(0.5 * EIGEN_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), quarter));
+  EXPECT_EQ(target.strokeEnds, 0);
   editor.endDrag();
   EXPECT_FALSE(editor.dragging());
+  EXPECT_EQ(target.strokeEnds, 1) << "the drag's end makes it an edit step";
+  editor.endDrag();
+  EXPECT_EQ(target.strokeEnds, 1) << "no drag, no stroke end";
+  // the second drag's pose is its own: the host moves the handle from where the first drag left it
   ASSERT_TRUE(editor.beginDrag());
   ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(0.0, 2.0, 0.0), quarter));
   ASSERT_EQ(target.poses.size(), 2u);
-  EXPECT_TRUE(target.poses[1].translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));  // t₀ + t
-  EXPECT_TRUE(target.poses[1].rotation.isApprox(quarter * quarter));                  // R·R₀
-  EXPECT_TRUE(editor.sent()->translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));
+  EXPECT_TRUE(target.poses[1].translation.isApprox(Eigen::Vector3d(0.0, 2.0, 0.0)));
+  EXPECT_TRUE(target.poses[1].rotation.isApprox(quarter));
+  EXPECT_EQ(target.constraints.size(), 1u) << "the same constraints: not sent again";
 
-  target.refuse = true;  // a refused pose is not recorded as the last one
+  target.refuse = true;
   EXPECT_FALSE(editor.dragTo(Eigen::Vector3d(5.0, 0.0, 0.0), quarter));
-  EXPECT_TRUE(editor.sent()->translation.isApprox(Eigen::Vector3d(1.0, 2.0, 0.0)));
   target.refuse = false;
 
-  target.locked = false;  // losing the lock ends the drag
+  target.locked = false;  // losing the lock ends the drag (the host ended the stroke with the tenure)
   editor.lockChanged(false);
   EXPECT_FALSE(editor.dragging());
-  // A new constraint set starts from rest.
+  // Regaining it sends the constraints again; the host applies them from the shape as it is.
   target.locked = true;
   editor.lockChanged(true);
   EXPECT_EQ(target.constraints.size(), 2u);
-  EXPECT_TRUE(editor.sent()->translation.isZero());
 }
 
-TEST(ConstraintEditor, AdoptedStateIsTheNextDragsStartAndClearForgetsTheIds) {
+TEST(ConstraintEditor, AdoptedConstraintsNeedNoNewSendAndClearForgetsTheIds) {
   FakeTarget target;
   target.locked = true;
   ConstraintEditor editor(target);
-  HostDeformation state{full({7}), full({8, 9}), Eigen::Vector3d(0.0, 0.0, 3.0), Eigen::Matrix3d::Identity()};
+  const HostConstraints state{full({7}), full({8, 9})};
   editor.adopt(state, displayed({7}), displayed({8, 9}));
   EXPECT_EQ(editor.sent(), state);
   EXPECT_EQ(editor.anchors(), displayed({8, 9}));
   ASSERT_TRUE(editor.beginDrag());  // already sent: no new constraints
   EXPECT_TRUE(target.constraints.empty());
   ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
-  EXPECT_TRUE(target.poses.back().translation.isApprox(Eigen::Vector3d(1.0, 0.0, 3.0)));
+  EXPECT_TRUE(target.poses.back().translation.isApprox(Eigen::Vector3d(1.0, 0.0, 0.0)));
 
   editor.clear();
   EXPECT_TRUE(editor.handle().empty());

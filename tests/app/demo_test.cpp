@@ -8,7 +8,6 @@
 
 #include "app/gui/demo.h"
 #include "app/gui/client_controller.h"
-#include "app/gui/drag_commands.h"
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
@@ -164,8 +163,8 @@ TEST_F(DemoTest, ScreenshotDirWritesFourImagesAfterAScriptedDrag) {
   screenshots.start();
   ASSERT_TRUE(QTest::qWaitFor([&] { return done; }, 90000));
   ASSERT_TRUE(written) << message.toStdString();
-  // the scripted drag was a real drag of the host: it is in the undo history and moved the clients
-  EXPECT_EQ(demo.hostWindow()->dragHistory()->stack()->count(), 1);
+  // the scripted drag was a real drag of the host: it is a step of the session's edit history and moved the clients
+  EXPECT_EQ(demo.hostWindow()->session()->editLog().steps.size(), 1u);
   EXPECT_GT(demo.fullClientWindow()->session()->coefficients().norm(), 1e-6);
   for (const QString& name : DemoScreenshots::fileNames()) {
     const QImage image(QDir(shotOptions.directory).filePath(name));

@@ -1,11 +1,11 @@
 // Session save and re-host (the desktop issue "the host can save the session … and host again from it later"):
 // a window hosts a torus, makes three drags through its viewport's drag signals (the same wiring a mouse drag
 // uses) and undoes one; File → Save Session writes the file; the window is torn down; a new window hosts the file;
-// its displayed positions equal the saved deformed shape (within 1e-6 of the bounding-box diagonal), the undo
-// history is the saved one (three drags, two applied): Redo reaches the third drag's shape and Undo walks back to
-// the rest shape. A truncated file fails to host with a readable error.
+// its displayed positions equal the saved deformed shape (within 1e-6 of the bounding-box diagonal), the edit
+// history is the saved one (three drags, the third undone): Redo reaches the third drag's shape and Undo walks back
+// to the rest shape. A truncated file fails to host with a readable error.
 
-#include "app/gui/drag_commands.h"
+#include "app/gui/edit_actions.h"
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
@@ -25,7 +25,6 @@
 #include <QFileInfo>
 #include <QTemporaryDir>
 #include <QTest>
-#include <QUndoStack>
 
 #include <memory>
 #include <span>
@@ -109,24 +108,27 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), second) > 0.02f; }, 10000));
     QTest::qWait(50);
     third = copyOf(session->positions());
-    DragHistory* history = window->dragHistory();
-    ASSERT_EQ(history->stack()->count(), 3);
+    EditActions* history = window->editActions();
+    ASSERT_EQ(session->editLog().steps.size(), 3u);
     ASSERT_TRUE(history->undo());
     ASSERT_TRUE(shows(*window, second));
 
     QString error;
     ASSERT_TRUE(window->saveSession(sessionPath, &error)) << error.toStdString();
-    // what was written: the mesh, m, the current state and the history (3 drags, 2 applied)
+    // what was written: the mesh, m, the current constraints, Z and the history (3 drags, the last one undone)
     const model::SessionFileResult read = model::readSessionFile(sessionPath);
     ASSERT_TRUE(std::holds_alternative<model::SessionFile>(read))
         << std::get<model::SessionFileError>(read).message.toStdString();
     const auto& file = std::get<model::SessionFile>(read);
     EXPECT_EQ(file.V.rows(), V.rows());
     EXPECT_EQ(file.m, 20);
-    EXPECT_EQ(file.history.size(), 3u);
-    EXPECT_EQ(file.historyIndex, 2);
+    ASSERT_EQ(file.steps.size(), 3u);
+    EXPECT_FALSE(file.steps[0].undone);
+    EXPECT_FALSE(file.steps[1].undone);
+    EXPECT_TRUE(file.steps[2].undone);
+    EXPECT_EQ(file.steps[0].author, QStringLiteral("alice"));
     ASSERT_TRUE(file.current.has_value());
-    EXPECT_EQ(file.current->handle, intIds<spectral::FullVertexTag>(session->hostDeformation()->handle));
+    EXPECT_EQ(file.current->handle, intIds<spectral::FullVertexTag>(session->sentConstraints()->handle));
     EXPECT_TRUE(file.Z.isApprox(session->coefficients()));
   }  // the hosting window is torn down
 
@@ -140,9 +142,8 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
   RecordProperty("session_file_bytes", std::to_string(QFileInfo(sessionPath).size()));
   EXPECT_TRUE(session->canDrag());
   EXPECT_EQ(window->viewport()->handles(), intIds<spectral::DisplayVertexTag>(session->handle()));
-  DragHistory* history = window->dragHistory();
-  EXPECT_EQ(history->stack()->count(), 3);
-  EXPECT_EQ(history->stack()->index(), 2);
+  EditActions* history = window->editActions();
+  EXPECT_EQ(session->editLog().steps.size(), 3u);
   EXPECT_TRUE(window->findChild<QAction*>(QStringLiteral("actionRedo"))->isEnabled());
   ASSERT_TRUE(history->redo());
   EXPECT_TRUE(shows(*window, third)) << maxDifference(session->positions(), third);

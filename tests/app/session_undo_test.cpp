@@ -1,10 +1,11 @@
 // Issue 5 item 10 on a real loopback session inside one process (a hosting MainWindow and a joining MainWindow):
 // the host takes the lock, paints a handle and anchors with the Handle and Anchors tools and drags with the Drag
-// tool, all with simulated mouse strokes on its viewport; the client's displayed positions follow; Edit → Undo on
-// the host brings the client back to the previous shape and Redo forward again; File → Export writes the client's
+// tool, all with simulated mouse strokes on its viewport; the client's displayed positions follow; each drag is a
+// step of the session's edit history (issue 15); Edit → Undo on the host brings the client back to the previous
+// shape and Redo forward again, with or without the lock; File → Export writes the client's
 // displayed mesh, which model::loadMesh reads back with the client's vertex count; a screenshot is saved as PNG.
 
-#include "app/gui/drag_commands.h"
+#include "app/gui/edit_actions.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/vertex_id_lists.h"
@@ -22,7 +23,6 @@
 #include <QImage>
 #include <QMouseEvent>
 #include <QTest>
-#include <QUndoStack>
 
 #include <cmath>
 #include <filesystem>
@@ -104,8 +104,9 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   ASSERT_EQ(rest.size(), static_cast<std::size_t>(3 * m_mesh.V.rows()));
 
   // Undo/redo live in the Edit menu and are off until there is something to undo.
-  DragHistory* history = hostWindow.dragHistory();
+  EditActions* history = hostWindow.editActions();
   ASSERT_NE(history, nullptr);
+  const auto steps = [hosting] { return hosting->editLog().steps.size(); };
   auto* undoAction = hostWindow.findChild<QAction*>(QStringLiteral("actionUndo"));
   auto* redoAction = hostWindow.findChild<QAction*>(QStringLiteral("actionRedo"));
   ASSERT_NE(undoAction, nullptr);
@@ -145,7 +146,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   stroke(view, anchorAt - QPoint(0, 20), anchorAt + QPoint(0, 20));
   ASSERT_FALSE(hosting->anchors().empty());
   EXPECT_GE(hosting->counters().constraintsAccepted, 2u);
-  ASSERT_TRUE(hosting->hostDeformation().has_value());
+  ASSERT_TRUE(hosting->sentConstraints().has_value());
 
   // The first mouse drag with the Drag tool: the client's displayed positions change and follow the host's.
   hostWindow.findChild<QAction*>(QStringLiteral("actionToolDrag"))->trigger();
@@ -153,7 +154,8 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   ASSERT_TRUE(view->dragAllowed());
   stroke(view, handleAt, handleAt + QPoint(-50, -40));
   EXPECT_FALSE(hosting->dragging());
-  EXPECT_EQ(history->stack()->count(), 1);
+  EXPECT_EQ(steps(), 1u);
+  EXPECT_EQ(hosting->editLog().steps[0].author, session::kHostPeer);
   EXPECT_GT(hosting->counters().dragsAccepted, 0u);
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), rest) > 0.05f; }, 10000))
       << maxDifference(joined->positions(), rest) << " host " << maxDifference(hosting->positions(), rest) << " handle "
@@ -161,8 +163,9 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
       << handleAt.y() << " in " << view->width() << "x" << view->height();
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   const std::vector<float> afterFirst = copyOf(joined->positions());
-  EXPECT_EQ(history->stack()->count(), 1);
+  EXPECT_EQ(steps(), 1u);
   EXPECT_TRUE(undoAction->isEnabled());
+  EXPECT_EQ(undoAction->text(), QStringLiteral("&Undo your drag"));
   EXPECT_FALSE(redoAction->isEnabled());
 
   // A second drag from where the handle is now.
@@ -171,7 +174,7 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
       << movedHandle.x() << "," << movedHandle.y() << " in " << view->width() << "x" << view->height() << " from "
       << handleAt.x() << "," << handleAt.y();
   stroke(view, movedHandle, movedHandle + QPoint(-40, -30));
-  ASSERT_EQ(history->stack()->count(), 2);
+  ASSERT_EQ(steps(), 2u);
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) > 0.05f; }, 10000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));
   const std::vector<float> afterSecond = copyOf(joined->positions());
@@ -189,23 +192,29 @@ TEST_F(SessionUndoTest, MouseDragOnTheHostMovesTheClientAndUndoBringsItBack) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterFirst) < 1e-3f; }, 10000));
   ASSERT_TRUE(history->redo());
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), afterSecond) < 1e-3f; }, 10000));
-  // The handle and anchors shown are the restored state's.
+  // Undo and redo change the shape, not the constraints: the handle and anchors shown stay.
   EXPECT_EQ(view->handles(), intIds<spectral::DisplayVertexTag>(hosting->handle()));
 
-  // A drag after an undo starts from the restored pose and drops the redo branch.
+  // A drag after an undo starts from the shape as it is and ends the redo of the undone step (listed, undone).
   ASSERT_TRUE(history->undo());
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(hosting->positions(), afterFirst) < 1e-3f; }, 10000));
   const QPoint again = inwards(screenOf(hostWindow, hosting->positions(), origin, handleVertex));
   stroke(view, again, again + QPoint(0, 40));
-  EXPECT_EQ(history->stack()->count(), 2);
+  EXPECT_EQ(steps(), 3u);
+  EXPECT_NE(hosting->editLog().steps[1].undoneBy, session::kNoPeer);
   EXPECT_FALSE(history->canRedo());
 
-  // Only the lock holder on the host may undo; a client has nothing to undo.
-  EXPECT_FALSE(clientWindow.dragHistory()->canUndo());
+  // A client has nothing of its own to undo; the host may undo without the lock (undo is not a drag).
+  ASSERT_TRUE(QTest::qWaitFor([&] { return joined->editLog().steps.size() == 3u; }, 5000));
+  EXPECT_FALSE(clientWindow.editActions()->canUndo());
   hostWindow.findChild<QAction*>(QStringLiteral("actionLock"))->trigger();
   ASSERT_TRUE(QTest::qWaitFor([hosting] { return !hosting->canDrag(); }, 5000));
-  EXPECT_FALSE(undoAction->isEnabled());
-  EXPECT_FALSE(history->undo());
+  EXPECT_TRUE(undoAction->isEnabled());
+  const std::vector<float> beforeUndo = copyOf(hosting->positions());
+  ASSERT_TRUE(history->undo());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(hosting->positions(), afterFirst) < 1e-3f; }, 10000));
+  ASSERT_TRUE(history->redo());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(hosting->positions(), beforeUndo) < 1e-3f; }, 10000));
 
   // Export: the client's displayed mesh (its resolution, current shape) as OBJ and PLY, read back by loadMesh.
   ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(joined->positions(), hosting->positions()) < 1e-3f; }, 10000));

@@ -196,6 +196,30 @@ TEST_F(HostEngineEdits, ALockThatEndsEndsTheStrokeAndUndoNeedsNoLock) {
   EXPECT_LT(engine().coefficients().cwiseAbs().maxCoeff(), 1e-12);
 }
 
+TEST_F(HostEngineEdits, AMemberWhoVanishesMidStrokeLeavesItsStrokeAsAStepUnderItsName) {
+  startEngine();
+  const PeerId bob = join(QStringLiteral("bob"));
+  engine().onMessage(bob, LockMessage{LockRequestKind::Request, kNoEpoch}, now());
+  const LockEpoch epoch = engine().arbiter().epoch();
+  Constraints constraints;
+  constraints.epoch = epoch;
+  constraints.groups.push_back(where([](const Eigen::Vector3d& x) { return x.z() > 0.8; }));
+  completeConstraints(engine().onMessage(bob, constraints, now()));
+  spectral::HandleTransform pose;
+  pose.translation = Eigen::Vector3d(0.0, 0.0, 0.2);
+  advance(20ms);
+  engine().onMessage(bob, Drag{epoch, {toWire(0, pose)}}, now());
+  const Eigen::MatrixXd shape = engine().coefficients();
+  engine().onClosed(bob, now());  // no StrokeEnd, no Leave
+  ASSERT_EQ(engine().history().steps().size(), 1u);
+  EXPECT_EQ(engine().history().steps()[0].authorName, QStringLiteral("bob"));
+  EXPECT_EQ(engine().coefficients(), shape) << "what bob did stays";
+  // and the host may still undo it
+  bool applied = false;
+  engine().edit(EditAction::Undo, now(), &applied);
+  EXPECT_TRUE(applied);
+}
+
 TEST_F(HostEngineEdits, EditRequestsOverTheirRateAreIgnored) {
   startEngine();
   const PeerId bob = join(QStringLiteral("bob"));

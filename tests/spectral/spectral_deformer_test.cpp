@@ -227,24 +227,5 @@ TEST(SpectralDeformer, HugeOrNonFinitePosesAreRejectedAndThePreviousZKept) {
   }
 }
 
-TEST(ComposeHandleTransforms, EqualsApplyingTheDragAfterTheBasePoseAboutTheMovedCentroid) {
-  const Eigen::Vector3d c(0.3, -1.0, 2.0);  // rest centroid
-  const HandleTransform base{Eigen::Vector3d(1.0, 0.5, -0.25),
-                             Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix()};
-  const HandleTransform delta{Eigen::Vector3d(-0.5, 2.0, 0.75),
-                              Eigen::AngleAxisd(-1.1, Eigen::Vector3d(0, 1, -1).normalized()).toRotationMatrix()};
-  const HandleTransform pose = composeHandleTransforms(base, delta);
-  const Eigen::Vector3d c0 = c + base.translation;  // the handle sits on its target
-  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, -2, 0.5), c}) {
-    const Eigen::Vector3d afterBase = base.rotation * (x - c) + c + base.translation;
-    const Eigen::Vector3d expected = delta.rotation * (afterBase - c0) + c0 + delta.translation;
-    const Eigen::Vector3d composed = pose.rotation * (x - c) + c + pose.translation;
-    EXPECT_LT((composed - expected).norm(), 1e-12);
-  }
-  const HandleTransform identity;
-  EXPECT_TRUE(composeHandleTransforms(identity, delta).rotation.isApprox(delta.rotation));
-  EXPECT_TRUE(composeHandleTransforms(identity, delta).translation.isApprox(delta.translation));
-}
-
 }  // namespace
 }  // namespace sc::spectral

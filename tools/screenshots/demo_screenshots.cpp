@@ -1,7 +1,6 @@
 #include "tools/screenshots/demo_screenshots.h"
 
 #include "app/gui/demo.h"
-#include "app/gui/drag_commands.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/network_conditions_dock.h"
@@ -119,7 +118,7 @@ void DemoScreenshots::beginDrag() {
   const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   m_finalTranslation = Eigen::Vector3d(0.3, 1.0, 0.2).normalized() * kLiftFraction * diagonal;
   m_wobble = Eigen::Vector3d(1.0, 0.0, -0.5).normalized() * kWobbleFraction * diagonal;
-  if (session->beginDrag()) m_demo.hostWindow()->dragHistory()->dragStarted();
+  session->beginDrag();
   m_clock.restart();
   connect(m_timer, &QTimer::timeout, this, &DemoScreenshots::dragStep);
   m_timer->start(kDragStepMs);
@@ -147,7 +146,6 @@ void DemoScreenshots::endDrag() {
   m_timer->disconnect(this);
   MainWindow* host = m_demo.hostWindow();
   host->session()->endDrag();
-  host->dragHistory()->dragFinished();
 }
 
 void DemoScreenshots::grabDemoWindows() {

@@ -3,8 +3,8 @@
 // --screenshot-dir …`, which runs it): README screenshots of the real demo. Not part of the application: this tool
 // drives the GUI library's public API only. Once the demo's three windows are live, the host plays a scripted drag
 // of its default handle through the calls a mouse drag ends in (MainWindow::session()'s beginDrag(), dragTo() and
-// endDrag(), with MainWindow::dragHistory() told around it, as the window does for its viewport's drag gestures:
-// the session solves and streams every step, the drag lands in the undo history) for the given time, so that the shape,
+// endDrag(), as the window does for its viewport's drag gestures: the session solves and streams every step, and the
+// drag's end makes it a step of the session's edit history) for the given time, so that the shape,
 // the clients' displays and every Statistics chart (distortion, loss, bandwidth, frame rate) are live; then, with the
 // drag still going, each window is resized to a sensible size, its view framed on the deformed shape and grabbed with
 // QWidget::grab (which includes the OpenGL viewport) into

@@ -68,6 +68,7 @@ void ClientController::connectClient() {
     emit progress(percent, tr("Downloading the model"));
   });
   connect(m_client, &SessionClient::lockChanged, this, &ClientController::onLockChanged);
+  connect(m_client, &SessionClient::editLogChanged, this, &ClientController::editLogChanged);
   connect(m_client, &SessionClient::peersChanged, this, &ClientController::peersChanged);
   connect(m_client, &SessionClient::levelsChanged, this, &ClientController::levelsChanged);
 }
@@ -140,6 +141,17 @@ bool ClientController::sendConstraints(const spectral::FullVertexIds& handle, co
 
 bool ClientController::sendPose(const spectral::HandleTransform& pose) {
   return m_client->sendDrag({session::toWire(0, pose)});
+}
+
+bool ClientController::endStroke() { return m_client != nullptr && m_client->endStroke(); }
+
+session::EditLog ClientController::editLog() const {
+  return state() == State::Live ? m_client->editLog() : session::EditLog{};
+}
+
+bool ClientController::requestEdit(session::EditAction action) {
+  if (state() != State::Live || dragging()) return false;
+  return m_client->requestEdit(action);
 }
 
 // ---------------------------------------------------------------------------------------------------- identity

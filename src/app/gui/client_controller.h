@@ -63,6 +63,8 @@ class ClientController final : public SessionController {
   bool setNetworkConditions(double loss, double burstLength, int delayMs) override;
   [[nodiscard]] NetworkConditions networkConditions() const override;
   [[nodiscard]] session::PeerList peers() const override;
+  [[nodiscard]] session::EditLog editLog() const override;
+  bool requestEdit(session::EditAction action) override;
   /// Only this client's own figures (selfId()), from its receiver statistics and distortion meter.
   [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
   [[nodiscard]] QByteArray hostFingerprint() const override;
@@ -82,6 +84,7 @@ class ClientController final : public SessionController {
   [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
   bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
   bool sendPose(const spectral::HandleTransform& pose) override;
+  bool endStroke() override;
 
  private:
   void connectClient();

@@ -29,10 +29,9 @@ bool ConstraintEditor::send() {
   std::erase_if(anchors,
                 [&handle](spectral::FullVertexId id) { return std::binary_search(handle.begin(), handle.end(), id); });
   m_sent = m_target.sendConstraints(handle, anchors);
-  if (m_sent) {  // a new constraint set starts from rest
+  if (m_sent) {  // the host applies it from the shape as it is now
     m_sentHandle = handle;
     m_sentAnchors = std::move(anchors);
-    m_base = m_last = spectral::HandleTransform{};
   }
   return m_sent;
 }
@@ -40,17 +39,19 @@ bool ConstraintEditor::send() {
 bool ConstraintEditor::beginDrag() {
   if (!m_target.canDrag() || m_handle.empty()) return false;
   if (!m_sent && !send()) return false;
-  m_base = m_last;
   m_dragging = true;
   return true;
 }
 
 bool ConstraintEditor::dragTo(const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation) {
   if (!m_dragging || !m_target.canDrag()) return false;
-  const spectral::HandleTransform pose = spectral::composeHandleTransforms(m_base, {translation, rotation});
-  if (!m_target.sendPose(pose)) return false;
-  m_last = pose;
-  return true;
+  return m_target.sendPose({translation, rotation});
+}
+
+void ConstraintEditor::endDrag() {
+  if (!m_dragging) return;
+  m_dragging = false;
+  m_target.endStroke();  // refused without the lock: the host ended the stroke when the lock went
 }
 
 void ConstraintEditor::lockChanged(bool held) {
@@ -68,19 +69,18 @@ void ConstraintEditor::clear() {
   m_anchors.clear();
 }
 
-std::optional<HostDeformation> ConstraintEditor::sent() const {
+std::optional<HostConstraints> ConstraintEditor::sent() const {
   if (!m_sent) return std::nullopt;
-  return HostDeformation{m_sentHandle, m_sentAnchors, m_last.translation, m_last.rotation};
+  return HostConstraints{m_sentHandle, m_sentAnchors};
 }
 
-void ConstraintEditor::adopt(const HostDeformation& state, spectral::DisplayVertexIds handle,
+void ConstraintEditor::adopt(const HostConstraints& state, spectral::DisplayVertexIds handle,
                              spectral::DisplayVertexIds anchors) {
   m_handle = std::move(handle);
   m_anchors = std::move(anchors);
   m_sentHandle = state.handle;
   m_sentAnchors = state.anchors;
   m_sent = true;
-  m_base = m_last = spectral::HandleTransform{state.translation, state.rotation};
 }
 
 }  // namespace sc::app

@@ -2,9 +2,11 @@
 // ConstraintEditor: one user's constraint set and drags of the handle, the same for a host and a client (each
 // SessionController owns one). It keeps the displayed vertex ids the user painted, maps them to full-resolution
 // ids when sending (EditTarget::fullIds: identity on a host, the level's P on a client), sends the constraints as
-// soon as the lock is held (at once, or when it is granted), and composes the viewport's per-drag poses with the
-// pose the previous drags of the same constraints left. No Qt and no sockets: the EditTarget (the controller) says
-// whether the lock is held and carries what is sent. Cost: O(k log k) per send for k ids; O(1) per pose.
+// soon as the lock is held (at once, or when it is granted), sends each drag's poses and ends each drag with a
+// stroke end. Edits accumulate (issue 15): the host applies a new constraint set, and each drag after a stroke
+// end, from the shape as it is, so every drag's pose starts at identity about the handle's current centroid. No Qt
+// and no sockets: the EditTarget (the controller) says whether the lock is held and carries what is sent.
+// Cost: O(k log k) per send for k ids; O(1) per pose.
 
 #include "app/gui/session_settings.h"
 #include "spectral/spectral_deformer.h"
@@ -26,8 +28,10 @@ class EditTarget {
   [[nodiscard]] virtual spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const = 0;
   /// Sends one handle group and the anchors (disjoint, sorted); false when refused (nothing sent).
   virtual bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) = 0;
-  /// Sends the handle's pose about its rest centroid; false when refused.
+  /// Sends the handle's pose about its centroid at the drag's start; false when refused.
   virtual bool sendPose(const spectral::HandleTransform& pose) = 0;
+  /// The drag ended: the host records it as this user's edit step and the next drag starts from this shape.
+  virtual bool endStroke() = 0;
 
  protected:
   EditTarget() = default;
@@ -49,10 +53,11 @@ class ConstraintEditor final {
 
   /// Starts a drag: false without the lock or a handle, or when the constraints cannot be sent.
   bool beginDrag();
-  /// The pose since beginDrag() (x ↦ R(x − c₀) + c₀ + t about the handle's centroid at the drag's start), composed
-  /// with the pose (R₀, t₀) the previous drags left into (R·R₀, t₀ + t) and sent. False outside a drag or refused.
+  /// The pose since beginDrag() (x ↦ R(x − c₀) + c₀ + t about the handle's centroid at the drag's start), sent as
+  /// it is (the host moves the handle from where it is). False outside a drag or refused.
   bool dragTo(const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation);
-  void endDrag() { m_dragging = false; }
+  /// Ends a drag: its stroke end is sent (it becomes this user's edit step).
+  void endDrag();
   [[nodiscard]] bool dragging() const { return m_dragging; }
 
   /// The lock changed: gaining it sends the constraints (again); losing it ends a drag.
@@ -60,11 +65,11 @@ class ConstraintEditor final {
   /// A new displayed level: the painted ids mean nothing on it (cleared, nothing sent).
   void clear();
 
-  /// The constraints last sent (full ids) with the pose of the last drag; nullopt before any were sent.
-  [[nodiscard]] std::optional<HostDeformation> sent() const;
-  /// The target applied `state` itself (undo/redo): it becomes the sent state and the next drag starts from its
-  /// pose; `handle` and `anchors` are its displayed ids.
-  void adopt(const HostDeformation& state, spectral::DisplayVertexIds handle, spectral::DisplayVertexIds anchors);
+  /// The constraints last sent (full ids); nullopt before any were sent.
+  [[nodiscard]] std::optional<HostConstraints> sent() const;
+  /// The target applied `state` itself (a restored session): it becomes the sent state; `handle` and `anchors` are
+  /// its displayed ids.
+  void adopt(const HostConstraints& state, spectral::DisplayVertexIds handle, spectral::DisplayVertexIds anchors);
 
  private:
   bool send();
@@ -77,8 +82,6 @@ class ConstraintEditor final {
   bool m_sent = false;
   bool m_hadLock = false;
   bool m_dragging = false;
-  spectral::HandleTransform m_base;  ///< pose left by the previous drags (R₀, t₀)
-  spectral::HandleTransform m_last;  ///< the last pose sent
 };
 
 }  // namespace sc::app

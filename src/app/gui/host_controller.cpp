@@ -4,7 +4,7 @@
 
 #include "app/common/password_memory.h"
 #include "app/gui/host_preparation.h"
-#include "app/gui/saved_deformation.h"
+#include "app/gui/saved_constraints.h"
 #include "app/gui/vertex_id_lists.h"
 #include "model/decimating_level_builder.h"
 #include "model/session_file.h"
@@ -97,6 +97,7 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   }
   connect(m_host, &session::SessionHost::frameSent, this, &HostController::onFrame);
   connect(m_host, &session::SessionHost::lockChanged, this, &HostController::onLockChanged);
+  connect(m_host, &session::SessionHost::editHistoryChanged, this, &HostController::editLogChanged);
   connect(m_host, &session::SessionHost::peersChanged, this, &HostController::peersChanged);
   connect(m_host, &session::SessionHost::statsReported, this, &HostController::statsChanged);
   showLevel(std::move(prepared->level));
@@ -111,18 +112,37 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
 }
 
 void HostController::restoreSavedSession() {
-  const auto restore = [this] {
-    if (m_saved->current && !restoreHostDeformation(toHostDeformation(*m_saved->current))) {
-      emit failed(tr("The saved shape could not be restored (the deformer refused its constraints)."));
-    }
-    emit savedSessionRestored();
-  };
-  if (!m_saved->current) {
+  // The shape and the edit history first: they need no lock (nobody has joined yet).
+  const Eigen::MatrixXd Z = m_saved->Z.size() > 0 ? m_saved->Z : Eigen::MatrixXd::Zero(m_model->rowCount(), 3);
+  std::vector<session::EditStep> steps;
+  steps.reserve(m_saved->steps.size());
+  for (const model::SavedEditStep& saved : m_saved->steps) {
+    steps.push_back({0, session::kNoPeer, saved.author, saved.delta,
+                     saved.undone ? session::kHostPeer : session::kNoPeer, saved.undone});
+  }
+  if (!m_host->restoreEdits(Z, steps)) {
+    emit failed(tr("The saved shape could not be restored (its coefficients do not fit this basis)."));
     emit savedSessionRestored();
     return;
   }
-  // The host's own lock request is granted at once when nobody holds the lock (a fresh host); otherwise the state
-  // is restored when it is granted.
+  showFrame({m_host->currentFrame(), Z.cast<float>()});
+  emit editLogChanged();
+  const std::optional<model::SavedConstraints> current = m_saved->current;
+  if (!current) {
+    emit savedSessionRestored();
+    return;
+  }
+  // Then the host user's constraints, as the lock holder: granted at once when nobody holds the lock (a fresh
+  // host); otherwise set when it is granted.
+  const auto restore = [this, current] {
+    const HostConstraints constraints = toHostConstraints(*current);
+    if (m_host->setConstraints(constraintSet(constraints.handle, constraints.anchors))) {
+      editor().adopt(constraints, displayedIds(constraints.handle), displayedIds(constraints.anchors));
+    } else {
+      emit failed(tr("The saved handle and anchors could not be restored (the deformer refused them)."));
+    }
+    emit savedSessionRestored();
+  };
   requestLock();
   if (canDrag()) {
     restore();
@@ -201,18 +221,20 @@ bool HostController::sendPose(const spectral::HandleTransform& pose) {
   return m_host->drag(std::span<const spectral::HandleTransform>(&pose, 1));
 }
 
-std::optional<HostDeformation> HostController::hostDeformation() const {
-  if (m_host == nullptr) return std::nullopt;
-  return editor().sent();
+bool HostController::endStroke() { return m_host != nullptr && m_host->endStroke(); }
+
+session::EditLog HostController::editLog() const {
+  return state() == State::Live ? m_host->history().log() : session::EditLog{};
 }
 
-bool HostController::restoreHostDeformation(const HostDeformation& state) {
-  if (m_host == nullptr || dragging() || !canDrag() || state.handle.empty()) return false;
-  if (!m_host->setConstraints(constraintSet(state.handle, state.anchors))) return false;
-  const spectral::HandleTransform pose{state.translation, state.rotation};
-  if (!sendPose(pose)) return false;
-  editor().adopt(state, displayedIds(state.handle), displayedIds(state.anchors));
-  return true;
+bool HostController::requestEdit(session::EditAction action) {
+  if (state() != State::Live || dragging()) return false;
+  return m_host->edit(action);
+}
+
+std::vector<session::EditStep> HostController::editSteps() const {
+  if (state() != State::Live) return {};
+  return {m_host->history().steps().begin(), m_host->history().steps().end()};
 }
 
 // ---------------------------------------------------------------------------------------------------- figures

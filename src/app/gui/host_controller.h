@@ -11,6 +11,7 @@
 // queued, not guaranteed to be written).
 
 #include "app/gui/session_controller.h"
+#include "session/engine/edit_history.h"
 
 #include <memory>
 
@@ -44,12 +45,12 @@ class HostController final : public SessionController {
   bool requestLock() override;
   [[nodiscard]] session::PeerId lockHolder() const override;
   [[nodiscard]] std::vector<session::PeerId> lockQueue() const override;
-  [[nodiscard]] std::optional<HostDeformation> hostDeformation() const override;
   [[nodiscard]] const model::SessionFile* savedSession() const override { return m_saved.get(); }
-  /// As the lock holder and outside a drag: sets `state`'s constraints and solves its pose again, so that everyone
-  /// sees that shape (a new frame); handle() and anchors() become the state's and the next drag starts from its
-  /// pose. False (nothing changed) without the lock, during a drag, with an empty handle or ids the deformer refuses.
-  bool restoreHostDeformation(const HostDeformation& state) override;
+  [[nodiscard]] session::EditLog editLog() const override;
+  bool requestEdit(session::EditAction action) override;
+  /// Every step of the session's edit history (authors' names, ΔZ, undone or not), oldest first: what a saved
+  /// session keeps. Empty when not live.
+  [[nodiscard]] std::vector<session::EditStep> editSteps() const;
   /// The deformer's exact Z (m by 3, double; the displayed frame is its float copy).
   [[nodiscard]] Eigen::MatrixXd coefficients() const override;
   [[nodiscard]] std::vector<LevelChoice> levels() const override;
@@ -74,6 +75,7 @@ class HostController final : public SessionController {
   [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
   bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
   bool sendPose(const spectral::HandleTransform& pose) override;
+  bool endStroke() override;
 
  private:
   void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);

@@ -6,7 +6,7 @@
 
 #include "ui_main_window.h"
 
-#include "app/gui/drag_commands.h"
+#include "app/gui/edit_actions.h"
 #include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/interactive_proxy.h"
@@ -84,7 +84,7 @@ bool MainWindow::saveSession(const QString& path, QString* error) {
     if (error != nullptr) *error = tr("Only a live host can save its session.");
     return false;
   }
-  return sc::app::saveSession(path, *host, m_dragHistory, error);
+  return sc::app::saveSession(path, *host, error);
 }
 
 void MainWindow::chooseAndSaveSession() {
@@ -119,11 +119,11 @@ void MainWindow::setUpEditAndExport() {
   // Edit → Undo/Redo (the drag history), before the View menu.
   auto* editMenu = new QMenu(tr("&Edit"), this);
   editMenu->setObjectName(QStringLiteral("menuEdit"));
-  editMenu->addAction(m_dragHistory->undoAction());
-  editMenu->addAction(m_dragHistory->redoAction());
+  editMenu->addAction(m_editActions->undoAction());
+  editMenu->addAction(m_editActions->redoAction());
   menuBar()->insertMenu(ui->menuView->menuAction(), editMenu);
-  addAction(m_dragHistory->undoAction());  // shortcuts work whichever widget has the focus
-  addAction(m_dragHistory->redoAction());
+  addAction(m_editActions->undoAction());  // shortcuts work whichever widget has the focus
+  addAction(m_editActions->redoAction());
   // File → Export Deformed Mesh… / Save Screenshot…, before Quit's separator.
   auto* exportAction = new QAction(tr("&Export Deformed Mesh…"), this);
   exportAction->setObjectName(QStringLiteral("actionExportMesh"));

@@ -22,7 +22,7 @@ class MainWindow;
 namespace sc::app {
 
 class MeshViewport;
-class DragHistory;
+class EditActions;
 class SessionController;
 class InteractiveProxyBuilder;
 class SessionDocks;
@@ -69,8 +69,8 @@ class MainWindow : public QMainWindow {
   /// its redraw (normals, paint, composition: FrameTimes), ms.
   [[nodiscard]] double reconstructionMs() const;
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
-  /// Undo/redo of the host user's committed drags (Edit menu; see drag_commands.h).
-  [[nodiscard]] DragHistory* dragHistory() const { return m_dragHistory; }
+  /// Undo/redo of the session's shared edit history (Edit menu; see edit_actions.h).
+  [[nodiscard]] EditActions* editActions() const { return m_editActions; }
 
   // --- export (File menu; also used by tests)
   /// Writes the displayed mesh (the session's current positions at this peer's resolution with that level's
@@ -142,7 +142,7 @@ class MainWindow : public QMainWindow {
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
-  DragHistory* m_dragHistory = nullptr;
+  EditActions* m_editActions = nullptr;
   InteractiveProxyBuilder* m_proxyBuilder = nullptr;  ///< the viewport's proxy while a dense mesh moves
   Eigen::MatrixXd m_openedV;  ///< the mesh last opened with openMesh() (exported when not in a session)
   Eigen::MatrixXi m_openedF;

@@ -7,7 +7,7 @@
 #include "ui_main_window.h"
 
 #include "app/gui/client_controller.h"
-#include "app/gui/drag_commands.h"
+#include "app/gui/edit_actions.h"
 #include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/interactive_proxy.h"
@@ -18,6 +18,7 @@
 #include "app/gui/session_docks.h"
 #include "app/gui/session_identity_view.h"
 #include "app/gui/vertex_id_lists.h"
+#include "model/session_file.h"
 
 #include <QActionGroup>
 #include <QComboBox>
@@ -115,10 +116,10 @@ void MainWindow::connectViewportToSession() {
   connect(ui->viewport, &MeshViewport::anchorsPainted, this, [this](const std::vector<int>& anchors) {
     if (m_session != nullptr) m_session->setAnchors(typedIds<spectral::DisplayVertexId>(anchors));
   });
-  // Committed drags of the host's own user go to the undo history (Edit menu).
-  m_dragHistory = new DragHistory(this);
+  // Each drag is a stroke: its end makes it an edit step of the session's shared history (Edit menu).
+  m_editActions = new EditActions(this);
   connect(ui->viewport, &MeshViewport::dragStarted, this, [this] {
-    if (m_session != nullptr && m_session->beginDrag()) m_dragHistory->dragStarted();
+    if (m_session != nullptr && m_session->beginDrag()) m_editActions->refresh();
   });
   connect(ui->viewport, &MeshViewport::dragMoved, this,
           [this](const Eigen::Vector3d& translation, const Eigen::Matrix3d& rotation) {
@@ -127,7 +128,7 @@ void MainWindow::connectViewportToSession() {
   connect(ui->viewport, &MeshViewport::dragFinished, this, [this] {
     if (m_session == nullptr) return;
     m_session->endDrag();
-    m_dragHistory->dragFinished();
+    m_editActions->refresh();
   });
   connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
     const FrameTimes& frame = ui->viewport->frameTimes();
@@ -152,11 +153,20 @@ void MainWindow::setUpSessionDocks() {
   addDockWidget(Qt::RightDockWidgetArea, m_networkDock);
   ui->menuView->addAction(m_networkDock->toggleViewAction());
   connect(this, &MainWindow::sessionStarted, m_networkDock, &NetworkConditionsDock::bind);
-  connect(this, &MainWindow::sessionStarted, m_dragHistory, &DragHistory::bind);
-  connect(m_dragHistory, &DragHistory::restored, this, [this] {
-    if (m_session == nullptr) return;
-    ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(m_session->handle()),
-                               intIds<spectral::DisplayVertexTag>(m_session->anchors()));
+  connect(this, &MainWindow::sessionStarted, m_editActions, &EditActions::bind);
+  connect(this, &MainWindow::sessionStarted, this, [this](SessionController* controller) {
+    if (controller == nullptr) return;
+    connect(controller, &SessionController::savedSessionRestored, this, [this, controller] {
+      ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(controller->handle()),
+                                 intIds<spectral::DisplayVertexTag>(controller->anchors()));
+      const model::SessionFile* saved = controller->savedSession();
+      if (saved != nullptr && saved->droppedLegacyDrags > 0) {
+        statusBar()->showMessage(tr("This session was saved by an older ShapeCast: its shape is restored, its undo "
+                                    "history of %n drag(s) is not.",
+                                    nullptr, saved->droppedLegacyDrags),
+                                 kStatusMessageMs);
+      }
+    });
   });
 }
 

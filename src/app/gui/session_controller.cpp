@@ -107,6 +107,28 @@ void SessionController::onLockChanged() {
   emit peersChanged();  // the peers view shows the holder
 }
 
+// ---------------------------------------------------------------------------------------------------- edits
+
+std::optional<session::EditLogEntry> SessionController::undoableStep() const {
+  const session::EditLog log = editLog();
+  const session::PeerId self = selfId();
+  const bool anyAuthor = role() == Role::Host;  // the host moderates the shared history
+  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
+    if (it->undoneBy == session::kNoPeer && (anyAuthor || it->author == self)) return *it;
+  }
+  return std::nullopt;
+}
+
+std::optional<session::EditLogEntry> SessionController::redoableStep() const {
+  // The log does not say in which order steps were undone; the host redoes the one undone last, which is the
+  // latest listed undone by this user in every history where undo walks backwards (the usual case).
+  const session::EditLog log = editLog();
+  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
+    if (it->undoneBy == selfId() && it->redoable) return *it;
+  }
+  return std::nullopt;
+}
+
 // ---------------------------------------------------------------------------------------------------- display
 
 void SessionController::showLevel(spectral::SharedDisplayLevel level) {
@@ -133,8 +155,6 @@ std::vector<float> SessionController::positions() const {
 Eigen::MatrixXd SessionController::coefficients() const { return m_frame.Z.cast<double>(); }
 
 // ---------------------------------------------------------------------------------------------------- defaults
-
-bool SessionController::restoreHostDeformation(const HostDeformation& /*state*/) { return false; }
 
 bool SessionController::setLevel(std::uint32_t /*target*/) { return false; }
 

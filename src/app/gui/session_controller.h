@@ -110,14 +110,21 @@ class SessionController : public QObject, protected EditTarget {
   }
   void endDrag() { m_editor.endDrag(); }
   [[nodiscard]] bool dragging() const { return m_editor.dragging(); }
-  /// Host: the constraints this user last sent and the pose its drags left (nullopt on a client, or before this
-  /// user's constraints reached the deformer).
-  [[nodiscard]] virtual std::optional<HostDeformation> hostDeformation() const { return std::nullopt; }
+  /// The constraints this user last sent (nullopt before any reached the session).
+  [[nodiscard]] std::optional<HostConstraints> sentConstraints() const { return m_editor.sent(); }
   /// Host started from a session file: that file's content (restored once live: savedSessionRestored()), else null.
   [[nodiscard]] virtual const model::SessionFile* savedSession() const { return nullptr; }
-  /// Host, as the lock holder and outside a drag: applies `state` so that everyone sees that shape; false (nothing
-  /// changed) on a client, without the lock, during a drag or when the deformer refuses it.
-  virtual bool restoreHostDeformation(const HostDeformation& state);
+
+  // --- the session's shared edit history (session/engine/edit_history.h)
+  /// The latest steps as the host lists them (a host's own, a client's latest EditLog); empty when not live.
+  [[nodiscard]] virtual session::EditLog editLog() const = 0;
+  /// Undo: a client its own latest step, the host anybody's; redo: the step this user undid last. False when not
+  /// live or during a drag (a client's request may still find nothing to do: editLogChanged() tells).
+  virtual bool requestEdit(session::EditAction action) = 0;
+  /// The step an undo would take out now (nullptr: none), read from editLog() for this user.
+  [[nodiscard]] std::optional<session::EditLogEntry> undoableStep() const;
+  /// The step a redo would put back now (nullopt: none).
+  [[nodiscard]] std::optional<session::EditLogEntry> redoableStep() const;
 
   // --- what is displayed (the values last pushed down)
   /// The displayed level (a host's is its full level), nullptr before the first.
@@ -184,9 +191,11 @@ class SessionController : public QObject, protected EditTarget {
   void progress(int percent, const QString& what);
   /// Client: the host's level list changed (levels() may have changed).
   void levelsChanged();
-  /// Hosting from a session file: the lock was taken and the file's current state restored (emitted once, after
-  /// hostingStarted(); DragHistory rebuilds the saved undo history on it).
+  /// Hosting from a session file: its shape and edit history were restored and, when it had constraints, the lock
+  /// was taken and they were set (emitted once, after hostingStarted()).
   void savedSessionRestored();
+  /// editLog() changed (somebody's stroke, undo or redo).
+  void editLogChanged();
 
  protected:
   explicit SessionController(QObject* parent);

@@ -60,17 +60,13 @@ struct NetworkConditions {
   int delayMs = 0;           ///< fixed one-way delay added on receive
 };
 
-/// The deformer state the host's own user set: the constraint set (full-resolution ids; anchors exclude the
-/// handle) and the handle's pose about its rest centroid. Solving it again reproduces the shape exactly in linear
-/// mode (the solve is a function of constraints and pose) and up to the rigid iterations' warm start in rigid mode.
-/// What undo/redo of a committed drag restores.
-struct HostDeformation {
+/// The constraint set a user last sent (full-resolution ids, sorted and unique; anchors exclude the handle). The
+/// shape is not in it: it is the session's coefficients, the sum of the edit steps (session/engine/edit_history.h).
+struct HostConstraints {
   spectral::FullVertexIds handle;
   spectral::FullVertexIds anchors;
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
 
-  friend bool operator==(const HostDeformation&, const HostDeformation&) = default;
+  friend bool operator==(const HostConstraints&, const HostConstraints&) = default;
 };
 
 /// One entry of the resolution selector.

@@ -1,21 +1,28 @@
 #include "app/gui/session_snapshot.h"
 
-#include "app/gui/drag_commands.h"
 #include "app/gui/host_controller.h"
+#include "session/engine/edit_history.h"
 
 #include <QCoreApplication>
-#include <QUndoStack>
+
+#include <algorithm>
 
 namespace sc::app {
+namespace {
 
-std::optional<model::SessionFile> snapshotSession(const HostController& session, const DragHistory* history,
-                                                  QString* error) {
-  const auto fail = [error](const char* why) {
-    if (error != nullptr) *error = QCoreApplication::translate("SessionSnapshot", why);
-    return std::nullopt;
-  };
+/// `name` cut to at most `maxBytes` of UTF-8 (whole characters).
+QString clipped(QString name, int maxBytes) {
+  while (name.toUtf8().size() > maxBytes) name.chop(1);
+  return name;
+}
+
+}  // namespace
+
+std::optional<model::SessionFile> snapshotSession(const HostController& session, QString* error) {
   if (session.state() != SessionController::State::Live || !session.displayLevel()) {
-    return fail("Only a live host can save its session.");
+    if (error != nullptr)
+      *error = QCoreApplication::translate("SessionSnapshot", "Only a live host can save its session.");
+    return std::nullopt;
   }
   model::SessionFile file;
   file.V = session.displayRestPositions();
@@ -23,23 +30,22 @@ std::optional<model::SessionFile> snapshotSession(const HostController& session,
   file.Z = session.coefficients();
   file.m = static_cast<int>(file.Z.rows());
   file.mode = session.deformationMode();
-  if (const std::optional<HostDeformation> current = session.hostDeformation()) {
-    file.current = toSavedDeformation(*current);
+  if (const std::optional<HostConstraints> current = session.sentConstraints(); current && !current->handle.empty()) {
+    file.current = toSavedConstraints(*current);
   }
-  if (history != nullptr) {
-    const QUndoStack* stack = history->stack();
-    for (int i = 0; i < stack->count(); ++i) {
-      const auto* drag = dynamic_cast<const DragCommand*>(stack->command(i));
-      if (drag == nullptr) return fail("The undo history holds something other than drags.");
-      file.history.push_back({toSavedDeformation(drag->before()), toSavedDeformation(drag->after())});
-    }
-    file.historyIndex = stack->index();
+  const std::vector<session::EditStep> steps = session.editSteps();
+  const std::size_t first = steps.size() > static_cast<std::size_t>(model::kMaxSavedEditSteps)
+                                ? steps.size() - static_cast<std::size_t>(model::kMaxSavedEditSteps)
+                                : 0;
+  for (std::size_t i = first; i < steps.size(); ++i) {
+    file.steps.push_back({clipped(steps[i].authorName, model::kMaxStepAuthorBytes), steps[i].delta,
+                          steps[i].undoneBy != session::kNoPeer});
   }
   return file;
 }
 
-bool saveSession(const QString& path, const HostController& session, const DragHistory* history, QString* error) {
-  const std::optional<model::SessionFile> file = snapshotSession(session, history, error);
+bool saveSession(const QString& path, const HostController& session, QString* error) {
+  const std::optional<model::SessionFile> file = snapshotSession(session, error);
   if (!file) return false;
   if (const std::optional<QString> failure = model::writeSessionFile(path, *file)) {
     if (error != nullptr) *error = *failure;

@@ -145,7 +145,8 @@ HostActions HostEngine::onClosed(PeerId id, Micros now) {
   const auto it = m_peers.find(id);
   if (it == m_peers.end()) return finish(std::move(out));
   const bool wasMember = it->second.welcomed;
-  m_peers.erase(it);
+  if (m_strokeAuthor == id) commitStroke(now, out);  // its last stroke is a step, named while it is still listed
+  m_peers.erase(m_peers.find(id));
   if (!wasMember) return finish(std::move(out));
   dispatchLock(m_arbiter.peerDisconnected(id, toMillis(now)), now, out);
   out.add(SendToAll{peerList()});
