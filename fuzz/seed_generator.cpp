@@ -153,6 +153,9 @@ void controlSeeds(const fs::path& root) {
       Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
       StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
       LevelList{3, {{0, 1000, 1996, 50000}, {2, 100, 196, 5000}}},
+      StrokeEnd{42},
+      EditRequest{EditAction::Undo},
+      EditLog{{{1, 1, 0, false, QStringLiteral("host")}, {2, 3, 1, true, QString::fromUtf8("Zoë")}}},
   };
   for (const ControlMessage& message : samples) {
     char name[16];
