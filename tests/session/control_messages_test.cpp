@@ -47,6 +47,7 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
       StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
       LevelList{4, {{0, 22982, 45960, 9654321}, {2, 5231, 10458, 2200000}, {3, 1719, 3434, kMaxTransferSize}}},
+      Presence{3, {1.5, -2.0, 1e9}, {0, 0, 0}, {0, 1, 0}, true, {0.25, -0.125, 1e-300}, true},
   };
 }
 
@@ -88,7 +89,7 @@ TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
-  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534303026162"));  // frozen: length, type, magic, version (3), name
+  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534304026162"));  // frozen: length, type, magic, version (4), name
 }
 
 TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {
@@ -163,12 +164,12 @@ TEST(ControlMessages, HelloOfAnotherVersionDecodesForARefusal) {
   ASSERT_EQ(decoded.error, ControlError::None);
   EXPECT_EQ(std::get<Hello>(decoded.message).version, 7);
   EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("000001")).error, ControlError::Malformed);  // magic
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430300ff")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430400ff")).error, ControlError::Malformed);
 }
 
 TEST(ControlMessages, InvalidUtf8IsMalformed) {
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c328")).error, ControlError::Malformed);
-  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430302c3a9")).error, ControlError::None);  // "é"
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430402c328")).error, ControlError::Malformed);
+  EXPECT_EQ(decodeControlMessage(0x40, QByteArray::fromHex("53430402c3a9")).error, ControlError::None);  // "é"
 }
 
 TEST(ControlMessages, EveryTruncationIsIncompleteOrMalformed) {
@@ -238,7 +239,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
   }
   ControlFrameReader reader;  // exactly the maximum is not oversize (here: a Hello with trailing bytes)
   reader.append(frame(kMaxControlMessageSize, 0x40,
-                      QByteArray::fromHex("53430300") + QByteArray(kMaxControlMessageSize - 5, 'x')));
+                      QByteArray::fromHex("53430400") + QByteArray(kMaxControlMessageSize - 5, 'x')));
   const auto result = reader.next();
   ASSERT_TRUE(result.has_value());
   EXPECT_EQ(result->error, ControlError::Malformed);
@@ -246,7 +247,7 @@ TEST(ControlFrameReader, OversizeFailsAtOnceAndForGood) {
 }
 
 TEST(ControlFrameReader, UnknownTypesAreReportedAndSkipped) {
-  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x52, 0x7f, 0x80, 0xc0, 0xff}) {
+  for (int type : {0x00, 0x01, 0x02, 0x3f, 0x7e, 0x7f, 0x80, 0xc0, 0xff}) {
     ControlFrameReader reader;
     reader.append(frame(3, static_cast<std::uint8_t>(type), "ab") + encodeControlMessage(Heartbeat{5}));
     std::vector<ControlDecodeResult> results;

@@ -180,6 +180,9 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
       sendLock(m_lock->apply(std::get<LockNotice>(message), toMillis(now)), out);
       out.emplace_back(client_action::Notify{ClientNotice::LockChanged});
       return;
+    case MessageType::Presence:
+      onPresence(std::get<Presence>(message), out);
+      return;
     case MessageType::Heartbeat:
       return;
     case MessageType::Leave:

@@ -138,6 +138,8 @@ bool SessionHost::drag(std::span<const spectral::HandleTransform> poses) {
   return accepted;
 }
 
+void SessionHost::setPresence(const Presence& presence) { apply(m_engine.setLocalPresence(presence, sessionNow())); }
+
 // --- the engine's actions
 
 void SessionHost::onTimer() {
@@ -205,6 +207,8 @@ void SessionHost::applyOne(const HostAction& action) {
     emit statsReported(stats->peer, stats->report);
   } else if (const auto* log = std::get_if<LogLine>(&action)) {
     emit logMessage(log->text);
+  } else if (const auto* presence = std::get_if<PresenceReceived>(&action)) {
+    emit presenceReceived(presence->presence);
   }
 }
 

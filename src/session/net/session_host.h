@@ -127,6 +127,8 @@ class SessionHost final : public QObject {
   bool setConstraints(const spectral::ConstraintSet& constraints);
   /// Drags as the lock holder (one pose per handle group); false without the lock.
   bool drag(std::span<const spectral::HandleTransform> poses);
+  /// Sends the host's own user's presence (camera, pointer, dragging) to every member (HostEngine::setLocalPresence).
+  void setPresence(const Presence& presence);
 
  signals:
   void peersChanged();
@@ -134,6 +136,8 @@ class SessionHost final : public QObject {
   void frameSent(std::uint32_t frame);
   void statsReported(sc::session::PeerId peer, const sc::session::StatsReport& report);
   void logMessage(const QString& message);
+  /// A member's presence arrived (author = its peer id); relayed to the other members already.
+  void presenceReceived(const sc::session::Presence& presence);
 
  private:
   void acceptConnections();

@@ -94,7 +94,7 @@
 // port and value (else WrongChallenge). Nothing else is ever answered.
 //
 // ==================================================================================================================
-// Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
+// Control messages (TCP, both directions), MessageType 0x40..0x52. Typed values and codecs: control_messages.h;
 // the handshake sequence and the rules: docs/protocol.md.
 // ==================================================================================================================
 // A TCP connection carries a stream of frames. The frame header and the type values of Hello (0x40) and Refused
@@ -177,6 +177,17 @@
 //    Lists the levels the host has built so far (it builds the whole ladder in the background after the first
 //    Welcome; count == total: complete); a ResolutionRequest for a listed vertexCount gets exactly that level.
 //
+// 0x52 Presence (client → host, host → the other members; since version 4), kPresenceSize = 101 bytes:
+//    0  4  author   0 from a client (the host overwrites it with the sender's id); the author's id 1..65535 from
+//                   the host
+//    4  1  flags    bit 0: pointer on the surface, bit 1: dragging; other bits 0
+//    5 24  eye      3 × f64, camera position, full-resolution model coordinates
+//   29 24  target   3 × f64, the point the camera looks at
+//   53 24  up       3 × f64, camera up vector
+//   77 24  pointer  3 × f64, the pointer's surface point; all 0 when bit 0 is clear
+//    Every f64 finite with |value| ≤ kMaxPresenceCoord. The host relays at most presenceRate per peer (excess
+//    dropped and counted, never a close by itself); senders send ≤ 30/s while moving, ≤ 2/s when idle.
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -188,7 +199,7 @@
 namespace sc::session {
 
 inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
-inline constexpr std::uint8_t kProtocolVersion = 3;  ///< 3: Issue 14 (encrypted datagrams, path challenge)
+inline constexpr std::uint8_t kProtocolVersion = 4;  ///< 3: Issue 14 (encrypted datagrams, path challenge); 4: issue 15
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
@@ -216,7 +227,8 @@ enum class MessageType : std::uint8_t {
   Constraints = 0x4f,
   StatsReport = 0x50,
   LevelList = 0x51,
-  ControlEnd,  ///< one past the last control type; keep last.
+  Presence = 0x52,  ///< cameras, pointers, dragging (since version 4)
+  ControlEnd,       ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
 inline constexpr std::uint8_t kFirstControlType = 0x40;
@@ -260,6 +272,8 @@ static_assert(kPathProbeSize <= kPathOpenSize, "a challenge must not send more t
 inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames flow (NAT bindings last ≥ 30 s)
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
+inline constexpr int kPresenceSize = 4 + 1 + 12 * 8;  ///< 101 bytes
+inline constexpr double kMaxPresenceCoord = 1e9;      ///< Presence coordinates: |value| ≤ this
 static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));              // largest Keyframe
 static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                              // largest ModelChunk
 static_assert(1 + 10 + 4 * (kMaxHandles + kMaxConstraintVertices) <= kMaxControlMessageSize);  // largest Constraints
