@@ -99,6 +99,7 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   connect(m_host, &session::SessionHost::lockChanged, this, &HostController::onLockChanged);
   connect(m_host, &session::SessionHost::peersChanged, this, &HostController::peersChanged);
   connect(m_host, &session::SessionHost::statsReported, this, &HostController::statsChanged);
+  connect(m_host, &session::SessionHost::presenceReceived, this, &HostController::presenceReceived);
   showLevel(std::move(prepared->level));
   showFrame({m_host->currentFrame(), m_host->coefficients().cast<float>()});
   emit progress(100, tr("Hosting"));
@@ -160,6 +161,10 @@ void HostController::stop() {
 }
 
 // ---------------------------------------------------------------------------------------------------- lock, edits
+
+void HostController::sendPresence(const session::Presence& presence) {
+  if (state() == State::Live) m_host->setPresence(presence);
+}
 
 bool HostController::requestLock() { return state() == State::Live && m_host->requestLock(); }
 
