@@ -18,6 +18,7 @@
 
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QImage>
 #include <QMenu>
 #include <QPainter>
 #include <QSortFilterProxyModel>
@@ -83,6 +84,41 @@ TEST(PresenceGeometry, PeerColoursAreFixedAndDistinct) {
   EXPECT_EQ(colours.size(), std::size_t(kPeerColorCount));
   EXPECT_EQ(peerColor(1), peerColor(1 + kPeerColorCount));
   EXPECT_EQ(peerColor(2).name(), QStringLiteral("#9467bd"));  // the same on every screen: a fixed table
+}
+
+TEST(PresenceGeometry, OverlayDrawsMarkerPointerAndDraggingLabelInTheUsersColour) {
+  OrbitCamera camera;
+  camera.setViewportSize(320, 240);
+  camera.frame(QVector3D(-1, -1, -1), QVector3D(1, 1, 1));
+  camera.lookAt(QVector3D(0, 0, 12), QVector3D(0, 0, 0));
+  PresenceOverlay overlay;
+  const QColor colour = peerColor(3);
+  overlay.setMarkers({PresenceMarker{3, QStringLiteral("carol"), colour, QVector3D(1.5f, 0, 3), QVector3D(0, 0, 0),
+                                     QVector3D(0, 1, 0), QVector3D(0, 0, 0), true}});
+  QImage image(320, 240, QImage::Format_ARGB32);
+  const auto countColour = [&](QRect area) {
+    int count = 0;
+    for (int y = area.top(); y <= area.bottom(); ++y)
+      for (int x = area.left(); x <= area.right(); ++x) count += image.pixelColor(x, y) == colour ? 1 : 0;
+    return count;
+  };
+  image.fill(Qt::black);
+  {
+    QPainter painter(&image);
+    overlay.paint(painter, camera.view(), camera.projection(), image.size(), 3.46f);
+  }
+  EXPECT_GT(countColour(QRect(155, 115, 10, 10)), 20) << "the pointer dot at the centre (the origin)";
+  EXPECT_GT(countColour(QRect(160, 0, 160, 240)), 30) << "the camera marker, right of the centre";
+  bool label = false;  // "carol is dragging" on a light box in the top-left corner
+  for (int x = 12; x < 80 && !label; ++x) label = image.pixelColor(x, 26).lightness() > 200;
+  EXPECT_TRUE(label);
+  overlay.setMarkers({});
+  image.fill(Qt::black);
+  {
+    QPainter painter(&image);
+    overlay.paint(painter, camera.view(), camera.projection(), image.size(), 3.46f);
+  }
+  EXPECT_EQ(countColour(image.rect()), 0);
 }
 
 class PresenceWindows : public sc::testing::TorusSessionTest {

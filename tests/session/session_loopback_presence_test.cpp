@@ -47,5 +47,32 @@ TEST_F(SessionLoopback, AClientsPresenceReachesTheHostAndTheOtherClient) {
   EXPECT_EQ(host->counters().protocolErrors, 0u);
 }
 
+TEST_F(SessionLoopback, AFloodOfPresenceIsThrottledAndAMalformedOneClosesThePeer) {
+  auto host = startHost();
+  auto watcher = join(*host, QStringLiteral("watcher"));
+  std::vector<Presence> atWatcher;
+  collect(*watcher, atWatcher);
+  RawPeer raw(host->tcpPort());
+  ASSERT_TRUE(raw.join(QStringLiteral("raw")).has_value());
+
+  for (int i = 0; i < 200; ++i) raw.send(view(i));  // at once: the burst of 30 passes, the rest is dropped
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return host->counters().presenceRelayed + host->counters().presenceDropped == 200; }, kWaitMs));
+  EXPECT_LE(host->counters().presenceRelayed, 40u);
+  EXPECT_GE(host->counters().presenceDropped, 160u);
+  EXPECT_EQ(host->counters().floodingPeersDropped, 0u);
+  EXPECT_EQ(host->peerList().peers.size(), 3u) << "presence over its rate never closes a peer by itself";
+  ASSERT_TRUE(QTest::qWaitFor([&] { return atWatcher.size() == host->counters().presenceRelayed; }, kWaitMs));
+
+  // A Presence body with a NaN coordinate: a protocol error like any malformed message.
+  QByteArray frame = encodeControlMessage(view(1.0));
+  ASSERT_FALSE(frame.isEmpty());
+  frame.replace(kControlHeaderSize + 5, 8, QByteArray::fromHex("7ff8000000000000"));
+  raw.sendRaw(frame);
+  ASSERT_TRUE(raw.closedByHost());
+  EXPECT_EQ(host->counters().protocolErrors, 1u);
+  EXPECT_EQ(watcher->state(), SessionClient::State::Ready) << "the others stay";
+}
+
 }  // namespace
 }  // namespace sc::session
