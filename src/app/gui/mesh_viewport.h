@@ -3,8 +3,9 @@
 // drag. The widget composes classes with one job each (src/app/gui/viewport/): ViewportBuffers (host arrays and GL
 // buffers, one dirty mask), ShownLevel (the shared display level and its frame), CpuReconstructor and
 // GpuReconstructor (the two paths of X̂' + K·Z: the spectral kernel and the vertex shader), FramePolicy (proxy and
-// adaptive resolution of moving frames) and ViewportInput (mouse gestures → intent signals such as handlePainted
-// and dragMoved, which a controller maps to session calls). The camera math lives in OrbitCamera, the normals in
+// adaptive resolution of moving frames), ViewportInput (mouse gestures → intent signals such as handlePainted
+// and dragMoved, which a controller maps to session calls) and PresenceOverlay (the other users' cameras and
+// pointers, drawn with QPainter after the GL passes). The camera math lives in OrbitCamera, the normals in
 // vertexNormals(), picking in vertex_picking.h.
 
 #include "app/gui/mesh_viewport_types.h"

@@ -1,5 +1,6 @@
 #include "app/gui/viewport/presence_overlay.h"
 
+#include <QCoreApplication>
 #include <QFontMetrics>
 #include <QPainter>
 #include <QPainterPath>
@@ -117,7 +118,7 @@ void PresenceOverlay::paint(QPainter& painter, const QMatrix4x4& view, const QMa
       }
     }
     if (marker.dragging) {
-      const QString text = QObject::tr("%1 is dragging").arg(marker.name);
+      const QString text = QCoreApplication::translate("PresenceOverlay", "%1 is dragging").arg(marker.name);
       drawLabel(painter, QPointF(12, 24 + 24 * draggingRow++), text, marker.color);
     }
   }
