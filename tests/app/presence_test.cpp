@@ -161,6 +161,7 @@ TEST_F(PresenceWindows, TheClientsCameraAndPointerShowOnTheHost) {
   };
   ASSERT_TRUE(QTest::qWaitFor(arrived, 2000));
   const qint64 elapsed = clock.elapsed();
+  RecordProperty("client_camera_to_host_model_ms", static_cast<int>(elapsed));
   EXPECT_LT(elapsed, 200) << "the client's camera reached the host's presence model in " << elapsed << " ms";
 
   // Its pointer on the surface (the viewport's centre looks at the torus) and the marker in the host's view.

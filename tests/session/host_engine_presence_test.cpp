@@ -68,14 +68,5 @@ TEST_F(HostEnginePresence, TheHostsOwnPresenceGoesToEveryMember) {
   EXPECT_TRUE(engine().setLocalPresence(absurd, now()).list.empty()) << "a value the wire refuses is not sent";
 }
 
-TEST_F(HostEnginePresence, MalformedPresenceIsAProtocolError) {
-  startEngine();
-  const PeerId alice = join(QStringLiteral("alice"));
-  const HostActions actions = engine().onDecodeError(alice, QStringLiteral("malformed"), now());
-  EXPECT_EQ(engine().counters().protocolErrors, 1u);
-  ASSERT_EQ(actionsOf<ClosePeer>(actions).size(), 1u);
-  EXPECT_EQ(actionsOf<ClosePeer>(actions)[0].peer, alice);
-}
-
 }  // namespace
 }  // namespace sc::session::testing
