@@ -51,6 +51,7 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       EditRequest{EditAction::Redo},
       EditLog{
           {{1, 1, 0, false, QStringLiteral("host")}, {7, 2, 1, true, QString::fromUtf8("Zoë")}, {9, 0, 0, false, {}}}},
+      Presence{3, {1.5, -2.0, 1e9}, {0, 0, 0}, {0, 1, 0}, true, {0.25, -0.125, 1e-300}, true},
   };
 }
 

@@ -71,6 +71,7 @@ void ClientController::connectClient() {
   connect(m_client, &SessionClient::editLogChanged, this, &ClientController::editLogChanged);
   connect(m_client, &SessionClient::peersChanged, this, &ClientController::peersChanged);
   connect(m_client, &SessionClient::levelsChanged, this, &ClientController::levelsChanged);
+  connect(m_client, &SessionClient::presenceReceived, this, &ClientController::presenceReceived);
 }
 
 void ClientController::onClientState() {
@@ -115,6 +116,10 @@ void ClientController::stop() {
 session::PeerId ClientController::selfId() const { return m_client != nullptr ? m_client->peerId() : session::kNoPeer; }
 
 // ---------------------------------------------------------------------------------------------------- lock, edits
+
+void ClientController::sendPresence(const session::Presence& presence) {
+  if (state() == State::Live) m_client->sendPresence(presence);
+}
 
 bool ClientController::requestLock() { return state() == State::Live && m_client->requestLock(); }
 

@@ -68,6 +68,7 @@ class ClientController final : public SessionController {
   /// Only this client's own figures (selfId()), from its receiver statistics and distortion meter.
   [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
   [[nodiscard]] QByteArray hostFingerprint() const override;
+  void sendPresence(const session::Presence& presence) override;
   [[nodiscard]] HostTrust hostTrust() const override;
   [[nodiscard]] bool fingerprintRefused() const override;
 

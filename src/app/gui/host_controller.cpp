@@ -100,6 +100,7 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   connect(m_host, &session::SessionHost::editHistoryChanged, this, &HostController::editLogChanged);
   connect(m_host, &session::SessionHost::peersChanged, this, &HostController::peersChanged);
   connect(m_host, &session::SessionHost::statsReported, this, &HostController::statsChanged);
+  connect(m_host, &session::SessionHost::presenceReceived, this, &HostController::presenceReceived);
   showLevel(std::move(prepared->level));
   showFrame({m_host->currentFrame(), m_host->coefficients().cast<float>()});
   emit progress(100, tr("Hosting"));
@@ -180,6 +181,10 @@ void HostController::stop() {
 }
 
 // ---------------------------------------------------------------------------------------------------- lock, edits
+
+void HostController::sendPresence(const session::Presence& presence) {
+  if (state() == State::Live) m_host->setPresence(presence);
+}
 
 bool HostController::requestLock() { return state() == State::Live && m_host->requestLock(); }
 

@@ -58,6 +58,7 @@ class HostController final : public SessionController {
   [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
   [[nodiscard]] double sentKbps(session::PeerId peer) const override;
   [[nodiscard]] QByteArray hostFingerprint() const override;
+  void sendPresence(const session::Presence& presence) override;
 
   // --- the host's own figures (diagnostics and tests)
   /// What the host accepted, refused and sent so far (zeros before it started).

@@ -26,6 +26,7 @@ class EditActions;
 class SessionController;
 class InteractiveProxyBuilder;
 class SessionDocks;
+class SessionPresence;
 class NetworkConditionsDock;
 
 /// The ShapeCast main window: File → Open…/Quit, View → Reset View, a MeshViewport as central widget and a status
@@ -63,6 +64,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] SessionController* session() const { return m_session; }
   /// The Peers and Statistics docks (bound to session()).
   [[nodiscard]] SessionDocks* docks() const { return m_docks; }
+  /// The others' cameras and pointers, Follow (session_presence.h; bound to session()).
+  [[nodiscard]] SessionPresence* presence() const { return m_presence; }
   /// The client's Network conditions dock (objectName "networkConditionsDock", bound to session()).
   [[nodiscard]] NetworkConditionsDock* networkConditionsDock() const { return m_networkDock; }
   /// Time of the last frame's reconstruction (the viewport's own: it reconstructs from K and Z) and of the rest of
@@ -143,6 +146,7 @@ class MainWindow : public QMainWindow {
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
   EditActions* m_editActions = nullptr;
+  SessionPresence* m_presence = nullptr;
   InteractiveProxyBuilder* m_proxyBuilder = nullptr;  ///< the viewport's proxy while a dense mesh moves
   Eigen::MatrixXd m_openedV;  ///< the mesh last opened with openMesh() (exported when not in a session)
   Eigen::MatrixXi m_openedF;

@@ -17,6 +17,7 @@
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/session_identity_view.h"
+#include "app/gui/session_presence.h"
 #include "app/gui/vertex_id_lists.h"
 #include "model/session_file.h"
 
@@ -148,6 +149,8 @@ void MainWindow::setUpSessionDocks() {
   // Peers and statistics docks follow whichever session is current.
   m_docks = new SessionDocks(this);
   connect(this, &MainWindow::sessionStarted, m_docks, &SessionDocks::bind);
+  m_presence = new SessionPresence(ui->viewport, m_docks->peersDock(), this);
+  connect(this, &MainWindow::sessionStarted, m_presence, &SessionPresence::bind);
   // Network conditions (emulated loss, burst, delay) of a client, under the other docks; View menu toggles it.
   m_networkDock = new NetworkConditionsDock(this);
   addDockWidget(Qt::RightDockWidgetArea, m_networkDock);

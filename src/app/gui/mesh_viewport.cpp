@@ -6,6 +6,8 @@
 
 #include "app/gui/viewport/vertex_arrays.h"
 
+#include <QMouseEvent>
+
 #include <algorithm>
 #include <cassert>
 
@@ -99,6 +101,7 @@ void MeshViewport::updateBounds() {
   timer.start();
   const auto [lo, hi] = m_frames.bounds();
   m_camera.setSceneBounds(lo, hi);
+  m_sceneDiagonal = (hi - lo).length();
   m_frameTimes.boundsMs = lapMs(timer);
   markMoved();
 }
@@ -237,7 +240,56 @@ void MeshViewport::setDragAllowed(bool allowed, const QString& hint) { m_input.s
 
 void MeshViewport::mousePressEvent(QMouseEvent* event) { m_input.press(event); }
 
-void MeshViewport::mouseMoveEvent(QMouseEvent* event) { m_input.move(event); }
+void MeshViewport::mouseMoveEvent(QMouseEvent* event) {
+  m_input.move(event);
+  setPointer(event->position());
+}
+
+void MeshViewport::leaveEvent(QEvent* event) {
+  setPointer(std::nullopt);
+  QOpenGLWidget::leaveEvent(event);
+}
+
+// ---------------------------------------------------------------------------------------------------- presence
+
+namespace {
+QVector3D asQVector(const Eigen::RowVector3d& v) {
+  return {static_cast<float>(v(0)), static_cast<float>(v(1)), static_cast<float>(v(2))};
+}
+}  // namespace
+
+MeshViewport::LocalView MeshViewport::localView() const {
+  const QVector3D origin = asQVector(m_origin);
+  LocalView local{m_camera.eye() + origin, m_camera.target() + origin, m_camera.up(), std::nullopt};
+  if (m_pointer) local.pointer = *m_pointer + origin;
+  return local;
+}
+
+void MeshViewport::setPresenceMarkers(std::vector<PresenceMarker> markers) {
+  const QVector3D origin = asQVector(m_origin);
+  for (PresenceMarker& marker : markers) {
+    marker.eye -= origin;
+    marker.target -= origin;
+    if (marker.pointer) *marker.pointer -= origin;
+  }
+  m_presence.setMarkers(std::move(markers));
+  update();
+}
+
+void MeshViewport::lookFrom(const QVector3D& eye, const QVector3D& target) {
+  const QVector3D origin = asQVector(m_origin);
+  m_camera.lookAt(eye - origin, target - origin);
+  markMoved();
+}
+
+void MeshViewport::setPointer(std::optional<QPointF> position) {
+  constexpr float kPointerRadius = 12.0f;  // pixels
+  m_pointer.reset();
+  if (position && m_vertexCount > 0) {
+    m_pointer = surfacePointUnder(m_frames.currentPositions(), m_camera.view(), m_camera.projection(), size(),
+                                  *position, kPointerRadius);
+  }
+}
 
 void MeshViewport::mouseReleaseEvent(QMouseEvent* event) { m_input.release(event); }
 

@@ -3,8 +3,9 @@
 // drag. The widget composes classes with one job each (src/app/gui/viewport/): ViewportBuffers (host arrays and GL
 // buffers, one dirty mask), ShownLevel (the shared display level and its frame), CpuReconstructor and
 // GpuReconstructor (the two paths of X̂' + K·Z: the spectral kernel and the vertex shader), FramePolicy (proxy and
-// adaptive resolution of moving frames) and ViewportInput (mouse gestures → intent signals such as handlePainted
-// and dragMoved, which a controller maps to session calls). The camera math lives in OrbitCamera, the normals in
+// adaptive resolution of moving frames), ViewportInput (mouse gestures → intent signals such as handlePainted
+// and dragMoved, which a controller maps to session calls) and PresenceOverlay (the other users' cameras and
+// pointers, drawn with QPainter after the GL passes). The camera math lives in OrbitCamera, the normals in
 // vertexNormals(), picking in vertex_picking.h.
 
 #include "app/gui/mesh_viewport_types.h"
@@ -12,6 +13,7 @@
 #include "app/gui/viewport/frame_policy.h"
 #include "app/gui/viewport/lap_timer.h"
 #include "app/gui/viewport/level_frames.h"
+#include "app/gui/viewport/presence_overlay.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "app/gui/viewport/scene_passes.h"
 #include "app/gui/viewport/viewport_buffers.h"
@@ -29,6 +31,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -188,6 +191,22 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   [[nodiscard]] int triangleCount() const { return static_cast<int>(m_buffers.indices().size() / 3); }
   [[nodiscard]] const OrbitCamera& camera() const { return m_camera; }
 
+  // --- presence (issue 15): coordinates here are the mesh's own (as given to setMesh / the level's rest positions)
+  /// This user's view: camera eye, target, up, and the surface point under the mouse pointer (if any).
+  struct LocalView {
+    QVector3D eye, target, up;
+    std::optional<QVector3D> pointer;
+  };
+  [[nodiscard]] LocalView localView() const;
+  /// The other users' markers to draw (PresenceOverlay), in mesh coordinates; repaints.
+  void setPresenceMarkers(std::vector<PresenceMarker> markers);
+  /// The markers as drawn (viewport coordinates: the mesh's less the origin).
+  [[nodiscard]] const std::vector<PresenceMarker>& presenceMarkers() const { return m_presence.markers(); }
+  /// Moves the camera to look from `eye` at `target` (mesh coordinates; OrbitCamera::lookAt). Emits nothing.
+  void lookFrom(const QVector3D& eye, const QVector3D& target);
+  /// Recomputes the pointer's surface point as if the mouse were at `position` (widget pixels); nullopt: off.
+  void setPointer(std::optional<QPointF> position);
+
   [[nodiscard]] QSize minimumSizeHint() const override;
   [[nodiscard]] QSize sizeHint() const override;
 
@@ -213,6 +232,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   void dragMoved(Eigen::Vector3d translation, Eigen::Matrix3d rotation);
   /// The drag ended (mouse released, tool changed, drag revoked or mesh replaced).
   void dragFinished();
+  /// The user orbited, panned or zoomed (not lookFrom(), not a re-frame).
+  void cameraMovedByUser();
 
  protected:
   void initializeGL() override;
@@ -223,6 +244,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   void mouseReleaseEvent(QMouseEvent* event) override;
   void mouseDoubleClickEvent(QMouseEvent* event) override;
   void wheelEvent(QWheelEvent* event) override;
+  void leaveEvent(QEvent* event) override;
 
  private:
   // ViewportInput::View.
@@ -232,7 +254,10 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   DepthImage renderDepth() override;
   std::vector<int>& selection(bool handles) override { return m_selection.group(handles); }
   void selectionEdited() override;
-  void cameraMoved() override { markMoved(); }
+  void cameraMoved() override {
+    markMoved();
+    emit cameraMovedByUser();
+  }
 
   void positionsGiven();
   void updateBounds();
@@ -259,6 +284,9 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   bool m_wireframe = false;
   FrameTimes m_frameTimes;
   StageClock m_stages;
+  PresenceOverlay m_presence;
+  std::optional<QVector3D> m_pointer;  // viewport coordinates
+  float m_sceneDiagonal = 1.0f;        // of the scene bounds (the presence markers' scale)
 
   // GL side (valid between initializeGL() and cleanup()).
   ScenePasses m_passes;

@@ -10,6 +10,7 @@
 #include <QOpenGLContext>
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLVersionFunctionsFactory>
+#include <QPainter>
 
 #include <algorithm>
 
@@ -83,6 +84,10 @@ void MeshViewport::paintGL() {
   }
   m_stages.start();
   m_input.paintOverlay();
+  if (!m_presence.markers().empty()) {
+    QPainter painter(this);
+    m_presence.paint(painter, m_camera.view(), m_camera.projection(), size(), m_sceneDiagonal);
+  }
   m_frameTimes.overlayMs = m_stages.lap();
   m_frameTimes.renderScale = frame.scale;
   m_policy.painted();  // from the end of this paint: a slow frame does not make the next one idle

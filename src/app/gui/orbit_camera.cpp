@@ -105,6 +105,22 @@ QVector3D OrbitCamera::eye() const {
   return m_target + m_distance * back;
 }
 
+QVector3D OrbitCamera::up() const { return rotation().transposed().map(QVector3D{0.0f, 1.0f, 0.0f}); }
+
+void OrbitCamera::lookAt(const QVector3D& eye, const QVector3D& target) {
+  m_target = target;
+  const QVector3D back = eye - target;
+  const float length = back.length();
+  if (length > 0.0f) {
+    const QVector3D d = back / length;
+    constexpr float kDegrees = 57.29577951308232f;
+    m_pitch = std::clamp(std::asin(std::clamp(d.y(), -1.0f, 1.0f)) * kDegrees, -89.0f, 89.0f);
+    m_yaw = std::atan2(d.x(), d.z()) * kDegrees;
+    m_distance = std::clamp(length, 1e-3f * m_sceneRadius, 100.0f * m_sceneRadius);
+  }
+  m_fitPending = false;
+}
+
 QMatrix4x4 OrbitCamera::view() const {
   QMatrix4x4 v;
   v.translate(0.0f, 0.0f, -m_distance);

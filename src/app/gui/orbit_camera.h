@@ -47,12 +47,19 @@ class OrbitCamera {
   /// Dolly by wheel steps (one notch = 1): steps > 0 moves closer (×0.85 per step); clamped to a sane range.
   void zoom(float steps);
 
+  /// Puts the eye at `eye` looking at `target` (a remote user's view to follow): target and distance as given
+  /// (clamped like zoom()), yaw and pitch from the direction (pitch clamped to ±89, no roll: the turntable's up).
+  /// A degenerate direction (eye == target) keeps the angles. Ends the pending fit, as a user's move does.
+  void lookAt(const QVector3D& eye, const QVector3D& target);
+
   /// World-to-camera matrix.
   [[nodiscard]] QMatrix4x4 view() const;
   /// Camera-to-clip matrix; near/far planes enclose the scene bounds wherever the eye is.
   [[nodiscard]] QMatrix4x4 projection() const;
   /// Eye position in world coordinates.
   [[nodiscard]] QVector3D eye() const;
+  /// The camera's up direction in world coordinates (unit length; world +y tilted by the pitch).
+  [[nodiscard]] QVector3D up() const;
 
   [[nodiscard]] QVector3D target() const { return m_target; }
   [[nodiscard]] float distance() const { return m_distance; }

@@ -1,5 +1,6 @@
 #include "app/gui/peers_dock.h"
 
+#include "app/gui/peer_colors.h"
 #include "model/peer_table_model.h"
 
 #include <QHeaderView>
@@ -11,10 +12,26 @@ namespace sc::app {
 
 using sc::model::PeerTableModel;
 
+namespace {
+
+/// The sorting proxy, plus each peer's colour (peerColor()) as the Name column's decoration: a swatch per row.
+class ColouredPeerProxy final : public QSortFilterProxyModel {
+ public:
+  using QSortFilterProxyModel::QSortFilterProxyModel;
+  [[nodiscard]] QVariant data(const QModelIndex& index, int role) const override {
+    if (role == Qt::DecorationRole && index.column() == PeerTableModel::Name) {
+      return peerColor(index.data(PeerTableModel::PeerIdRole).toUInt());
+    }
+    return QSortFilterProxyModel::data(index, role);
+  }
+};
+
+}  // namespace
+
 PeersDock::PeersDock(PeerTableModel* model, QWidget* parent) : QDockWidget(tr("Peers"), parent) {
   setObjectName(QStringLiteral("peersDock"));
 
-  m_proxy = new QSortFilterProxyModel(this);
+  m_proxy = new ColouredPeerProxy(this);
   m_proxy->setSortRole(PeerTableModel::SortRole);
   m_proxy->setSortCaseSensitivity(Qt::CaseInsensitive);
   m_proxy->setDynamicSortFilter(true);

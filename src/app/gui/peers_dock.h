@@ -21,7 +21,8 @@ namespace sc::app {
 /// Rows are selected whole, one at a time; the selection follows its peer through model updates and re-sorting.
 ///
 /// The dock does not own the model: it observes it and forgets it if it is destroyed. View only: no session or
-/// protocol logic; the app's controller feeds the model and listens to currentPeerChanged().
+/// protocol logic; the app's controller feeds the model and listens to currentPeerChanged(). Each row's Name shows
+/// the peer's colour (peerColor()) as a swatch (Qt::DecorationRole, added by the proxy).
 class PeersDock : public QDockWidget {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(PeersDock)

@@ -159,6 +159,11 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] virtual session::PeerList peers() const = 0;
   /// A peer's latest figures: on a host every client's StatsReport; on a client only its own. nullopt when unknown.
   [[nodiscard]] virtual std::optional<session::StatsReport> stats(session::PeerId peer) const = 0;
+  // --- presence (issue 15)
+  /// Sends this user's presence (the host's own user: to every client; a client: to the host, which relays it).
+  /// Nothing unless live. The caller paces it (SessionPresence, session::PresenceSchedule).
+  virtual void sendPresence(const session::Presence& presence) = 0;
+
   /// Payload bandwidth this instance sends to `peer`, kbit/s (a host's per-client traffic; 0 on a client).
   [[nodiscard]] virtual double sentKbps(session::PeerId peer) const;
 
@@ -196,6 +201,8 @@ class SessionController : public QObject, protected EditTarget {
   void savedSessionRestored();
   /// editLog() changed (somebody's stroke, undo or redo).
   void editLogChanged();
+  /// Another user's presence arrived (author = its peer id).
+  void presenceReceived(const sc::session::Presence& presence);
 
  protected:
   explicit SessionController(QObject* parent);

@@ -75,7 +75,10 @@ struct LevelFailed {
 struct LevelReady {
   std::uint32_t vertexCount = 0;
 };
-struct PublishFrame {};  ///< show the datagram channel's current Z and frame (coalesced: at most once per wake-up)
+struct PublishFrame {};
+struct PresenceReceived {
+  Presence presence;  ///< another member's (author ≥ 1, not us)
+};                    ///< show the datagram channel's current Z and frame (coalesced: at most once per wake-up)
 
 }  // namespace client_action
 
@@ -83,7 +86,8 @@ using ClientAction =
     std::variant<client_action::Connect, client_action::Send, client_action::StateChanged, client_action::OpenDatagrams,
                  client_action::CloseDatagrams, client_action::Disconnect, client_action::Failed, client_action::Notify,
                  client_action::ModelProgress, client_action::SeedKeyframe, client_action::StartDecode,
-                 client_action::LevelFailed, client_action::LevelReady, client_action::PublishFrame>;
+                 client_action::LevelFailed, client_action::LevelReady, client_action::PublishFrame,
+                 client_action::PresenceReceived>;
 
 /// In execution order. Empty from a user command (requestLock(), sendDrag(), …) means the command was refused.
 using ClientActions = std::vector<ClientAction>;

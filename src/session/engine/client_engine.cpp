@@ -184,6 +184,9 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
       m_editLog = std::get<EditLog>(message);
       out.emplace_back(client_action::Notify{ClientNotice::EditLogChanged});
       return;
+    case MessageType::Presence:
+      onPresence(std::get<Presence>(message), out);
+      return;
     case MessageType::Heartbeat:
       return;
     case MessageType::Leave:

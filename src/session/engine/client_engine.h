@@ -124,6 +124,9 @@ class ClientEngine {
   ClientActions endStroke();
   /// Asks the host to undo this user's latest step or redo the one it undid last (EditRequest); refused unless live.
   ClientActions requestEdit(EditAction action);
+  /// This user's presence (author 0: the host fills in ours); no action unless live or when it breaks a limit. The
+  /// caller paces it (PresenceSchedule). client_engine_presence.cpp.
+  ClientActions sendPresence(Presence presence);
   /// Distortion figures (% of the bbox diagonal) for the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
 
@@ -155,6 +158,8 @@ class ClientEngine {
   [[nodiscard]] StatsReport statsReport(const ReceiverSample& sample) const;
   /// PublishFrame actions so far (one per level installed plus one per coalesced batch of frame changes).
   [[nodiscard]] std::uint64_t framesPublished() const { return m_framesPublished; }
+  /// Presence messages from the host with no author or our own id (ignored).
+  [[nodiscard]] std::uint64_t presenceIgnored() const { return m_presenceIgnored; }
 
  private:
   void changeState(ClientState next, ClientActions& out);
@@ -166,6 +171,9 @@ class ClientEngine {
   void handleHandshake(const HandshakeOutput& handshake, ClientActions& out);
   void dispatch(const ControlMessage& message, Micros now, ClientActions& out);
   void onHostLeave(ClientActions& out);
+  /// Another member's presence from the host: PresenceReceived unless its author is 0 or ourselves (dropped,
+  /// counted in presenceIgnored()). client_engine_presence.cpp.
+  void onPresence(const Presence& presence, ClientActions& out);
   // levels and frames (client_engine_levels.cpp)
   void onModelBegin(const ModelBegin& begin, ClientActions& out);
   void onModelChunk(const ModelChunk& chunk, ClientActions& out);
@@ -198,6 +206,7 @@ class ClientEngine {
   bool m_frameDirty = false;
   Micros m_dirtySince{0};
   std::uint64_t m_framesPublished = 0;
+  std::uint64_t m_presenceIgnored = 0;
   // cadence
   Micros m_lastHeard{0};
   Micros m_nextSecond{0};

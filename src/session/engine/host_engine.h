@@ -25,6 +25,9 @@
 //     frame, one still frame (StillFrameSchedule) unless another frame comes first; without drags the current Z is
 //     repeated when idleRefresh has passed since the last frame (checked at housekeeping ticks). Every referenceEvery
 //     frames each peer with a model gets a Keyframe.
+//   - Presence (host_engine_presence.cpp): a member's is relayed to every other member with its id as author (never
+//     echoed), at most presenceRate per peer (excess dropped and counted, no close), and reported to the host's own
+//     user (PresenceReceived); the host's own (setLocalPresence) goes to every member with author kHostPeer.
 //   - Heartbeat to every welcomed peer each second; a peer silent (onHeard) for more than peerTimeout is aborted.
 //   - A message that is unexpected after the Welcome is counted (protocolErrors) and the connection closed.
 //   - A hostile member (docs/security.md, "Hostile member"): a peer over messageRate is closed; LockRequest{Request},
@@ -98,6 +101,7 @@ struct HostEngineOptions {
   RateLimit resolutionRequestRate{2.0, 6.0};         ///< ResolutionRequest; over it: ignored
   RateLimit constraintsRate{4.0, 4.0};               ///< Constraints; over it: rejected
   RateLimit editRequestRate{4.0, 8.0};               ///< EditRequest (undo / redo); over it: ignored
+  RateLimit presenceRate{30.0, 30.0};                ///< Presence relayed per peer; over it: dropped, never closed
   /// Constraints whose (handle + anchor ids) · m² exceeds this are rejected: bounds the refactoring's work and its
   /// ids × m temporary (30000 ids at m = 128: 90–150 ms on one core, off the network thread; 31 MB).
   double maxConstraintWork = 30000.0 * 128.0 * 128.0;
@@ -139,6 +143,8 @@ struct HostEngineCounters {
   std::uint64_t strokesCommitted = 0;        ///< edit steps recorded (strokes that changed the shape)
   std::uint64_t editsApplied = 0;            ///< undo / redo requests that changed the shape
   std::uint64_t editsRefused = 0;            ///< undo / redo requests with nothing to undo / redo
+  std::uint64_t presenceRelayed = 0;         ///< members' Presence messages relayed (host_engine_presence.cpp)
+  std::uint64_t presenceDropped = 0;         ///< members' Presence messages over presenceRate (dropped)
 
   [[nodiscard]] std::uint64_t refusalsFor(RefuseReason reason) const {
     return refusals[static_cast<std::size_t>(reason)];
@@ -209,6 +215,9 @@ class HostEngine {
   /// current shape and the base of the constraints, and `steps` the history (oldest first). False (nothing
   /// changed) when `Z` or a step's delta has the wrong size or is not finite.
   bool restoreEdits(const Eigen::MatrixXd& Z, const std::vector<EditStep>& steps);
+  /// The host's own user's presence: to every member with author kHostPeer (the caller paces it, PresenceSchedule).
+  /// Nothing before start() or after shutdown(), or for a value that does not encode (non-finite, out of bounds).
+  HostActions setLocalPresence(const Presence& presence, Micros now);
 
   // === queries
   [[nodiscard]] PeerList peerList() const;
@@ -261,6 +270,10 @@ class HostEngine {
   void forgetOldWrongPasswords(Micros now);
   void protocolFailure(Peer& peer, const QString& why, HostActions& out);
   void handleResolutionRequest(Peer& peer, const ResolutionRequest& request, HostActions& out);
+  // host_engine_presence.cpp: presence relay
+  /// A member's Presence within presenceRate: author set to its id, sent to every other member and reported
+  /// (PresenceReceived); over the rate: dropped and counted.
+  void relayPresence(Peer& peer, Presence presence, Micros now, HostActions& out);
   void startTransfer(Peer& peer, std::uint32_t target, HostActions& out);
   void levelReady(std::uint32_t target, HostActions& out);
   // host_engine_lock.cpp: lock, constraints, poses

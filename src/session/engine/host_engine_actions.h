@@ -103,10 +103,14 @@ struct StatsReported {
 struct LogLine {
   QString text;
 };
+/// A member's Presence (author = its peer id), for the host's own user's view.
+struct PresenceReceived {
+  Presence presence;
+};
 
-using HostAction =
-    std::variant<SendToPeer, SendToAll, SendFrame, StartTransfer, RequestLevel, PrefetchLevels, PrepareConstraints,
-                 ClosePeer, ExpireHandshake, PeersChanged, LockChanged, EditHistoryChanged, StatsReported, LogLine>;
+using HostAction = std::variant<SendToPeer, SendToAll, SendFrame, StartTransfer, RequestLevel, PrefetchLevels,
+                                PrepareConstraints, ClosePeer, ExpireHandshake, PeersChanged, LockChanged,
+                                EditHistoryChanged, StatsReported, LogLine, PresenceReceived>;
 
 struct HostActions {
   std::vector<HostAction> list;  ///< in order

@@ -34,6 +34,7 @@ struct HostEnginePeer {
   TokenBucket resolutionRequests;  ///< ResolutionRequest
   TokenBucket constraints;         ///< Constraints
   TokenBucket editRequests;        ///< EditRequest (undo / redo)
+  TokenBucket presence;            ///< Presence (relayed within the rate, dropped over it)
   /// The latest request over its rate, served when the rate allows (housekeeping): an honest client's last word is
   /// never lost, and a flood costs one stored message per peer.
   std::optional<ResolutionRequest> deferredResolution;

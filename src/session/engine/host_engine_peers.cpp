@@ -69,6 +69,7 @@ Admission HostEngine::onConnectionAttempt(const std::string& addressKey, Micros 
   peer.resolutionRequests = TokenBucket(m_options.resolutionRequestRate);
   peer.editRequests = TokenBucket(m_options.editRequestRate);
   peer.constraints = TokenBucket(m_options.constraintsRate);
+  peer.presence = TokenBucket(m_options.presenceRate);
   return admission;
 }
 
@@ -200,6 +201,9 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
     case MessageType::StatsReport:
       peer->stats = std::get<StatsReport>(message);
       out.add(StatsReported{id, *peer->stats});
+      break;
+    case MessageType::Presence:
+      relayPresence(*peer, std::get<Presence>(message), now, out);
       break;
     case MessageType::Heartbeat:
       break;  // onHeard() already noted the bytes

@@ -118,6 +118,8 @@ bool SessionClient::sendDrag(std::vector<HandleTransform> handles) {
   return applyCommand(m_engine.sendDrag(std::move(handles)));
 }
 
+bool SessionClient::sendPresence(const Presence& presence) { return applyCommand(m_engine.sendPresence(presence)); }
+
 bool SessionClient::applyCommand(ClientActions actions) {
   const bool accepted = !actions.empty();
   apply(std::move(actions));

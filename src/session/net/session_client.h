@@ -127,6 +127,8 @@ class SessionClient final : public QObject {
   bool requestEdit(EditAction action);
   /// The host's latest EditLog (the session's recent edit steps).
   [[nodiscard]] const EditLog& editLog() const { return m_engine.editLog(); }
+  /// This user's presence to the host (relayed to the others); false when not live or out of bounds.
+  bool sendPresence(const Presence& presence);
   /// Changes the simulated network conditions on receive, live (ClientDatagramChannel::setImpairment: datagrams
   /// the old impairment holds back are delivered at once); nullopt removes them. Also before start().
   void setImpairment(std::optional<ImpairmentSettings> settings);
@@ -204,6 +206,8 @@ class SessionClient final : public QObject {
   /// The displayed frame changed (emitted just before positionsUpdated(), with the same frame): the frame path's
   /// value, pushed down to views, so that nobody pulls Z back through the client.
   void frameUpdated(const sc::spectral::DisplayFrame& frame);
+  /// Another member's presence (author = its peer id) arrived.
+  void presenceReceived(const sc::session::Presence& presence);
 
  private:
   /// Executes the engine's actions in order (session_client_actions.cpp; StartDecode and PublishFrame in
@@ -225,6 +229,7 @@ class SessionClient final : public QObject {
   void execute(client_action::LevelFailed& failure);
   void execute(client_action::LevelReady ready);
   void execute(client_action::PublishFrame);
+  void execute(client_action::PresenceReceived& received) { emit presenceReceived(received.presence); }
   void armTimer();
   void wake();
   [[nodiscard]] ReceiverSample sampleReceiver(Micros now);

@@ -149,6 +149,7 @@ bool SessionHost::edit(EditAction action) {
   apply(m_engine.edit(action, sessionNow(), &applied));
   return applied;
 }
+void SessionHost::setPresence(const Presence& presence) { apply(m_engine.setLocalPresence(presence, sessionNow())); }
 
 // --- the engine's actions
 
@@ -219,6 +220,8 @@ void SessionHost::applyOne(const HostAction& action) {
     emit statsReported(stats->peer, stats->report);
   } else if (const auto* log = std::get_if<LogLine>(&action)) {
     emit logMessage(log->text);
+  } else if (const auto* presence = std::get_if<PresenceReceived>(&action)) {
+    emit presenceReceived(presence->presence);
   }
 }
 

@@ -138,6 +138,8 @@ class SessionHost final : public QObject {
   bool restoreEdits(const Eigen::MatrixXd& Z, const std::vector<EditStep>& steps) {
     return m_engine.restoreEdits(Z, steps);
   }
+  /// Sends the host's own user's presence (camera, pointer, dragging) to every member (HostEngine::setLocalPresence).
+  void setPresence(const Presence& presence);
 
  signals:
   void peersChanged();
@@ -147,6 +149,8 @@ class SessionHost final : public QObject {
   void frameSent(std::uint32_t frame);
   void statsReported(sc::session::PeerId peer, const sc::session::StatsReport& report);
   void logMessage(const QString& message);
+  /// A member's presence arrived (author = its peer id); relayed to the other members already.
+  void presenceReceived(const sc::session::Presence& presence);
 
  private:
   void acceptConnections();

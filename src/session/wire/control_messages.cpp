@@ -370,6 +370,36 @@ bool read(ByteReader& r, EditLog& m) {
   return true;
 }
 
+constexpr std::uint8_t kPresencePointer = 0x01;
+constexpr std::uint8_t kPresenceDragging = 0x02;
+
+void writePoint(ByteWriter& w, const Presence::Point& point) {
+  for (double v : point) w.f64(v);
+}
+bool readPoint(ByteReader& r, Presence::Point& point) {
+  for (double& v : point) {
+    if (!readFinite(r, v) || std::abs(v) > kMaxPresenceCoord) return false;
+  }
+  return true;
+}
+
+void write(ByteWriter& w, const Presence& m) {
+  w.u32(m.author);
+  w.u8(static_cast<std::uint8_t>((m.pointerOn ? kPresencePointer : 0) | (m.dragging ? kPresenceDragging : 0)));
+  for (const Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) writePoint(w, *point);
+}
+bool read(ByteReader& r, Presence& m) {
+  m.author = r.u32();
+  const std::uint8_t flags = r.u8();
+  if (m.author > 0xffff || (flags & ~(kPresencePointer | kPresenceDragging)) != 0) return false;
+  m.pointerOn = (flags & kPresencePointer) != 0;
+  m.dragging = (flags & kPresenceDragging) != 0;
+  for (Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) {
+    if (!readPoint(r, *point)) return false;
+  }
+  return m.pointerOn || m.pointer == Presence::Point{};  // one encoding per value
+}
+
 // === dispatch: variant alternative I has wire type kFirstControlType + I.
 
 constexpr std::size_t kControlTypeCount = std::variant_size_v<ControlMessage>;
@@ -379,6 +409,7 @@ static_assert(std::is_same_v<std::variant_alternative_t<14, ControlMessage>, Hea
 static_assert(std::is_same_v<std::variant_alternative_t<16, ControlMessage>, StatsReport>);
 static_assert(std::is_same_v<std::variant_alternative_t<17, ControlMessage>, LevelList>);
 static_assert(std::is_same_v<std::variant_alternative_t<20, ControlMessage>, EditLog>);
+static_assert(std::is_same_v<std::variant_alternative_t<21, ControlMessage>, Presence>);
 
 template <typename T>
 ControlDecodeResult decodeAs(QByteArrayView body) {

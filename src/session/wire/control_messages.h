@@ -182,6 +182,21 @@ struct LevelList {
   friend bool operator==(const LevelList&, const LevelList&) = default;
 };
 
+/// One user's view of the session (issue 15: presence), ~30 per second while it changes, ~2 when idle. Client →
+/// host with author 0 (the host overwrites it with the sender's id); host → every other member with the author's
+/// id. Coordinates are the full-resolution model's (what the mesh file holds), finite, |value| ≤ kMaxPresenceCoord.
+struct Presence {
+  using Point = std::array<double, 3>;
+  PeerId author = kNoPeer;  ///< 0 (client → host) or 1..65535
+  Point eye{};              ///< camera position
+  Point target{};           ///< the point the camera looks at
+  Point up{};               ///< camera up vector (any length; drawing normalises it)
+  bool pointerOn = false;   ///< the pointer is over the surface
+  Point pointer{};          ///< its surface point; all zero when !pointerOn
+  bool dragging = false;    ///< the user is dragging the handle
+  friend bool operator==(const Presence&, const Presence&) = default;
+};
+
 /// The listed level whose vertex count is closest to `wanted` (ties: the larger); 0 = the largest (full). nullptr
 /// when the list is empty. Cost: O(levels).
 const LevelInfo* closestLevel(const LevelList& list, std::uint32_t wanted);
@@ -220,9 +235,10 @@ struct EditLog {
 };
 
 /// Any control message. LockMessage ↔ MessageType::LockRequest, LockNotice ↔ MessageType::LockNotice.
-using ControlMessage = std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk,
-                                    ResolutionRequest, PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave,
-                                    Heartbeat, Constraints, StatsReport, LevelList, StrokeEnd, EditRequest, EditLog>;
+using ControlMessage =
+    std::variant<Hello, Refused, Challenge, ChallengeResponse, Welcome, ModelBegin, ModelChunk, ResolutionRequest,
+                 PeerList, LockMessage, LockNotice, Drag, Keyframe, Leave, Heartbeat, Constraints, StatsReport,
+                 LevelList, StrokeEnd, EditRequest, EditLog, Presence>;
 
 /// The wire type of a message value.
 MessageType messageType(const ControlMessage& message);

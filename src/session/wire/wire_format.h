@@ -94,7 +94,7 @@
 // port and value (else WrongChallenge). Nothing else is ever answered.
 //
 // ==================================================================================================================
-// Control messages (TCP, both directions), MessageType 0x40..0x4e. Typed values and codecs: control_messages.h;
+// Control messages (TCP, both directions), MessageType 0x40..0x55. Typed values and codecs: control_messages.h;
 // the handshake sequence and the rules: docs/protocol.md.
 // ==================================================================================================================
 // A TCP connection carries a stream of frames. The frame header and the type values of Hello (0x40) and Refused
@@ -189,6 +189,17 @@
 //          +12 1  redoable  1 = undoneBy may redo it (0 once undoneBy committed a newer step), 0 when applied
 //          +13 1  nameLen   n ≤ kMaxNameBytes, then n bytes: the author's name, UTF-8
 //
+// 0x55 Presence (client → host, host → the other members; since version 4), kPresenceSize = 101 bytes:
+//    0  4  author   0 from a client (the host overwrites it with the sender's id); the author's id 1..65535 from
+//                   the host
+//    4  1  flags    bit 0: pointer on the surface, bit 1: dragging; other bits 0
+//    5 24  eye      3 × f64, camera position, full-resolution model coordinates
+//   29 24  target   3 × f64, the point the camera looks at
+//   53 24  up       3 × f64, camera up vector
+//   77 24  pointer  3 × f64, the pointer's surface point; all 0 when bit 0 is clear
+//    Every f64 finite with |value| ≤ kMaxPresenceCoord. The host relays at most presenceRate per peer (excess
+//    dropped and counted, never a close by itself); senders send ≤ 30/s while moving, ≤ 2/s when idle.
+//
 // ==================================================================================================================
 
 #include <QtCore/QByteArray>
@@ -233,6 +244,7 @@ enum class MessageType : std::uint8_t {
   StrokeEnd = 0x52,    ///< since version 4
   EditRequest = 0x53,  ///< since version 4
   EditLog = 0x54,      ///< since version 4
+  Presence = 0x55,     ///< cameras, pointers, dragging (since version 4)
   ControlEnd,          ///< one past the last control type; keep last.
 };
 inline constexpr std::uint8_t kMessageTypeMask = 0x7f;  ///< the high bit is reserved (must be 0).
@@ -278,6 +290,8 @@ inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames 
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kMaxEditLogSteps = 64;  ///< EditLog: the latest steps of the session's edit history
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
+inline constexpr int kPresenceSize = 4 + 1 + 12 * 8;  ///< 101 bytes
+inline constexpr double kMaxPresenceCoord = 1e9;      ///< Presence coordinates: |value| ≤ this
 static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));              // largest Keyframe
 static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                              // largest ModelChunk
 static_assert(1 + 10 + 4 * (kMaxHandles + kMaxConstraintVertices) <= kMaxControlMessageSize);  // largest Constraints
