@@ -17,9 +17,13 @@
 
 #include <gtest/gtest.h>
 
+#include <QColor>
+#include <QImage>
+#include <QLineF>
 #include <QTest>
 
 #include <cmath>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -84,75 +88,114 @@ class MovedHandlePickTest : public ::testing::TestWithParam<int> {
   void SetUp() override {
     if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
   }
+
+  /// A dense torus (75,000 triangles: it gets an interactive proxy) with a speck row in K, shown on GetParam()'s
+  /// path with a handle around the bump selected; false when that path is not available here.
+  bool prepare() {
+    EXPECT_GT(m_torus.F.rows(), sc::app::InteractiveProxyBuilder::kMinTriangles);
+    m_K = basisWithASpeck(m_torus.V, kCentre, 0.35, 1.0);
+    for (Eigen::Index i = 0; i < m_torus.V.rows(); ++i)
+      if ((m_torus.V.row(i) - kCentre).norm() < 0.12) m_handle.push_back(static_cast<int>(i));
+    EXPECT_FALSE(m_handle.empty());
+    const int path = GetParam();
+    m_view.resize(480, 360);
+    m_view.setMesh(m_torus.V, m_torus.F);
+    m_view.setAdaptiveResolution(path == ProxyCpu);
+    m_view.setPaintBudget(1e6);  // full pixel resolution: only the triangles change
+    m_view.setDisplayLevel(sc::spectral::makeDisplayLevel({m_torus.V, m_torus.F, {}, m_K}));
+    m_view.show();
+    EXPECT_TRUE(QTest::qWaitForWindowExposed(&m_view));
+    m_view.setReconstructionPath(path == Gpu ? ReconstructionPath::Gpu : ReconstructionPath::Cpu);
+    if (path == Gpu && !m_view.gpuReconstructionAvailable()) return false;
+    if (path == ProxyCpu) {
+      m_view.setInteractiveProxy(sc::model::proxyTriangles(m_torus.V, m_torus.F, 20000));
+      EXPECT_GT(m_view.proxyTriangleCount(), 0);
+    }
+    m_view.setSelection(m_handle, {});
+    return true;
+  }
+
+  /// Frames of a drag (coefficients arriving, as from another user's drag), right after each other; the last
+  /// frame's picture.
+  QImage showDragFrames() {
+    QImage last;
+    for (int i = 1; i <= 5; ++i) {
+      m_Z(0, 2) = 0.12f * static_cast<float>(i);
+      m_Z(0, 1) = -0.08f * static_cast<float>(i);
+      m_Z(1, 0) = 0.1f * static_cast<float>(i);
+      m_view.showFrame({static_cast<std::uint32_t>(i), m_Z});
+      last = m_view.grabFramebuffer();
+    }
+    if (GetParam() == ProxyCpu) {
+      EXPECT_EQ(m_view.frameTimes().triangles, m_view.proxyTriangleCount()) << "the moving frames drew the proxy";
+    }
+    return last;
+  }
+
+  /// Where the handle's centroid at positions `xyz` (3·#V, the mesh's coordinates) is on screen.
+  QPointF screenOfHandle(std::span<const float> xyz) const {
+    Eigen::RowVector3d centroid = Eigen::RowVector3d::Zero();
+    for (const int v : m_handle) centroid += Eigen::RowVector3d(xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]);
+    const Eigen::RowVector3d origin = 0.5 * (m_torus.V.colwise().minCoeff() + m_torus.V.colwise().maxCoeff());
+    const Eigen::RowVector3d relative = centroid / static_cast<double>(m_handle.size()) - origin;
+    const std::vector<float> one{static_cast<float>(relative.x()), static_cast<float>(relative.y()),
+                                 static_cast<float>(relative.z())};
+    const sc::app::ScreenPoint p = sc::app::projectToScreen(one, m_view.camera().view(), m_view.camera().projection(),
+                                                            m_view.size(), nullptr, 0.0f)[0];
+    return {p.x, p.y};
+  }
+
+  /// X̂ + K·Z of the current frame, as the viewport should show it.
+  [[nodiscard]] std::vector<float> expectedPositions() const {
+    const std::vector<float> rest = sc::spectral::interleavedPositions(m_torus.V);
+    std::vector<float> xyz(rest.size());
+    sc::spectral::reconstructInterleaved(m_K, rest, m_Z, xyz);
+    return xyz;
+  }
+
+  const Eigen::RowVector3d kCentre{1.3, 0.0, 0.0};
+  sc::testing::GeneratedMesh m_torus = sc::testing::torus(300, 125);
+  sc::spectral::RowMatrixXf m_K;
+  Eigen::MatrixXf m_Z = Eigen::MatrixXf::Zero(4, 3);
+  std::vector<int> m_handle;
+  MeshViewport m_view;
 };
 
-// A dense torus (75,000 triangles: it gets an interactive proxy) with a speck row in K; frames move the handle's
-// bump out as coefficients arrive (a drag), then a press on the moved handle with the Drag tool starts a drag.
+// Frames move the handle's bump out as coefficients arrive (a drag); then a press on the moved handle with the
+// Drag tool starts a drag.
 TEST_P(MovedHandlePickTest, APressOnTheMovedHandleStartsADrag) {
-  const int path = GetParam();
-  const auto torus = sc::testing::torus(300, 125);
-  ASSERT_GT(torus.F.rows(), sc::app::InteractiveProxyBuilder::kMinTriangles);
-  const Eigen::RowVector3d centre(1.3, 0.0, 0.0);
-  const sc::spectral::RowMatrixXf K = basisWithASpeck(torus.V, centre, 0.35, 1.0);
-  std::vector<int> handle;
-  for (Eigen::Index i = 0; i < torus.V.rows(); ++i)
-    if ((torus.V.row(i) - centre).norm() < 0.12) handle.push_back(static_cast<int>(i));
-  ASSERT_FALSE(handle.empty());
-
-  MeshViewport view;
-  view.resize(480, 360);
-  view.setMesh(torus.V, torus.F);
-  view.setAdaptiveResolution(path == ProxyCpu);
-  view.setDisplayLevel(sc::spectral::makeDisplayLevel({torus.V, torus.F, {}, K}));
-  view.show();
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&view));
-  view.setReconstructionPath(path == Gpu ? ReconstructionPath::Gpu : ReconstructionPath::Cpu);
-  if (path == Gpu && !view.gpuReconstructionAvailable()) GTEST_SKIP() << "no GPU reconstruction here";
-  if (path == ProxyCpu) {
-    view.setInteractiveProxy(sc::model::proxyTriangles(torus.V, torus.F, 20000));
-    ASSERT_GT(view.proxyTriangleCount(), 0);
-  }
-  view.setSelection(handle, {});
-  view.setTool(sc::app::ViewportTool::Drag);
+  if (!prepare()) GTEST_SKIP() << "no GPU reconstruction here";
+  m_view.setTool(sc::app::ViewportTool::Drag);
   int starts = 0;
-  QObject::connect(&view, &MeshViewport::dragStarted, [&starts] { ++starts; });
-
-  Eigen::MatrixXf Z = Eigen::MatrixXf::Zero(4, 3);
-  for (int i = 1; i <= 5; ++i) {  // frames of a drag, right after each other
-    Z(0, 2) = 0.12f * static_cast<float>(i);
-    Z(0, 1) = -0.08f * static_cast<float>(i);
-    Z(1, 0) = 0.1f * static_cast<float>(i);
-    view.showFrame({static_cast<std::uint32_t>(i), Z});
-    view.grabFramebuffer();
-  }
-  if (path == ProxyCpu) {
-    EXPECT_EQ(view.frameTimes().triangles, view.proxyTriangleCount()) << "the moving frames drew the proxy";
-  }
+  QObject::connect(&m_view, &MeshViewport::dragStarted, [&starts] { ++starts; });
+  showDragFrames();
   QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);  // the idle frame of the full mesh
 
-  // The moved handle on screen: the projection of its centroid (inside the bump) at the displayed positions.
-  const std::vector<float> shown = view.hostPositions();
-  const Eigen::RowVector3d origin = 0.5 * (torus.V.colwise().minCoeff() + torus.V.colwise().maxCoeff());
-  Eigen::RowVector3d centroid = Eigen::RowVector3d::Zero(), restCentroid = Eigen::RowVector3d::Zero();
-  for (const int v : handle) {
-    centroid += Eigen::RowVector3d(shown[3 * v], shown[3 * v + 1], shown[3 * v + 2]);
-    restCentroid += torus.V.row(v);
-  }
-  centroid /= static_cast<double>(handle.size());
-  restCentroid /= static_cast<double>(handle.size());
-  ASSERT_GT((centroid - restCentroid).norm(), 0.3) << "the handle moved";
-  const Eigen::RowVector3d relative = centroid - origin;
-  const std::vector<float> xyz{static_cast<float>(relative.x()), static_cast<float>(relative.y()),
-                               static_cast<float>(relative.z())};
-  const sc::app::ScreenPoint screen =
-      sc::app::projectToScreen(xyz, view.camera().view(), view.camera().projection(), view.size(), nullptr, 0.0f)[0];
-  const QPoint at(static_cast<int>(screen.x), static_cast<int>(screen.y));
-  ASSERT_TRUE(view.rect().contains(at)) << at.x() << "," << at.y();
-  const float yaw = view.camera().yaw();
-  QTest::mousePress(&view, Qt::LeftButton, Qt::NoModifier, at);
+  const std::vector<float> shown = m_view.hostPositions();
+  ASSERT_LT(sc::testing::maxDifference(shown, expectedPositions()), 1e-4f);
+  const QPointF moved = screenOfHandle(shown);
+  ASSERT_GT(QLineF(moved, screenOfHandle(sc::spectral::interleavedPositions(m_torus.V))).length(), 20.0)
+      << "the handle moved on screen";
+  const QPoint at = moved.toPoint();
+  ASSERT_TRUE(m_view.rect().contains(at)) << at.x() << "," << at.y();
+  const float yaw = m_view.camera().yaw();
+  QTest::mousePress(&m_view, Qt::LeftButton, Qt::NoModifier, at);
   EXPECT_EQ(starts, 1) << "the press on the moved handle starts a drag";
-  QTest::mouseRelease(&view, Qt::LeftButton, Qt::NoModifier, at);
-  EXPECT_EQ(view.camera().yaw(), yaw) << "and does not orbit";
+  QTest::mouseRelease(&m_view, Qt::LeftButton, Qt::NoModifier, at);
+  EXPECT_EQ(m_view.camera().yaw(), yaw) << "and does not orbit";
+}
+
+// Issue 15, "your own tint goes stale while someone else drags": the handle's tint is drawn where the handle is
+// shown, in the moving frames (the proxy's on that path) and in the idle frame.
+TEST_P(MovedHandlePickTest, TheSelectionTintFollowsTheFrames) {
+  if (!prepare()) GTEST_SKIP() << "no GPU reconstruction here";
+  const QPointF atRest = screenOfHandle(sc::spectral::interleavedPositions(m_torus.V));
+  const QImage moving = showDragFrames();
+  const QPointF moved = screenOfHandle(expectedPositions());
+  ASSERT_GT(QLineF(moved, atRest).length(), 20.0) << "the handle moved on screen";
+  EXPECT_LT(QLineF(sc::testing::handleTintCentroid(moving), moved).length(), 8.0) << "a moving frame";
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+  EXPECT_LT(QLineF(sc::testing::handleTintCentroid(m_view.grabFramebuffer()), moved).length(), 8.0) << "the idle frame";
 }
 
 std::string pathName(const ::testing::TestParamInfo<int>& param) {

@@ -153,11 +153,7 @@ void MainWindow::setUpSessionDocks() {
   ui->menuView->addAction(m_networkDock->toggleViewAction());
   connect(this, &MainWindow::sessionStarted, m_networkDock, &NetworkConditionsDock::bind);
   connect(this, &MainWindow::sessionStarted, m_dragHistory, &DragHistory::bind);
-  connect(m_dragHistory, &DragHistory::restored, this, [this] {
-    if (m_session == nullptr) return;
-    ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(m_session->handle()),
-                               intIds<spectral::DisplayVertexTag>(m_session->anchors()));
-  });
+  connect(m_dragHistory, &DragHistory::restored, this, &MainWindow::showSessionSelection);
 }
 
 // ---------------------------------------------------------------------------------------------------- sessions
@@ -245,6 +241,13 @@ void MainWindow::onSessionMesh() {
   statusBar()->showMessage(tr("Showing %1 vertices").arg(vertices), kStatusMessageMs);
   updateLevelCombo();
   updateLockControls();
+  showSessionSelection();  // the handle and anchors survive a resolution switch (the new level shows them)
+}
+
+void MainWindow::showSessionSelection() {
+  if (m_session == nullptr) return;
+  ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(m_session->handle()),
+                             intIds<spectral::DisplayVertexTag>(m_session->anchors()));
 }
 
 void MainWindow::updateLockControls() {
