@@ -37,6 +37,7 @@ LocatedFullVertices locateFullVertices(const ResolutionLevel& level, std::span<c
 
 DisplayVertexIds displayedVertices(const ResolutionLevel& level, const LocatedFullVertices& full) {
   const FullVertexIds& ids = full.ids;
+  if (ids.empty()) return {};
   std::vector<char> shown(ids.size(), 0);
   DisplayVertexIds out;
   // === every displayed vertex that stands for one of the ids (ascending by construction)

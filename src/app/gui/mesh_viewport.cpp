@@ -95,6 +95,7 @@ void MeshViewport::positionsGiven() {
 
 // The camera's scene bounds (LevelFrames::bounds()), timed as the frame's bounds stage; then a repaint.
 void MeshViewport::updateBounds() {
+  ++m_shapeVersion;
   QElapsedTimer timer;
   timer.start();
   const auto [lo, hi] = m_frames.bounds();

@@ -233,6 +233,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   std::vector<int>& selection(bool handles) override { return m_selection.group(handles); }
   void selectionEdited() override;
   void cameraMoved() override { markMoved(); }
+  [[nodiscard]] unsigned shapeVersion() const override { return m_shapeVersion; }
 
   void positionsGiven();
   void updateBounds();
@@ -259,6 +260,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached
+  unsigned m_shapeVersion = 0;        // bumped by every change of the drawn positions (updateBounds())
   bool m_boundsConservative = false;  // the camera has LevelFrames' conservative bounds of a lagging frame
   bool m_wireframe = false;
   FrameTimes m_frameTimes;
