@@ -58,6 +58,16 @@ NearestPointIndex::NearestPointIndex(const Eigen::MatrixXd& points) : m_tree(std
 
 NearestPointIndex::~NearestPointIndex() = default;
 
+Eigen::Index NearestPointIndex::nearestIndex(const Eigen::Vector3d& q) const {
+  if (m_tree->cloud.points.rows() == 0) return -1;
+  std::size_t nearest = 0;
+  double squared = 0.0;
+  nanoflann::KNNResultSet<double, std::size_t> knn(1);
+  knn.init(&nearest, &squared);
+  m_tree->index.findNeighbors(knn, q.data(), nanoflann::SearchParams());
+  return static_cast<Eigen::Index>(nearest);
+}
+
 double NearestPointIndex::nearestDistance(const Eigen::Vector3d& q) const {
   const Eigen::MatrixXd& B = m_tree->cloud.points;
   if (B.rows() == 0) return std::numeric_limits<double>::infinity();

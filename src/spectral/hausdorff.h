@@ -30,6 +30,10 @@ class NearestPointIndex {
   /// Cost: O(log n) expected.
   double nearestDistance(const Eigen::Vector3d& q) const;
 
+  /// Row of a reference point nearest to q (one of them on ties); −1 if the reference set is empty. Thread-safe.
+  /// Cost: O(log n) expected.
+  Eigen::Index nearestIndex(const Eigen::Vector3d& q) const;
+
   /// One-sided Hausdorff distance max_{a∈A} min_{b∈B} ‖a − b‖ of the rows of A (n' by 3) to the reference set B.
   /// 0 if A is empty; +∞ if A is not empty and B is. Cost: O(n' log n).
   double maxNearestDistance(const Eigen::MatrixXd& A) const;

@@ -234,20 +234,25 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
   return level;
 }
 
+std::optional<FullVertexId> dominantFullVertex(const BarycentricMap& P, DisplayVertexId displayed) {
+  if (displayed.index() >= static_cast<std::size_t>(P.rows())) return std::nullopt;
+  Eigen::Index best = -1;
+  double bestWeight = -1.0;
+  for (BarycentricMap::InnerIterator it(P, static_cast<Eigen::Index>(displayed.index())); it; ++it) {
+    if (it.value() > bestWeight) {
+      bestWeight = it.value();
+      best = it.col();
+    }
+  }
+  if (best < 0) return std::nullopt;
+  return FullVertexId(static_cast<std::uint32_t>(best));
+}
+
 FullVertexIds dominantFullVertices(const BarycentricMap& P, std::span<const DisplayVertexId> displayed) {
   FullVertexIds ids;
   ids.reserve(displayed.size());
   for (const DisplayVertexId low : displayed) {
-    if (low.index() >= static_cast<std::size_t>(P.rows())) continue;
-    Eigen::Index best = -1;
-    double bestWeight = -1.0;
-    for (BarycentricMap::InnerIterator it(P, static_cast<Eigen::Index>(low.index())); it; ++it) {
-      if (it.value() > bestWeight) {
-        bestWeight = it.value();
-        best = it.col();
-      }
-    }
-    if (best >= 0) ids.emplace_back(static_cast<std::uint32_t>(best));
+    if (const std::optional<FullVertexId> id = dominantFullVertex(P, low)) ids.push_back(*id);
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());

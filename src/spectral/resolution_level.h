@@ -84,6 +84,10 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
 /// Cost: O(k log k) for k = displayed.size() (P has ≤ 3 non-zeros per row).
 FullVertexIds dominantFullVertices(const BarycentricMap& P, std::span<const DisplayVertexId> displayed);
 
+/// The full-resolution vertex one displayed vertex stands for (see dominantFullVertices()); nullopt for an id
+/// outside [0, n') or a row without non-zeros. Cost: O(1) (≤ 3 non-zeros).
+std::optional<FullVertexId> dominantFullVertex(const BarycentricMap& P, DisplayVertexId displayed);
+
 /// Serialises a level in the layout above. Requires every count < 2³² (asserted).
 /// Cost: O(24n' + 12f' + 12z + 4n'm) bytes written and checksummed.
 std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level);

@@ -5,9 +5,11 @@
 
 #include <Eigen/Core>
 
+#include <QColor>
 #include <QFile>
 #include <QImage>
 #include <QOpenGLContext>
+#include <QPointF>
 #include <QRect>
 #include <QString>
 #include <QSurfaceFormat>
@@ -94,5 +96,22 @@ inline float maxDifference(std::span<const float> a, std::span<const float> b) {
 
 /// A copy of a float buffer (e.g. a session's positions at one moment, to compare with later ones).
 inline std::vector<float> copyOf(std::span<const float> values) { return {values.begin(), values.end()}; }
+
+/// Centroid of the pixels tinted as a handle (orange-red: red high, green and blue low), or (−1, −1) for none.
+inline QPointF handleTintCentroid(const QImage& image) {
+  double x = 0.0, y = 0.0;
+  int count = 0;
+  for (int row = 0; row < image.height(); ++row) {
+    for (int col = 0; col < image.width(); ++col) {
+      const QColor c = image.pixelColor(col, row);
+      if (c.red() > 150 && c.red() > 2 * c.green() && c.red() > 3 * c.blue()) {
+        x += col;
+        y += row;
+        ++count;
+      }
+    }
+  }
+  return count == 0 ? QPointF(-1.0, -1.0) : QPointF(x / count, y / count);
+}
 
 }  // namespace sc::testing

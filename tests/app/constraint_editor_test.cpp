@@ -1,7 +1,7 @@
 // ConstraintEditor without a session: a fake EditTarget records what would be sent. Covers when constraints go out
-// (now with the lock, else when it is granted), the id map and the handle-wins rule, each drag's poses sent as they
-// are and ended by a stroke end (the host applies them from the current shape), a lost lock ending a drag, and the
-// constraints a restored session adopts.
+// (now with the lock, else when it is granted), the id map and the handle-wins rule, the composition of a drag's
+// poses with the previous drags', a lost lock ending a drag, the state undo/redo reads and restores, unchanged
+// constraints not sent again, and a resolution switch keeping the groups (full ids) and the pose.
 
 #include "app/gui/constraint_editor.h"
 
@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -25,20 +26,39 @@ using spectral::FullVertexIds;
 DisplayVertexIds displayed(std::vector<std::uint32_t> ids) { return spectral::vertexIds<DisplayVertexId>(ids); }
 FullVertexIds full(std::vector<std::uint32_t> ids) { return spectral::vertexIds<FullVertexId>(ids); }
 
-/// Maps displayed id d to full id 10·d (a client's P, in miniature), drops d ≥ 100, and records the sends.
+/// A client's level in miniature: displayed id d stands for full id step·d (step 10 at first; a resolution switch
+/// changes it), which lies at x = full id / 10; displayed ids ≥ 100 are out of range. Records the sends.
 class FakeTarget final : public EditTarget {
  public:
   bool locked = false;
   bool refuse = false;
+  std::uint32_t step = 10;
   std::vector<std::pair<FullVertexIds, FullVertexIds>> constraints;
   std::vector<spectral::HandleTransform> poses;
-  int strokeEnds = 0;
 
   [[nodiscard]] bool canDrag() const override { return locked; }
-  [[nodiscard]] FullVertexIds fullIds(const DisplayVertexIds& ids) const override {
+  [[nodiscard]] spectral::LocatedFullVertices fullVertices(const DisplayVertexIds& ids) const override {
     FullVertexIds out;
     for (const DisplayVertexId id : ids) {
-      if (id.value < 100) out.emplace_back(10 * id.value);
+      if (id.value < 100) out.emplace_back(step * id.value);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    Eigen::MatrixXd points = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(out.size()), 3);
+    for (std::size_t k = 0; k < out.size(); ++k) points(static_cast<Eigen::Index>(k), 0) = out[k].value / 10.0;
+    return {out, points};
+  }
+  /// Exact where step divides the full id, else the displayed vertex nearest to its point (x = 10·d/step).
+  [[nodiscard]] DisplayVertexIds displayedVertices(const spectral::LocatedFullVertices& full) const override {
+    DisplayVertexIds out;
+    for (std::size_t k = 0; k < full.ids.size(); ++k) {
+      const std::uint32_t f = full.ids[k].value;
+      if (f % step == 0) {
+        out.emplace_back(f / step);
+      } else if (full.points.rows() > 0) {
+        out.emplace_back(
+            static_cast<std::uint32_t>(std::lround(full.points(static_cast<Eigen::Index>(k), 0) * 10.0 / step)));
+      }
     }
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -59,6 +79,7 @@ class FakeTarget final : public EditTarget {
     ++strokeEnds;
     return true;
   }
+  int strokeEnds = 0;
 };
 
 TEST(ConstraintEditor, SendsWhenTheLockIsGrantedMappedAndTheHandleWins) {
@@ -123,11 +144,11 @@ TEST(ConstraintEditor, EachDragSendsItsOwnPosesAndEndsWithAStrokeEnd) {
   EXPECT_EQ(target.constraints.size(), 2u);
 }
 
-TEST(ConstraintEditor, AdoptedConstraintsNeedNoNewSendAndClearForgetsTheIds) {
+TEST(ConstraintEditor, AdoptedConstraintsNeedNoNewSend) {
   FakeTarget target;
   target.locked = true;
   ConstraintEditor editor(target);
-  const HostConstraints state{full({7}), full({8, 9})};
+  const HostConstraints state{full({70}), full({80, 90})};
   editor.adopt(state, displayed({7}), displayed({8, 9}));
   EXPECT_EQ(editor.sent(), state);
   EXPECT_EQ(editor.anchors(), displayed({8, 9}));
@@ -135,11 +156,58 @@ TEST(ConstraintEditor, AdoptedConstraintsNeedNoNewSendAndClearForgetsTheIds) {
   EXPECT_TRUE(target.constraints.empty());
   ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
   EXPECT_TRUE(target.poses.back().translation.isApprox(Eigen::Vector3d(1.0, 0.0, 0.0)));
+}
 
-  editor.clear();
-  EXPECT_TRUE(editor.handle().empty());
-  EXPECT_TRUE(editor.anchors().empty());
-  EXPECT_FALSE(editor.sent().has_value());
+TEST(ConstraintEditor, UnchangedConstraintsAreNotSentAgain) {
+  FakeTarget target;
+  target.locked = true;
+  ConstraintEditor editor(target);
+  ASSERT_TRUE(editor.setSelection(displayed({1, 2}), displayed({5})));
+  ASSERT_TRUE(editor.beginDrag());
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
+  editor.endDrag();
+  // A stroke that changed nothing (e.g. a click of the brush off the mesh) keeps the shape: nothing is sent.
+  EXPECT_FALSE(editor.setSelection(displayed({2, 1}), displayed({5})));
+  EXPECT_FALSE(editor.setHandle(displayed({1, 2})));
+  EXPECT_EQ(target.constraints.size(), 1u);
+  EXPECT_TRUE(editor.setAnchors(displayed({6})));  // a change is sent
+  EXPECT_EQ(target.constraints.size(), 2u);
+}
+
+// Issue 15: switching resolution dropped the handle and anchors ("Paint a handle first"), and repainting reset the
+// shape. The full ids are the truth: the new level shows them (the nearest displayed vertex where none stands for an
+// id), nothing is sent, and the next drag goes on from the shape as it is.
+TEST(ConstraintEditor, ALevelSwitchKeepsTheGroupsAndSendsNothing) {
+  FakeTarget target;
+  target.locked = true;
+  ConstraintEditor editor(target);
+  ASSERT_TRUE(editor.setSelection(displayed({3, 4}), displayed({9})));
+  ASSERT_EQ(target.constraints.size(), 1u);
+  EXPECT_EQ(target.constraints[0].first, full({30, 40}));
+  ASSERT_TRUE(editor.beginDrag());
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(1.0, 0.0, 0.0), Eigen::Matrix3d::Identity()));
+  editor.endDrag();
+
+  target.step = 30;  // a coarser level: displayed d stands for full 30·d
+  editor.levelChanged();
+  EXPECT_EQ(editor.fullHandle(), full({30, 40}));
+  EXPECT_EQ(editor.fullAnchors(), full({90}));
+  EXPECT_EQ(editor.handle(), displayed({1}));   // 30 exactly; 40 (x = 4) nearest to displayed 1 (x = 3)
+  EXPECT_EQ(editor.anchors(), displayed({3}));  // 90 exactly
+  ASSERT_TRUE(editor.beginDrag()) << "no repainting needed";
+  EXPECT_EQ(target.constraints.size(), 1u) << "the same constraints are not sent again (the shape would reset)";
+  ASSERT_TRUE(editor.dragTo(Eigen::Vector3d(0.0, 2.0, 0.0), Eigen::Matrix3d::Identity()));
+  EXPECT_TRUE(target.poses.back().translation.isApprox(Eigen::Vector3d(0.0, 2.0, 0.0))) << "from the shape as it is";
+  editor.endDrag();
+  ASSERT_TRUE(editor.sent().has_value());
+  EXPECT_EQ(editor.sent()->handle, full({30, 40}));
+  EXPECT_EQ(editor.sent()->anchors, full({90}));
+
+  target.step = 10;  // and back: the same displayed ids as painted
+  editor.levelChanged();
+  EXPECT_EQ(editor.handle(), displayed({3, 4}));
+  EXPECT_EQ(editor.anchors(), displayed({9}));
+  EXPECT_EQ(target.constraints.size(), 1u);
 }
 
 }  // namespace

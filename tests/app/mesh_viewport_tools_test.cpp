@@ -116,6 +116,36 @@ TEST_F(MeshViewportToolsTest, BrushPaintsOnlyVisibleVerticesNearTheCursor) {
   EXPECT_GT(backInside, 10) << "the test needs hidden vertices under the brush";
 }
 
+// Issue 15, "your own tint goes stale while someone else drags": a stroke projected the vertices once, at its start,
+// so while another user's drag moved the shape the brush painted where the vertices had been. A dab after the
+// shape moved paints the vertices under the brush as drawn now.
+TEST_F(MeshViewportToolsTest, ADabAfterTheShapeMovedPaintsTheVerticesUnderTheBrushNow) {
+  m_viewport.setTool(ViewportTool::HandleBrush);
+  m_viewport.setBrushRadius(12.0);
+  QTest::mousePress(&m_viewport, Qt::LeftButton, Qt::NoModifier, kCentre);
+  const std::vector<int> first = m_viewport.handles();
+  ASSERT_FALSE(first.empty());
+  // mid-stroke, a frame moves the whole shape 0.5 to the camera's right (≈ 35 pixels)
+  const Eigen::MatrixXd moved = m_sphere.V.rowwise() + 0.5 * cameraAxis(0).transpose();
+  m_viewport.setPositions(moved);
+  const QPoint second = kCentre + QPoint(0, 30);
+  moveTo(second);
+  QTest::mouseRelease(&m_viewport, Qt::LeftButton, Qt::NoModifier, second);
+  std::vector<float> xyz;
+  for (Eigen::Index i = 0; i < moved.rows(); ++i)
+    for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(moved(i, k)));
+  const auto now = sc::app::projectToScreen(xyz, m_viewport.camera().view(), m_viewport.camera().projection(),
+                                            m_viewport.size(), nullptr, 0.0f);
+  int added = 0;
+  for (const int v : m_viewport.handles()) {
+    if (std::binary_search(first.begin(), first.end(), v)) continue;
+    ++added;
+    EXPECT_LE(std::hypot(now[v].x - second.x(), now[v].y - second.y()), 14.0)
+        << "vertex " << v << " is painted where it is drawn now";
+  }
+  EXPECT_GE(added, 3);
+}
+
 TEST_F(MeshViewportToolsTest, AStrokeAccumulatesAndShiftErases) {
   m_viewport.setTool(ViewportTool::AnchorBrush);
   m_viewport.setBrushRadius(12);

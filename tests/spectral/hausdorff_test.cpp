@@ -121,6 +121,11 @@ TEST(NearestPointIndex, AnswersRepeatedQueriesAgainstOneReference) {
   EXPECT_EQ(index.nearestDistance(sphere.V.row(17).transpose()), 0.0);
   EXPECT_NEAR(index.nearestDistance(Eigen::Vector3d::Zero()), 1.0, 1e-12) << "every vertex is on the unit sphere";
   EXPECT_EQ(index.maxNearestDistance(sphere.V), 0.0);
+  // the row of the nearest point: a vertex itself, and a point pushed out from vertex 17 along its normal
+  EXPECT_EQ(index.nearestIndex(sphere.V.row(17).transpose()), 17);
+  EXPECT_EQ(index.nearestIndex(1.05 * sphere.V.row(23).transpose()), 23);
+  const Eigen::MatrixXd none(0, 3);
+  EXPECT_EQ(NearestPointIndex(none).nearestIndex(Eigen::Vector3d::Zero()), -1);
 }
 
 TEST(BoundingBoxDiagonal, UnitCubeAndNormalisation) {

@@ -3,6 +3,7 @@
 #include "model/mesh_decimation.h"
 #include "spectral/closest_point.h"
 #include "spectral/harmonic_basis.h"
+#include "spectral/level_vertex_map.h"
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/vertex_ids.h"
 
@@ -10,8 +11,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 
 namespace sc::spectral {
@@ -208,6 +212,51 @@ TEST_F(ResolutionLevelTest, DominantFullVerticesOfTheFullLevelAreTheIdsThemselve
   const FullVertexIds mapped = dominantFullVertices(s_level->P, all);
   EXPECT_FALSE(mapped.empty());
   for (const FullVertexId id : mapped) EXPECT_LT(id.index(), static_cast<std::size_t>(s_mesh->V.rows()));
+}
+
+// Issue 15: a client's handle and anchors are full ids and must show again on whichever level it displays.
+TEST_F(ResolutionLevelTest, FullVerticesShowAgainOnTheirLevelAndAsTheNearestVerticesOnACoarserOne) {
+  const ResolutionLevel full = fullResolutionLevel(s_mesh->V, s_mesh->F, *s_H);
+  // the full level: the same ids, lying at their rows of V
+  const LocatedFullVertices few =
+      locateFullVertices(full, vertexIds<DisplayVertexId>(std::vector<std::uint32_t>{11, 3, 7, 3}));
+  EXPECT_EQ(few.ids, vertexIds<FullVertexId>(std::vector<std::uint32_t>{3, 7, 11}));
+  ASSERT_EQ(few.points.rows(), 3);
+  EXPECT_EQ(Eigen::RowVector3d(few.points.row(1)), Eigen::RowVector3d(s_mesh->V.row(7)));
+  EXPECT_EQ(displayedVertices(full, few), vertexIds<DisplayVertexId>(std::vector<std::uint32_t>{3, 7, 11}));
+
+  // a region painted at full resolution, shown on the decimated level (300 of 1,440 vertices)
+  DisplayVertexIds painted;
+  for (Eigen::Index i = 0; i < s_mesh->V.rows(); ++i)
+    if (s_mesh->V(i, 0) > 1.15) painted.emplace_back(static_cast<std::uint32_t>(i));
+  const LocatedFullVertices region = locateFullVertices(full, painted);
+  ASSERT_EQ(region.ids.size(), painted.size());
+  const DisplayVertexIds shown = displayedVertices(*s_level, region);
+  ASSERT_FALSE(shown.empty());
+  EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
+  const double spacing = 4.0 * std::sqrt(4.0 * 3.14159 * 3.14159 * 0.3 / 300.0);  // a few coarse edge lengths
+  for (const DisplayVertexId d : shown)
+    EXPECT_GT(s_level->restV(static_cast<Eigen::Index>(d.index()), 0), 1.15 - spacing);
+  // every displayed vertex that stands for one of the ids is there, and each id has a displayed vertex near it
+  for (Eigen::Index i = 0; i < s_level->P.rows(); ++i) {
+    const DisplayVertexId d(static_cast<std::uint32_t>(i));
+    const std::optional<FullVertexId> f = dominantFullVertex(s_level->P, d);
+    if (f && std::binary_search(region.ids.begin(), region.ids.end(), *f)) {
+      EXPECT_TRUE(std::binary_search(shown.begin(), shown.end(), d)) << i;
+    }
+  }
+  for (Eigen::Index k = 0; k < region.points.rows(); ++k) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const DisplayVertexId d : shown)
+      nearest =
+          std::min(nearest, (s_level->restV.row(static_cast<Eigen::Index>(d.index())) - region.points.row(k)).norm());
+    EXPECT_LT(nearest, spacing) << "full id " << region.ids[static_cast<std::size_t>(k)].value;
+  }
+  // without points only the exact ones; and back at full resolution, exactly what was painted
+  const DisplayVertexIds exact = displayedVertices(*s_level, {region.ids, {}});
+  EXPECT_LT(exact.size(), shown.size());
+  EXPECT_TRUE(std::includes(shown.begin(), shown.end(), exact.begin(), exact.end()));
+  EXPECT_EQ(displayedVertices(full, region), painted);
 }
 
 }  // namespace

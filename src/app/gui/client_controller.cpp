@@ -89,7 +89,7 @@ void ClientController::onClientState() {
 }
 
 void ClientController::onLevelReady() {
-  editor().clear();  // ids of the previous level mean nothing on the new one
+  editor().levelChanged();  // the handle and anchors (full ids) shown on the new level; nothing is sent
   if (state() == State::Connecting) {
     if (m_joinFraction && *m_joinFraction > 0.0 && *m_joinFraction < 1.0 && m_client->session()) {
       setLevelTarget(static_cast<std::uint32_t>(std::round(*m_joinFraction * m_client->session()->vertexCount)));
@@ -134,9 +134,14 @@ session::PeerId ClientController::lockHolder() const {
   return state() == State::Live && lock != nullptr ? lock->holder() : session::kNoPeer;
 }
 
-spectral::FullVertexIds ClientController::fullIds(const spectral::DisplayVertexIds& displayed) const {
+spectral::LocatedFullVertices ClientController::fullVertices(const spectral::DisplayVertexIds& displayed) const {
   const spectral::ResolutionLevel* shown = level();
-  return shown != nullptr ? spectral::dominantFullVertices(shown->P, displayed) : spectral::FullVertexIds{};
+  return shown != nullptr ? spectral::locateFullVertices(*shown, displayed) : spectral::LocatedFullVertices{};
+}
+
+spectral::DisplayVertexIds ClientController::displayedVertices(const spectral::LocatedFullVertices& full) const {
+  const spectral::ResolutionLevel* shown = level();
+  return shown != nullptr ? spectral::displayedVertices(*shown, full) : spectral::DisplayVertexIds{};
 }
 
 bool ClientController::sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) {

@@ -3,8 +3,9 @@
 // (and its distortion meter) and passes the client's frame path straight down: the SessionClient's shared level
 // (displayLevelChanged) and frames (frameUpdated) become this controller's displayLevelChanged() and
 // frameChanged(), with no copy of the level here. Displayed ids map to full-resolution ids through the level's
-// P (spectral::dominantFullVertices). Also: the resolution choices, the emulated network conditions, this client's
-// own statistics and how the host's certificate was trusted (pinned fingerprint or trust on first use).
+// P (spectral::locateFullVertices), and back on each new level (spectral::displayedVertices). Also: the resolution
+// choices, the emulated network conditions, this client's own statistics and how the host's certificate was trusted
+// (pinned fingerprint or trust on first use).
 //
 // Lifecycle: Idle --join()--> Connecting (TCP, TLS, handshake, model download; progress()) --> Live once the
 // first level is displayed; the host leaving or going silent, a refusal or cancel() --> Failed.
@@ -81,8 +82,10 @@ class ClientController final : public SessionController {
   [[nodiscard]] const session::LockClient* lockClient() const override;
   bool release() override;
   void stop() override;
-  /// Through the displayed level's P: the dominant full-resolution vertex of each displayed one.
-  [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
+  /// Through the displayed level's P: the dominant full-resolution vertex of each displayed one, and back (on a
+  /// coarser level the nearest displayed vertices stand in: spectral/level_vertex_map.h).
+  [[nodiscard]] spectral::LocatedFullVertices fullVertices(const spectral::DisplayVertexIds& displayed) const override;
+  [[nodiscard]] spectral::DisplayVertexIds displayedVertices(const spectral::LocatedFullVertices& full) const override;
   bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
   bool sendPose(const spectral::HandleTransform& pose) override;
   bool endStroke() override;

@@ -5,39 +5,58 @@
 
 namespace sc::app {
 
+ConstraintEditor::Group ConstraintEditor::painted(spectral::DisplayVertexIds displayed) const {
+  spectral::LocatedFullVertices full = m_target.fullVertices(displayed);
+  return {std::move(displayed), std::move(full)};
+}
+
 bool ConstraintEditor::setSelection(spectral::DisplayVertexIds handle, spectral::DisplayVertexIds anchors) {
-  m_handle = std::move(handle);
-  m_anchors = std::move(anchors);
+  m_handle = painted(std::move(handle));
+  m_anchors = painted(std::move(anchors));
+  return edited();
+}
+
+bool ConstraintEditor::setHandle(spectral::DisplayVertexIds handle) {
+  m_handle = painted(std::move(handle));
+  return edited();
+}
+
+bool ConstraintEditor::setAnchors(spectral::DisplayVertexIds anchors) {
+  m_anchors = painted(std::move(anchors));
+  return edited();
+}
+
+std::pair<spectral::FullVertexIds, spectral::FullVertexIds> ConstraintEditor::constraints() const {
+  const spectral::FullVertexIds& handle = m_handle.full.ids;
+  spectral::FullVertexIds anchors = m_anchors.full.ids;
+  // a vertex cannot be both: the handle wins
+  std::erase_if(anchors,
+                [&handle](spectral::FullVertexId id) { return std::binary_search(handle.begin(), handle.end(), id); });
+  return {handle, std::move(anchors)};
+}
+
+bool ConstraintEditor::edited() {
+  if (m_sent) {
+    const auto [handle, anchors] = constraints();
+    if (handle == m_sentHandle && anchors == m_sentAnchors) return false;  // unchanged: the shape stays as it is
+  }
   m_sent = false;
   return send();
 }
 
-bool ConstraintEditor::setHandle(spectral::DisplayVertexIds handle) {
-  return setSelection(std::move(handle), std::move(m_anchors));
-}
-
-bool ConstraintEditor::setAnchors(spectral::DisplayVertexIds anchors) {
-  return setSelection(std::move(m_handle), std::move(anchors));
-}
-
 bool ConstraintEditor::send() {
-  if (m_sent || !m_target.canDrag()) return false;
-  const spectral::FullVertexIds handle = m_target.fullIds(m_handle);
-  if (handle.empty()) return false;
-  spectral::FullVertexIds anchors = m_target.fullIds(m_anchors);
-  // a vertex cannot be both: the handle wins
-  std::erase_if(anchors,
-                [&handle](spectral::FullVertexId id) { return std::binary_search(handle.begin(), handle.end(), id); });
+  if (m_sent || !m_target.canDrag() || m_handle.full.ids.empty()) return false;
+  auto [handle, anchors] = constraints();
   m_sent = m_target.sendConstraints(handle, anchors);
   if (m_sent) {  // the host applies it from the shape as it is now
-    m_sentHandle = handle;
+    m_sentHandle = std::move(handle);
     m_sentAnchors = std::move(anchors);
   }
   return m_sent;
 }
 
 bool ConstraintEditor::beginDrag() {
-  if (!m_target.canDrag() || m_handle.empty()) return false;
+  if (!m_target.canDrag() || m_handle.full.ids.empty()) return false;
   if (!m_sent && !send()) return false;
   m_dragging = true;
   return true;
@@ -63,10 +82,9 @@ void ConstraintEditor::lockChanged(bool held) {
   m_hadLock = held;
 }
 
-void ConstraintEditor::clear() {
-  m_sent = false;
-  m_handle.clear();
-  m_anchors.clear();
+void ConstraintEditor::levelChanged() {
+  m_handle.displayed = m_target.displayedVertices(m_handle.full);
+  m_anchors.displayed = m_target.displayedVertices(m_anchors.full);
 }
 
 std::optional<HostConstraints> ConstraintEditor::sent() const {
@@ -76,8 +94,14 @@ std::optional<HostConstraints> ConstraintEditor::sent() const {
 
 void ConstraintEditor::adopt(const HostConstraints& state, spectral::DisplayVertexIds handle,
                              spectral::DisplayVertexIds anchors) {
-  m_handle = std::move(handle);
-  m_anchors = std::move(anchors);
+  // The state's ids are the truth; where the displayed ids stand for exactly them, their rest positions come along.
+  const auto adopted = [this](const spectral::FullVertexIds& ids, spectral::DisplayVertexIds displayed) {
+    Group group = painted(std::move(displayed));
+    if (group.full.ids != ids) group.full = {ids, {}};
+    return group;
+  };
+  m_handle = adopted(state.handle, std::move(handle));
+  m_anchors = adopted(state.anchors, std::move(anchors));
   m_sentHandle = state.handle;
   m_sentAnchors = state.anchors;
   m_sent = true;

@@ -203,15 +203,27 @@ std::vector<session::PeerId> HostController::lockQueue() const {
   return {m_host->lockQueue().begin(), m_host->lockQueue().end()};
 }
 
-spectral::FullVertexIds HostController::fullIds(const spectral::DisplayVertexIds& displayed) const {
+spectral::LocatedFullVertices HostController::fullVertices(const spectral::DisplayVertexIds& displayed) const {
   const std::size_t n = m_model ? static_cast<std::size_t>(m_model->vertexCount()) : 0;
-  spectral::FullVertexIds ids;
+  spectral::LocatedFullVertices located;
+  spectral::FullVertexIds& ids = located.ids;
   ids.reserve(displayed.size());
   for (const spectral::DisplayVertexId id : displayed) {
     if (id.index() < n) ids.emplace_back(id.value);
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  located.points.resize(static_cast<Eigen::Index>(ids.size()), 3);
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    located.points.row(static_cast<Eigen::Index>(k)) = m_model->V.row(static_cast<Eigen::Index>(ids[k].index()));
+  }
+  return located;
+}
+
+spectral::DisplayVertexIds HostController::displayedVertices(const spectral::LocatedFullVertices& full) const {
+  const std::size_t n = m_model ? static_cast<std::size_t>(m_model->vertexCount()) : 0;
+  spectral::DisplayVertexIds ids = displayedIds(full.ids);
+  std::erase_if(ids, [n](spectral::DisplayVertexId id) { return id.index() >= n; });
   return ids;
 }
 

@@ -72,8 +72,9 @@ class HostController final : public SessionController {
   [[nodiscard]] const session::LockClient* lockClient() const override;
   bool release() override;
   void stop() override;
-  /// A host displays the full level: a displayed id is the full id (ids out of range dropped).
-  [[nodiscard]] spectral::FullVertexIds fullIds(const spectral::DisplayVertexIds& displayed) const override;
+  /// A host displays the full level: a displayed id is the full id (ids out of range dropped), lying at its row of V.
+  [[nodiscard]] spectral::LocatedFullVertices fullVertices(const spectral::DisplayVertexIds& displayed) const override;
+  [[nodiscard]] spectral::DisplayVertexIds displayedVertices(const spectral::LocatedFullVertices& full) const override;
   bool sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) override;
   bool sendPose(const spectral::HandleTransform& pose) override;
   bool endStroke() override;

@@ -122,6 +122,8 @@ class MainWindow : public QMainWindow {
   /// Shows a frame of the session in the viewport (the per-frame path) and starts the redraw timing.
   void onSessionFrame(const spectral::DisplayFrame& frame);
   void onSessionMesh();
+  /// Shows the session's handle and anchors (its displayed ids) in the viewport.
+  void showSessionSelection();
   void updateLockControls();
   void updateLevelCombo();
   void updateSessionActions();

@@ -160,8 +160,7 @@ void MainWindow::setUpSessionDocks() {
   connect(this, &MainWindow::sessionStarted, this, [this](SessionController* controller) {
     if (controller == nullptr) return;
     connect(controller, &SessionController::savedSessionRestored, this, [this, controller] {
-      ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(controller->handle()),
-                                 intIds<spectral::DisplayVertexTag>(controller->anchors()));
+      showSessionSelection();
       const model::SessionFile* saved = controller->savedSession();
       if (saved != nullptr && saved->droppedLegacyDrags > 0) {
         statusBar()->showMessage(tr("This session was saved by an older ShapeCast: its shape is restored, its undo "
@@ -258,6 +257,13 @@ void MainWindow::onSessionMesh() {
   statusBar()->showMessage(tr("Showing %1 vertices").arg(vertices), kStatusMessageMs);
   updateLevelCombo();
   updateLockControls();
+  showSessionSelection();  // the handle and anchors survive a resolution switch (the new level shows them)
+}
+
+void MainWindow::showSessionSelection() {
+  if (m_session == nullptr) return;
+  ui->viewport->setSelection(intIds<spectral::DisplayVertexTag>(m_session->handle()),
+                             intIds<spectral::DisplayVertexTag>(m_session->anchors()));
 }
 
 void MainWindow::updateLockControls() {

@@ -97,11 +97,13 @@ void MeshViewport::positionsGiven() {
 
 // The camera's scene bounds (LevelFrames::bounds()), timed as the frame's bounds stage; then a repaint.
 void MeshViewport::updateBounds() {
+  ++m_shapeVersion;
   QElapsedTimer timer;
   timer.start();
   const auto [lo, hi] = m_frames.bounds();
   m_camera.setSceneBounds(lo, hi);
   m_sceneDiagonal = (hi - lo).length();
+  m_boundsConservative = m_frames.boundsConservative();
   m_frameTimes.boundsMs = lapMs(timer);
   markMoved();
 }
@@ -162,6 +164,27 @@ void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
 void MeshViewport::applyFrame() {
   m_frames.apply(proxyMayDraw(), m_frameTimes);
   updateBounds();
+}
+
+// A gesture starts (or someone reads the positions): they become current, and so do the camera's bounds when they
+// were the conservative box of a lagging frame, so that the picking pass and the next paint clip nothing the user
+// points at (the conservative box may be far larger than the shape: ShownLevel::bounds()).
+std::span<const float> MeshViewport::pickPositions() {
+  const std::span<const float> positions = m_frames.currentPositions();
+  if (tightenBounds()) {
+    update();
+  }
+  return positions;
+}
+
+bool MeshViewport::tightenBounds() {
+  if (!m_boundsConservative || m_frames.boundsConservative()) {
+    return false;
+  }
+  const auto [lo, hi] = m_frames.bounds();
+  m_camera.setSceneBounds(lo, hi);
+  m_boundsConservative = false;
+  return true;
 }
 
 std::vector<float> MeshViewport::hostPositions() {

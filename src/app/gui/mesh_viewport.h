@@ -250,7 +250,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   // ViewportInput::View.
   QWidget& widget() override { return *this; }
   OrbitCamera& viewCamera() override { return m_camera; }
-  std::span<const float> pickPositions() override { return m_frames.currentPositions(); }
+  std::span<const float> pickPositions() override;
   DepthImage renderDepth() override;
   std::vector<int>& selection(bool handles) override { return m_selection.group(handles); }
   void selectionEdited() override;
@@ -258,9 +258,13 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
     markMoved();
     emit cameraMovedByUser();
   }
+  [[nodiscard]] unsigned shapeVersion() const override { return m_shapeVersion; }
 
   void positionsGiven();
   void updateBounds();
+  /// The camera's bounds become exact where they were conservative and the positions are current now (a gesture or
+  /// a paint of the full mesh made them so). Returns whether they changed. Cost: O(#V) then, else O(1).
+  bool tightenBounds();
   void applyFrame();
   void rebuildTints();
   void markMoved();
@@ -281,6 +285,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached
+  unsigned m_shapeVersion = 0;        // bumped by every change of the drawn positions (updateBounds())
+  bool m_boundsConservative = false;  // the camera has LevelFrames' conservative bounds of a lagging frame
   bool m_wireframe = false;
   FrameTimes m_frameTimes;
   StageClock m_stages;

@@ -70,6 +70,7 @@ void MeshViewport::paintGL() {
   const FramePolicy::Frame frame = m_policy.begin(scalable, proxyMayDraw());
   if (!frame.proxy) {
     m_frames.ensureFullVertexData(m_frameTimes);
+    tightenBounds();
   }
   QElapsedTimer paint;
   paint.start();

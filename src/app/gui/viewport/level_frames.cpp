@@ -62,7 +62,7 @@ std::span<const float> LevelFrames::currentPositions() {
 }
 
 std::pair<QVector3D, QVector3D> LevelFrames::bounds() const {
-  return m_shown.showing() && m_cpu.positionsStale() ? m_shown.bounds() : boundsOf(m_buffers.positions());
+  return boundsConservative() ? m_shown.bounds() : boundsOf(m_buffers.positions());
 }
 
 bool LevelFrames::gpuAvailable() const {

@@ -55,6 +55,8 @@ class LevelFrames {
   /// The camera's scene bounds: exact from the host positions, or while they lag the shown frame from
   /// ShownLevel::bounds(), which needs no reconstruction.
   [[nodiscard]] std::pair<QVector3D, QVector3D> bounds() const;
+  /// Whether bounds() is the conservative box of a lagging frame now (exact once the positions are current).
+  [[nodiscard]] bool boundsConservative() const { return m_shown.showing() && m_cpu.positionsStale(); }
 
   /// Whether the GL objects exist (between the widget's initializeGL() and cleanup()).
   void setGlReady(bool ready) { m_glReady = ready; }

@@ -8,6 +8,8 @@ void ShownLevel::hold(spectral::SharedDisplayLevel level, std::span<const float>
   m_level = std::move(level);
   const spectral::RowMatrixXf& K = m_level->level.K;
   m_maxRowNorm = K.rows() > 0 && K.cols() > 0 ? K.rowwise().norm().maxCoeff() : 0.0f;
+  m_maxAbsColumn =
+      K.rows() > 0 ? Eigen::RowVectorXf(K.cwiseAbs().colwise().maxCoeff()) : Eigen::RowVectorXf::Zero(K.cols());
   Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> R(
       rest.data(), static_cast<Eigen::Index>(rest.size() / 3), 3);
   m_restLo = R.rows() > 0 ? Eigen::Vector3f(R.colwise().minCoeff().transpose()) : Eigen::Vector3f::Zero();
@@ -21,6 +23,7 @@ void ShownLevel::clear() {
   m_Z.resize(0, 0);
   m_showing = false;
   m_maxRowNorm = 0.0f;
+  m_maxAbsColumn.resize(0);
 }
 
 bool ShownLevel::show(const Eigen::MatrixXf& Z) {
@@ -39,7 +42,9 @@ bool ShownLevel::show(const Eigen::MatrixXf& Z) {
 }
 
 std::pair<QVector3D, QVector3D> ShownLevel::bounds() const {
-  const Eigen::Vector3f reach = m_maxRowNorm * m_Z.colwise().norm().transpose();
+  const Eigen::Vector3f cauchySchwarz = m_maxRowNorm * m_Z.colwise().norm().transpose();
+  const Eigen::Vector3f hoelder = (m_maxAbsColumn * m_Z.cwiseAbs()).transpose();
+  const Eigen::Vector3f reach = cauchySchwarz.cwiseMin(hoelder);
   const Eigen::Vector3f lo = m_restLo - reach;
   const Eigen::Vector3f hi = m_restHi + reach;
   return {QVector3D(lo.x(), lo.y(), lo.z()), QVector3D(hi.x(), hi.y(), hi.z())};

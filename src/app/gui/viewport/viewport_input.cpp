@@ -71,8 +71,15 @@ void ViewportInput::endGesture() {
   }
 }
 
-// === brush: project every vertex once per stroke (the camera does not move during it), then dab.
+// === brush: project every vertex at the start of a stroke and again whenever the shape moved since (someone else's
+// drag: the camera does not move during a stroke, but the shape may), then dab.
 void ViewportInput::beginStroke() {
+  projectStroke();
+  m_gesture = Gesture::Paint;
+}
+
+void ViewportInput::projectStroke() {
+  m_strokeShape = m_view.shapeVersion();
   const std::span<const float> positions = m_view.pickPositions();
   const DepthImage depth = m_view.renderDepth();
   QWidget& widget = m_view.widget();
@@ -84,10 +91,12 @@ void ViewportInput::beginStroke() {
   m_strokePoints =
       projectToScreen(positions, camera.view(), camera.projection(), framebuffer, depth.empty() ? nullptr : &depth,
                       static_cast<float>(kDepthToleranceFraction) * diagonal);
-  m_gesture = Gesture::Paint;
 }
 
 void ViewportInput::paintDab(QPointF pos, bool erase) {
+  if (m_view.shapeVersion() != m_strokeShape) {
+    projectStroke();  // the tint must land where the brush is on the shape drawn now
+  }
   const double ratio = m_view.widget().devicePixelRatioF();
   const std::vector<int> hits = visibleWithin(m_strokePoints, pos * ratio, m_brushRadius * ratio);
   std::vector<int>& selection = m_view.selection(m_tool == ViewportTool::HandleBrush);

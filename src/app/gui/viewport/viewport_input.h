@@ -50,6 +50,8 @@ class ViewportInput : public QObject {
     virtual void selectionEdited() = 0;
     /// The camera moved (repaint as a moving frame).
     virtual void cameraMoved() = 0;
+    /// Changes whenever the drawn positions change (a frame arrived, positions were given, another mesh).
+    [[nodiscard]] virtual unsigned shapeVersion() const = 0;
 
    protected:
     virtual ~View() = default;
@@ -92,6 +94,8 @@ class ViewportInput : public QObject {
   enum class Gesture { None, Camera, Paint, Drag, Blocked };
 
   void beginStroke();
+  /// Projects every vertex as drawn now (the stroke's screen points, with their visibility).
+  void projectStroke();
   void paintDab(QPointF pos, bool erase);
   bool beginDrag(QPointF pos);
   void showHint(const QString& text);
@@ -109,7 +113,8 @@ class ViewportInput : public QObject {
   Gesture m_gesture = Gesture::None;
   QPoint m_lastMousePos;
   std::optional<QPointF> m_cursor;          // for the brush outline
-  std::vector<ScreenPoint> m_strokePoints;  // projected at the start of a stroke
+  std::vector<ScreenPoint> m_strokePoints;  // projected at the start of a stroke, again when the shape moved
+  unsigned m_strokeShape = 0;               // the view's shapeVersion() m_strokePoints were projected at
   std::unique_ptr<DragGesture> m_drag;
 };
 
