@@ -44,8 +44,12 @@ class HostController final : public SessionController {
   bool requestLock() override;
   [[nodiscard]] session::PeerId lockHolder() const override;
   [[nodiscard]] std::vector<session::PeerId> lockQueue() const override;
+  bool kick(session::PeerId peer) override;
+  bool forceReleaseLock() override;
   [[nodiscard]] std::optional<HostDeformation> hostDeformation() const override;
   [[nodiscard]] const model::SessionFile* savedSession() const override { return m_saved.get(); }
+  /// What host() was given (the password forgotten once the host started).
+  [[nodiscard]] const HostSettings& settings() const { return m_settings; }
   /// As the lock holder and outside a drag: sets `state`'s constraints and solves its pose again, so that everyone
   /// sees that shape (a new frame); handle() and anchors() become the state's and the next drag starts from its
   /// pose. False (nothing changed) without the lock, during a drag, with an empty handle or ids the deformer refuses.

@@ -27,6 +27,7 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
     }
   }
   if (!events.empty()) out.add(LockChanged{});
+  announceLockQueue(now, out);
 }
 
 HostActions HostEngine::requestLock(Micros now, bool* sent) {
