@@ -2,8 +2,9 @@
 // joining one in this process, and a `shapecast-cli host` process stopped with SIGTERM. The questions before a
 // session ends are answered by a SessionAsker (no modal box); what the other side reads is checked in its window.
 
-#include "app/gui/main_window.h"
 #include "app/gui/session_life.h"
+#include "app/gui/main_window.h"
+#include "session/net/tls_identity.h"
 #include "session_windows.h"
 
 #include <gtest/gtest.h>
@@ -154,6 +155,8 @@ TEST_F(SessionLifeTest, OpeningAnotherMeshWhileHostingAsksAndNeverReachesTheHost
     asked.push_back(question);
     return answer;
   });
+  ASSERT_TRUE(m_host->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([this] { return m_host->canDrag(); }, 5000));
   const int hosted = hostWindow.viewport()->vertexCount();
   EXPECT_FALSE(hostWindow.openMeshAsking(other));
   ASSERT_EQ(asked.size(), 1u);
@@ -167,7 +170,8 @@ TEST_F(SessionLifeTest, OpeningAnotherMeshWhileHostingAsksAndNeverReachesTheHost
   ASSERT_TRUE(hostWindow.openMeshAsking(other));
   EXPECT_EQ(m_host->state(), State::Left);
   EXPECT_EQ(hostWindow.viewport()->vertexCount(), static_cast<int>(sphere.V.rows()));
-  EXPECT_FALSE(m_host->setHandle({spectral::DisplayVertexId(0)})) << "the ended session takes no constraints";
+  EXPECT_FALSE(m_host->canDrag()) << "the ended session's lock is gone: no handle, anchor or drag reaches it";
+  EXPECT_FALSE(m_host->beginDrag());
   ASSERT_TRUE(QTest::qWaitFor([this] { return m_client->state() == State::Failed; }, 10000));
   EXPECT_EQ(m_client->errorText(), QStringLiteral("The host ended the session."));
 
@@ -202,9 +206,8 @@ TEST_F(SessionLifeTest, CopyInvitationPutsTheJoinCommandOnTheClipboard) {
   const QString text = QGuiApplication::clipboard()->text();
   const QString hex = QString::fromLatin1(hosting->hostFingerprint().toHex());
   ASSERT_EQ(hex.size(), 64);
-  const QRegularExpression command(QStringLiteral("Join with: shapecast --join (\\S+):%1 --fingerprint %2\\n")
-                                       .arg(hosting->tcpPort())
-                                       .arg(hex));
+  const QRegularExpression command(
+      QStringLiteral("Join with: shapecast --join (\\S+):%1 --fingerprint %2\\n").arg(hosting->tcpPort()).arg(hex));
   EXPECT_TRUE(command.match(text).hasMatch()) << text.toStdString();
   EXPECT_TRUE(text.contains(session::formatFingerprint(hosting->hostFingerprint()))) << text.toStdString();
   EXPECT_FALSE(text.contains(QStringLiteral("password"), Qt::CaseInsensitive));
@@ -218,10 +221,9 @@ TEST_F(SessionLifeTest, ACliHostStoppedWithSigtermEndsTheSessionForAWindow) {
   environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
   environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
   host.setProcessEnvironment(environment);
-  host.start(QStringLiteral(SHAPECAST_CLI_EXE), {QStringLiteral("host"), m_meshPath, QStringLiteral("--port"),
-                                                 QStringLiteral("0"), QStringLiteral("--m"), QStringLiteral("20"),
-                                                 QStringLiteral("--no-cache"), QStringLiteral("--seconds"),
-                                                 QStringLiteral("120")});
+  host.start(QStringLiteral(SHAPECAST_CLI_EXE),
+             {QStringLiteral("host"), m_meshPath, QStringLiteral("--port"), QStringLiteral("0"), QStringLiteral("--m"),
+              QStringLiteral("20"), QStringLiteral("--no-cache"), QStringLiteral("--seconds"), QStringLiteral("120")});
   QString output;
   const QRegularExpression portLine(QStringLiteral("TCP port (\\d+)"));
   QElapsedTimer waited;
@@ -242,6 +244,39 @@ TEST_F(SessionLifeTest, ACliHostStoppedWithSigtermEndsTheSessionForAWindow) {
   EXPECT_EQ(clientWindow.statusBar()->currentMessage(), QStringLiteral("The host ended the session."));
   ASSERT_TRUE(host.waitForFinished(10000));
   EXPECT_EQ(host.exitCode(), 0);
+}
+
+TEST_F(SessionLifeTest, ACliClientRemovedByTheHostWindowSaysSoAndEnds) {
+  MainWindow hostWindow;
+  HostController* hosting = host(hostWindow);
+  ASSERT_EQ(hosting->state(), State::Live);
+  QProcess join;
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  join.setProcessEnvironment(environment);
+  join.start(
+      QStringLiteral(SHAPECAST_CLI_EXE),
+      {QStringLiteral("join"), QStringLiteral("127.0.0.1:%1").arg(hosting->tcpPort()), QStringLiteral("--name"),
+       QStringLiteral("carol"), QStringLiteral("--fingerprint"),
+       QString::fromLatin1(hosting->hostFingerprint().toHex()), QStringLiteral("--seconds"), QStringLiteral("120")});
+  // Joined and loaded (its first StatsReport comes after the level is installed).
+  ASSERT_TRUE(QTest::qWaitFor(
+      [hosting] { return hosting->peers().peers.size() == 2 && hosting->stats(hosting->peers().peers[1].peerId); },
+      60000));
+  const session::PeerId carol = hosting->peers().peers[1].peerId;
+  EXPECT_EQ(hosting->peers().peers[1].name, QStringLiteral("carol"));
+  QMenu* menu = hostWindow.peerContextMenu(carol);
+  ASSERT_NE(menu, nullptr);
+  QAction* remove = menu->findChild<QAction*>(QStringLiteral("actionKickPeer"));
+  ASSERT_NE(remove, nullptr);
+  remove->trigger();
+  EXPECT_EQ(hosting->peers().peers.size(), 1u) << "gone from the list at once";
+  ASSERT_TRUE(QTest::qWaitFor([&join] { return join.state() == QProcess::NotRunning; }, 20000))
+      << "the client ends by itself";
+  const QString output = QString::fromUtf8(join.readAllStandardOutput());
+  EXPECT_TRUE(output.contains(QStringLiteral("session ended: The host removed you from the session.")))
+      << output.toStdString() << join.readAllStandardError().toStdString();
+  EXPECT_EQ(join.exitCode(), 0);
 }
 
 }  // namespace

@@ -88,7 +88,8 @@ TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(LockNotice{LockNoticeKind::Waiting, 0, 0, 0, {}, {2, 3}}).size(), 5 + 15 + 8);
   EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5 + 3);
   EXPECT_EQ(encodeControlMessage(Leave{LeaveReason::HostEnded, QStringLiteral("bye")}).toHex(),
-            QByteArray("000000074d0100036279" "65"));
+            QByteArray("000000074d0100036279"
+                       "65"));
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
   EXPECT_EQ(hello.toHex(), QByteArray("0000000740534304026162"));  // frozen: length, type, magic, version (4), name
@@ -116,12 +117,14 @@ TEST(ControlMessages, LeaveReasonsAndTheLockQueueAreBounded) {
   EXPECT_TRUE(encodeControlMessage(LockNotice{LockNoticeKind::Granted, 2, 1, 0, {}, {3}}).isEmpty())
       << "a queue on another kind";
   EXPECT_TRUE(
-      encodeControlMessage(LockNotice{LockNoticeKind::Released, 2, 1, 0, LockReleaseReason::RevokedByHost, {}})
-          .size() > 0);
+      encodeControlMessage(LockNotice{LockNoticeKind::Released, 2, 1, 0, LockReleaseReason::RevokedByHost, {}}).size() >
+      0);
   EXPECT_TRUE(encodeControlMessage(LockNotice{LockNoticeKind::Released, 2, 1, 0, static_cast<LockReleaseReason>(4), {}})
                   .isEmpty());
   // A hostile count: 255 entries announced, 1 present.
-  EXPECT_EQ(decodeControlMessage(0x4a, QByteArray::fromHex("05000000000000000000000000" "00ff00000002")).error,
+  EXPECT_EQ(decodeControlMessage(0x4a, QByteArray::fromHex("05000000000000000000000000"
+                                                           "00ff00000002"))
+                .error,
             ControlError::Malformed);
 }
 

@@ -12,17 +12,18 @@ QString invitationText(const QString& address, quint16 port, const QByteArray& f
   if (fingerprint.isEmpty() || port == 0 || address.isEmpty()) return {};
   const QString hostPort = address.contains(QLatin1Char(':')) ? QStringLiteral("[%1]:%2").arg(address).arg(port)
                                                               : QStringLiteral("%1:%2").arg(address).arg(port);
-  const auto tr = [](const char* text) { return QCoreApplication::translate("MainWindow", text); };
-  return tr("ShapeCast session at %1\nCertificate fingerprint: %2\nJoin with: shapecast --join %1 --fingerprint %3\n")
+  const auto translated = [](const char* text) { return QCoreApplication::translate("MainWindow", text); };
+  return translated(
+             "ShapeCast session at %1\nCertificate fingerprint: %2\nJoin with: shapecast --join %1 --fingerprint %3\n")
       .arg(hostPort, session::formatFingerprint(fingerprint), QString::fromLatin1(fingerprint.toHex()));
 }
 
 QString reachableAddress() {
   QString ipv6;
-  for (const QNetworkInterface& interface : QNetworkInterface::allInterfaces()) {
-    const auto flags = interface.flags();
+  for (const QNetworkInterface& candidate : QNetworkInterface::allInterfaces()) {
+    const auto flags = candidate.flags();
     if (!flags.testFlag(QNetworkInterface::IsUp) || flags.testFlag(QNetworkInterface::IsLoopBack)) continue;
-    for (const QNetworkAddressEntry& entry : interface.addressEntries()) {
+    for (const QNetworkAddressEntry& entry : candidate.addressEntries()) {
       const QHostAddress ip = entry.ip();
       if (ip.protocol() == QAbstractSocket::IPv4Protocol) return ip.toString();
       if (ipv6.isEmpty() && ip.protocol() == QAbstractSocket::IPv6Protocol && !ip.isLinkLocal()) ipv6 = ip.toString();

@@ -24,6 +24,7 @@
 #include <QToolBar>
 
 #include <algorithm>
+#include <optional>
 
 namespace sc::app {
 

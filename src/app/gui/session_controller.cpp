@@ -103,7 +103,8 @@ QString SessionController::lockText() const {
 
 QString SessionController::lockActionText() const {
   const session::LockClient* lock = lockClient();
-  return m_state == State::Live && lock != nullptr ? app::lockActionText(*lock) : app::lockActionText(session::LockClient(0));
+  return m_state == State::Live && lock != nullptr ? app::lockActionText(*lock)
+                                                   : app::lockActionText(session::LockClient(0));
 }
 
 void SessionController::onLockChanged() {

@@ -8,23 +8,28 @@ namespace sc::app {
 
 namespace {
 
-QString tr(const char* text, int n = -1) { return QCoreApplication::translate("MainWindow", text, nullptr, n); }
+QString lifeText(const char* text) { return QCoreApplication::translate("MainWindow", text); }
 
 }  // namespace
 
 SessionQuestion endSessionQuestion(int others) {
-  const QString people = others == 1 ? tr("1 person is") : tr("%1 people are").arg(others);
-  return {tr("End the session?"), tr("%1 in this session. End it for everyone?").arg(people), tr("End session"), {}};
+  const QString people = others == 1 ? lifeText("1 person is") : lifeText("%1 people are").arg(others);
+  return {lifeText("End the session?"),
+          lifeText("%1 in this session. End it for everyone?").arg(people),
+          lifeText("End session"),
+          {}};
 }
 
 SessionQuestion openWhileHostingQuestion(const QString& hosted, const QString& opening) {
-  return {tr("Open another mesh?"), tr("You are hosting %1. Open %2:").arg(hosted, opening),
-          tr("End the session and open"), tr("Host %1 instead").arg(opening)};
+  return {lifeText("Open another mesh?"), lifeText("You are hosting %1. Open %2:").arg(hosted, opening),
+          lifeText("End the session and open"), lifeText("Host %1 instead").arg(opening)};
 }
 
 SessionQuestion openWhileJoinedQuestion(const QString& session, const QString& opening) {
-  return {tr("Open another mesh?"), tr("You are in the session at %1. Open %2:").arg(session, opening),
-          tr("Leave the session and open"), {}};
+  return {lifeText("Open another mesh?"),
+          lifeText("You are in the session at %1. Open %2:").arg(session, opening),
+          lifeText("Leave the session and open"),
+          {}};
 }
 
 SessionAnswer askInMessageBox(QWidget* parent, const SessionQuestion& question) {
@@ -32,8 +37,8 @@ SessionAnswer askInMessageBox(QWidget* parent, const SessionQuestion& question) 
   box.setObjectName(QStringLiteral("sessionQuestionBox"));
   box.setTextFormat(Qt::PlainText);  // file names and peer names are never rich text
   QPushButton* end = box.addButton(question.endLabel, QMessageBox::AcceptRole);
-  QPushButton* rehost = question.rehostLabel.isEmpty() ? nullptr : box.addButton(question.rehostLabel,
-                                                                                 QMessageBox::ActionRole);
+  QPushButton* rehost =
+      question.rehostLabel.isEmpty() ? nullptr : box.addButton(question.rehostLabel, QMessageBox::ActionRole);
   QPushButton* cancel = box.addButton(QMessageBox::Cancel);
   box.setDefaultButton(cancel);
   box.exec();

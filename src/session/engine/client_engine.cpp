@@ -102,7 +102,9 @@ void ClientEngine::fail(const QString& reason, ClientActions& out) {
 ClientActions ClientEngine::leave() {
   ClientActions out;
   if (m_state == ClientState::Idle || m_state == ClientState::Left || m_state == ClientState::Failed) return out;
-  if (live()) send(Leave{LeaveReason::ClientLeft, {}}, out);  // during the handshake a Leave would be a protocol error: just close
+  if (live())
+    send(Leave{LeaveReason::ClientLeft, {}},
+         out);  // during the handshake a Leave would be a protocol error: just close
   out.emplace_back(client_action::CloseDatagrams{});
   m_errorText = QStringLiteral("left the session");
   changeState(ClientState::Left, out);

@@ -7,9 +7,10 @@
 // States (ClientState; one changeState() emits StateChanged):
 //   Idle --start()--> Connecting --onSecured()--> Handshaking --Welcome, onDatagramsOpened()--> Loading
 //   Loading --onLevelDecoded(level)--> Ready
-//   any --Leave from the host / leave()--> Left (errorText(): leaveText() of the host's Leave, leaveReason() set);  any --refusal, error, silence--> Failed (reason in errorText():
-//   the host's Refused text, the transport's error, …; once joined, a host that vanished without a Leave reads
-//   "host lost: <why>"). Left and Failed are final; the last level stays readable.
+//   any --Leave from the host / leave()--> Left (errorText(): leaveText() of the host's Leave; leaveReason());
+//   any --refusal, error, silence--> Failed (reason in errorText(): the host's Refused text, the transport's error, …;
+//   once joined, a host that vanished without a Leave reads "host lost: <why>"). Left and Failed are final; the last
+//   level stays readable.
 // Rules
 //   - Welcome: OpenDatagrams; once opened, Loading and a ResolutionRequest{level} (levelFraction, when set,
 //     overrides level with round(fraction · n); ≥ 1 or not > 0 means full, 0).

@@ -194,8 +194,9 @@
 
 namespace sc::session {
 
-inline constexpr std::uint16_t kMagic = 0x5343;      ///< "SC", first two bytes of every datagram.
-/// 3: Issue 14 (encrypted datagrams, path challenge); 4: issue 15 (Leave reasons, lock queue, RevokedByHost, …)
+inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
+/// 3: Issue 14 (encrypted datagrams, path challenge). 4: issue 15 (Leave reason and text, LockNotice Waiting with
+/// the lock queue, Released{RevokedByHost}).
 inline constexpr std::uint8_t kProtocolVersion = 4;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
