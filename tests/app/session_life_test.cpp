@@ -84,15 +84,22 @@ TEST_F(SessionLifeTest, TheHolderSeesWhoWaitsAndTheHostTakesTheLockBack) {
   ASSERT_TRUE(m_host->releaseLock());
   ASSERT_TRUE(m_client->requestLock());
   ASSERT_TRUE(QTest::qWaitFor([this] { return m_client->canDrag(); }, 5000));
+  // alice asks in turn: bob, the holder, reads that she waits.
+  ASSERT_TRUE(m_host->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return lockLine(clientWindow).contains(QStringLiteral("waiting")); }, 5000));
+  EXPECT_EQ(lockLine(clientWindow), QStringLiteral("You hold the lock — alice is waiting"));
+  EXPECT_EQ(action(hostWindow, "actionLock")->text(), QStringLiteral("Cancel request"));
   QAction* takeBack = action(hostWindow, "actionForceRelease");
   ASSERT_NE(takeBack, nullptr);
   ASSERT_TRUE(QTest::qWaitFor([takeBack] { return takeBack->isEnabled(); }, 5000));
   EXPECT_FALSE(action(clientWindow, "actionForceRelease")->isVisible()) << "a client has no such power";
   takeBack->trigger();
   ASSERT_TRUE(QTest::qWaitFor([this] { return !m_client->canDrag(); }, 5000));
-  EXPECT_EQ(m_client->lockText(), QStringLiteral("Lock free — the host released your lock"));
+  ASSERT_TRUE(QTest::qWaitFor([this] { return m_client->lockText().contains(QStringLiteral("alice")); }, 5000));
+  EXPECT_EQ(m_client->lockText(), QStringLiteral("Lock held by alice — the host released your lock"))
+      << "the queue's head, alice, has it now";
   EXPECT_EQ(lockLine(clientWindow), m_client->lockText());
-  EXPECT_EQ(m_host->lockHolder(), session::kNoPeer);
+  EXPECT_EQ(m_host->lockHolder(), m_host->selfId());
 }
 
 TEST_F(SessionLifeTest, AKickedClientReadsThatTheHostRemovedIt) {

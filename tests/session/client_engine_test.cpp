@@ -169,6 +169,20 @@ TEST(ClientEngine, TheHostsLeaveReasonIsReadNotTakenForALostHost) {
   EXPECT_EQ(leaves[0].reason, LeaveReason::ClientLeft);
 }
 
+TEST(ClientEngine, TheHolderLearnsWhoWaitsForTheLock) {
+  ClientEngine engine(config("a"));
+  joinSession(engine);
+  engine.requestLock(kT0);
+  engine.onMessage(message(LockNotice{LockNoticeKind::Granted, kSelf, 4}), kT0);
+  ASSERT_TRUE(engine.lock()->canDrag());
+  const ClientActions out =
+      engine.onMessage(message(LockNotice{LockNoticeKind::Waiting, kNoPeer, kNoEpoch, 0, {}, {7, 9}}), kT0);
+  EXPECT_EQ(engine.lock()->waiting(), (std::vector<PeerId>{7, 9}));
+  EXPECT_EQ(actionsOf<client_action::Notify>(out).at(0).notice, ClientNotice::LockChanged) << "the window redraws";
+  EXPECT_TRUE(sentMessages(out).empty()) << "nothing to answer";
+  EXPECT_TRUE(engine.lock()->canDrag());
+}
+
 TEST(ClientEngine, CommandsAreRefusedUnlessLiveAndDragsUnlessHeld) {
   ClientEngine engine(config("a"));
   EXPECT_TRUE(engine.requestResolution(10).empty());
