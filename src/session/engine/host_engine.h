@@ -271,8 +271,8 @@ class HostEngine {
                   Micros now, HostActions& out);
   // host_engine_moderation.cpp
   /// LockNotice{Waiting} to everybody (and the host's own LockClient) when the arbiter's queue differs from the one
-  /// last announced.
-  void announceLockQueue(Micros now, HostActions& out);
+  /// last announced; true when it did.
+  bool announceLockQueue(Micros now, HostActions& out);
   [[nodiscard]] LockNotice waitingNotice() const;
   // host_engine_frames.cpp: frames
   void produceFrame(Micros now, bool still, HostActions& out);

@@ -26,8 +26,8 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
       }
     }
   }
-  if (!events.empty()) out.add(LockChanged{});
-  announceLockQueue(now, out);
+  const bool queueChanged = announceLockQueue(now, out);
+  if (!events.empty() || queueChanged) out.add(LockChanged{});
 }
 
 HostActions HostEngine::requestLock(Micros now, bool* sent) {

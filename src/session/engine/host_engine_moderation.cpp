@@ -36,13 +36,13 @@ LockNotice HostEngine::waitingNotice() const {
   return notice;
 }
 
-void HostEngine::announceLockQueue(Micros now, HostActions& out) {
-  if (m_arbiter.queue() == m_announcedQueue) return;
+bool HostEngine::announceLockQueue(Micros now, HostActions& out) {
+  if (m_arbiter.queue() == m_announcedQueue) return false;
   m_announcedQueue = m_arbiter.queue();
   const LockNotice notice = waitingNotice();
   out.add(SendToAll{notice});
   m_localLock.apply(notice, toMillis(now));  // a Waiting notice never asks for a reply
-  out.add(LockChanged{});
+  return true;
 }
 
 }  // namespace sc::session
