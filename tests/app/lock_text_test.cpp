@@ -94,6 +94,9 @@ TEST(LockText, TheButtonRequestsCancelsOrReleases) {
   EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free — the host released your lock"));
   ASSERT_TRUE(lock.request(5ms).has_value());
   EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free — requesting…"));
+  ASSERT_TRUE(lock.release(6ms).has_value());  // cancelled
+  lock.apply({LockNoticeKind::Dequeued, 2}, 7ms);
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free")) << "the revocation is history";
 }
 
 }  // namespace

@@ -90,6 +90,8 @@ TEST(LockClient, RevokedByTheHostKnowsWhy) {
   EXPECT_EQ(client.state(), LockState::Idle);
   EXPECT_EQ(client.lastLoss(), LockReleaseReason::RevokedByHost);
   EXPECT_FALSE(client.canDrag());
+  client.request(3ms);
+  EXPECT_FALSE(client.lastLoss().has_value()) << "a new request forgets it";
 }
 
 TEST(LockClient, ReleaseGoesThroughReleasing) {

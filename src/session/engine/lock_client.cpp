@@ -27,6 +27,7 @@ std::optional<LockMessage> LockClient::request(Millis now) {
   if (m_state != LockState::Idle) {
     return std::nullopt;
   }
+  m_lastLoss.reset();  // a new request: the last loss is history
   changeState(LockState::Requested, now);
   return LockMessage{LockRequestKind::Request, kNoEpoch};
 }

@@ -54,7 +54,8 @@ class LockClient {
   [[nodiscard]] std::uint32_t queuePosition() const { return m_queuePosition; }
   /// The peers waiting for the lock, head first, as the host last broadcast them (Waiting notices; ≤ kMaxPeers).
   [[nodiscard]] const std::vector<PeerId>& waiting() const { return m_waiting; }
-  /// Why this peer last stopped holding (Released = it gave the lock back itself); nullopt before any tenure ended.
+  /// Why this peer last stopped holding (Released = it gave the lock back itself); nullopt before any tenure ended
+  /// and again from its next request().
   [[nodiscard]] std::optional<LockReleaseReason> lastLoss() const { return m_lastLoss; }
   /// When pollRenew() will next return a Renew; nullopt unless Held. Lets the adapter arm a single timer.
   [[nodiscard]] std::optional<Millis> nextRenewDue() const;
