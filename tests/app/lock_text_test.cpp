@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 namespace sc::app {
 namespace {
@@ -49,6 +50,53 @@ TEST(LockText, QueuePositionsReadAsEnglishOrdinals) {
     EXPECT_EQ(lockText(lock, 1, 2, peers()),
               QStringLiteral("Lock held by alice — you are %1 in the queue").arg(QLatin1StringView(ordinal)));
   }
+}
+
+session::LockNotice waitingNotice(std::vector<session::PeerId> queue) {
+  return {LockNoticeKind::Waiting, session::kNoPeer, session::kNoEpoch, 0, {}, std::move(queue)};
+}
+
+TEST(LockText, TheHolderSeesWhoWaits) {
+  session::PeerList list = peers();
+  list.peers.push_back({3, 100, QStringLiteral("carol")});
+  list.peers.push_back({4, 100, QStringLiteral("dan")});
+  list.peers.push_back({5, 100, QStringLiteral("erin")});
+  session::LockClient lock(1);
+  ASSERT_TRUE(lock.request(0ms).has_value());
+  lock.apply({LockNoticeKind::Granted, 1, 1, 0}, 1ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list), QStringLiteral("You hold the lock"));
+  lock.apply(waitingNotice({2}), 2ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list), QStringLiteral("You hold the lock — bob is waiting"));
+  lock.apply(waitingNotice({2, 7}), 3ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list), QStringLiteral("You hold the lock — bob and peer 7 are waiting"));
+  lock.apply(waitingNotice({2, 7, 3}), 4ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list), QStringLiteral("You hold the lock — bob, peer 7 and carol are waiting"));
+  lock.apply(waitingNotice({2, 7, 3, 4, 5}), 5ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list),
+            QStringLiteral("You hold the lock — bob, peer 7, carol and 2 others are waiting"))
+      << "at most kMaxWaitingNames names";
+  lock.apply(waitingNotice({}), 6ms);
+  EXPECT_EQ(lockText(lock, 1, 1, list), QStringLiteral("You hold the lock"));
+}
+
+TEST(LockText, TheButtonRequestsCancelsOrReleases) {
+  session::LockClient lock(2);
+  EXPECT_EQ(lockActionText(lock), QStringLiteral("Request lock"));
+  ASSERT_TRUE(lock.request(0ms).has_value());
+  EXPECT_EQ(lockActionText(lock), QStringLiteral("Cancel request"));
+  lock.apply({LockNoticeKind::Granted, 1, 1, 0}, 1ms);
+  lock.apply({LockNoticeKind::Queued, 2, session::kNoEpoch, 1}, 2ms);
+  EXPECT_EQ(lockActionText(lock), QStringLiteral("Cancel request")) << "queued: not \"Release lock\"";
+  lock.apply({LockNoticeKind::Granted, 2, 2, 0}, 3ms);
+  EXPECT_EQ(lockActionText(lock), QStringLiteral("Release lock"));
+  lock.apply({LockNoticeKind::Released, 2, 2, 0, session::LockReleaseReason::RevokedByHost}, 4ms);
+  EXPECT_EQ(lockActionText(lock), QStringLiteral("Request lock"));
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free — the host released your lock"));
+  ASSERT_TRUE(lock.request(5ms).has_value());
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free — requesting…"));
+  ASSERT_TRUE(lock.release(6ms).has_value());  // cancelled
+  lock.apply({LockNoticeKind::Dequeued, 2}, 7ms);
+  EXPECT_EQ(lockText(lock, session::kNoPeer, 2, peers()), QStringLiteral("Lock free")) << "the revocation is history";
 }
 
 }  // namespace

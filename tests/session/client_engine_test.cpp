@@ -139,10 +139,48 @@ TEST(ClientEngine, LeaveEitherWayEndsInLeft) {
 
   ClientEngine theirs(config("d"));
   joinSession(theirs);
-  out = theirs.onMessage(message(Leave{}), kT0);
+  out = theirs.onMessage(message(Leave{LeaveReason::HostEnded, {}}), kT0);
   EXPECT_EQ(statesOf(out), std::vector<S>{S::Left});
-  EXPECT_EQ(theirs.errorText(), QStringLiteral("the host ended the session"));
+  EXPECT_EQ(theirs.errorText(), QStringLiteral("The host ended the session."));
+  EXPECT_EQ(theirs.leaveReason(), LeaveReason::HostEnded);
   EXPECT_TRUE(actionsOf<client_action::Failed>(out).empty());
+}
+
+TEST(ClientEngine, TheHostsLeaveReasonIsReadNotTakenForALostHost) {
+  ClientEngine kicked(config("a"));
+  joinSession(kicked);
+  ClientActions out = kicked.onMessage(message(Leave{LeaveReason::Kicked, QStringLiteral("be nice")}), kT0);
+  EXPECT_EQ(statesOf(out), std::vector<ClientState>{ClientState::Left});
+  EXPECT_EQ(kicked.errorText(), QStringLiteral("The host removed you from the session. (be nice)"));
+  EXPECT_EQ(kicked.leaveReason(), LeaveReason::Kicked);
+  EXPECT_TRUE(kicked.onClosed().empty()) << "the close after the Leave is no failure";
+
+  ClientEngine lost(config("b"));
+  joinSession(lost);
+  lost.onClosed();
+  EXPECT_EQ(lost.state(), ClientState::Failed);
+  EXPECT_EQ(lost.errorText(), QStringLiteral("host lost: the connection closed without a Leave"));
+  EXPECT_FALSE(lost.leaveReason().has_value());
+
+  ClientEngine leaving(config("c"));
+  joinSession(leaving);
+  const std::vector<Leave> leaves = sent<Leave>(leaving.leave());
+  ASSERT_EQ(leaves.size(), 1u);
+  EXPECT_EQ(leaves[0].reason, LeaveReason::ClientLeft);
+}
+
+TEST(ClientEngine, TheHolderLearnsWhoWaitsForTheLock) {
+  ClientEngine engine(config("a"));
+  joinSession(engine);
+  engine.requestLock(kT0);
+  engine.onMessage(message(LockNotice{LockNoticeKind::Granted, kSelf, 4}), kT0);
+  ASSERT_TRUE(engine.lock()->canDrag());
+  const ClientActions out =
+      engine.onMessage(message(LockNotice{LockNoticeKind::Waiting, kNoPeer, kNoEpoch, 0, {}, {7, 9}}), kT0);
+  EXPECT_EQ(engine.lock()->waiting(), (std::vector<PeerId>{7, 9}));
+  EXPECT_EQ(actionsOf<client_action::Notify>(out).at(0).notice, ClientNotice::LockChanged) << "the window redraws";
+  EXPECT_TRUE(sentMessages(out).empty()) << "nothing to answer";
+  EXPECT_TRUE(engine.lock()->canDrag());
 }
 
 TEST(ClientEngine, CommandsAreRefusedUnlessLiveAndDragsUnlessHeld) {

@@ -42,7 +42,7 @@ std::vector<ControlMessage> sampleMessages(int chunkBytes = static_cast<int>(kMa
       LockNotice{LockNoticeKind::Released, 3, 42, 0, LockReleaseReason::LeaseExpired},
       Drag{42, {handle, HandleTransform{}}},
       keyframe,
-      Leave{},
+      Leave{LeaveReason::Kicked, QStringLiteral("please stop")},
       Heartbeat{0xfffffffe},
       Constraints{42, {{1, 2, 3}, {22981}}, {7, 8}},
       StatsReport{5000, 90, 180, 20, 3, 1, 0.1, 0.5, 24.2, 30.1, 30.0, 0.2, 1.5, 0.12, 0.01, 0.0},
@@ -94,11 +94,48 @@ TEST(ControlMessages, EveryMessageRoundTrips) {
 
 TEST(ControlMessages, DocumentedSizes) {
   EXPECT_EQ(encodeControlMessage(Welcome{1, filled(32, 0), filled(16, 0), 1, 1, 1}).size(), 5 + 60);
-  EXPECT_EQ(encodeControlMessage(LockNotice{}).size(), 5 + 14);
-  EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5);
+  EXPECT_EQ(encodeControlMessage(LockNotice{}).size(), 5 + 15);
+  EXPECT_EQ(encodeControlMessage(LockNotice{LockNoticeKind::Waiting, 0, 0, 0, {}, {2, 3}}).size(), 5 + 15 + 8);
+  EXPECT_EQ(encodeControlMessage(Leave{}).size(), 5 + 3);
+  EXPECT_EQ(encodeControlMessage(Leave{LeaveReason::HostEnded, QStringLiteral("bye")}).toHex(),
+            QByteArray("000000074d0100036279"
+                       "65"));
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
   EXPECT_EQ(hello.toHex(), QByteArray("0000000740534304026162"));  // frozen: length, type, magic, version (4), name
+}
+
+TEST(ControlMessages, LeaveReasonsAndTheLockQueueAreBounded) {
+  for (const LeaveReason reason : {LeaveReason::ClientLeft, LeaveReason::HostEnded, LeaveReason::Kicked}) {
+    const Leave leave{reason, QStringLiteral("why")};
+    const QByteArray bytes = encodeControlMessage(leave);
+    ASSERT_FALSE(bytes.isEmpty());
+    EXPECT_TRUE(decodeControlMessage(0x4d, bytes.sliced(5)).message == ControlMessage{leave});
+  }
+  EXPECT_TRUE(encodeControlMessage(Leave{static_cast<LeaveReason>(kLeaveReasonLast + 1), {}}).isEmpty());
+  EXPECT_TRUE(encodeControlMessage(Leave{LeaveReason::HostEnded, QString(kMaxTextBytes + 1, QChar('x'))}).isEmpty());
+  EXPECT_EQ(decodeControlMessage(0x4d, QByteArray::fromHex("030000")).error, ControlError::Malformed)
+      << "an unknown reason";
+  EXPECT_EQ(decodeControlMessage(0x4d, QByteArray()).error, ControlError::Malformed) << "v3's empty Leave";
+
+  LockNotice waiting{LockNoticeKind::Waiting, 0, 0, 0, {}, {}};
+  for (PeerId id = 2; id < 2 + kMaxPeers; ++id) waiting.waiting.push_back(id);
+  EXPECT_FALSE(encodeControlMessage(waiting).isEmpty()) << "kMaxPeers waiting";
+  waiting.waiting.push_back(500);
+  EXPECT_TRUE(encodeControlMessage(waiting).isEmpty()) << "more than kMaxPeers";
+  EXPECT_TRUE(encodeControlMessage(LockNotice{LockNoticeKind::Waiting, 0, 0, 0, {}, {0}}).isEmpty()) << "peer 0";
+  EXPECT_TRUE(encodeControlMessage(LockNotice{LockNoticeKind::Granted, 2, 1, 0, {}, {3}}).isEmpty())
+      << "a queue on another kind";
+  EXPECT_TRUE(
+      encodeControlMessage(LockNotice{LockNoticeKind::Released, 2, 1, 0, LockReleaseReason::RevokedByHost, {}}).size() >
+      0);
+  EXPECT_TRUE(encodeControlMessage(LockNotice{LockNoticeKind::Released, 2, 1, 0, static_cast<LockReleaseReason>(4), {}})
+                  .isEmpty());
+  // A hostile count: 255 entries announced, 1 present.
+  EXPECT_EQ(decodeControlMessage(0x4a, QByteArray::fromHex("05000000000000000000000000"
+                                                           "00ff00000002"))
+                .error,
+            ControlError::Malformed);
 }
 
 TEST(ControlMessages, ValuesBreakingLimitsDoNotEncode) {

@@ -30,6 +30,21 @@ LockEvent queuedTo(PeerId peer, std::uint32_t position) {
   return {LockAudience::OnePeer, peer, {LockNoticeKind::Queued, peer, kNoEpoch, position}};
 }
 
+TEST(LockArbiter, TheHostRevokesTheHolderAndTheQueuesHeadGetsTheLock) {
+  LockArbiter arbiter;
+  EXPECT_TRUE(arbiter.revokeByHost(0ms).empty()) << "nothing to revoke while free";
+  EXPECT_EQ(arbiter.ignoredMessages(), 0u) << "the host's own command is no network input";
+  arbiter.handleMessage(kA, requestMsg(), 0ms);
+  arbiter.handleMessage(kB, requestMsg(), 10ms);
+  EXPECT_EQ(arbiter.revokeByHost(20ms),
+            (LockEvents{releasedAll(kA, 1, LockReleaseReason::RevokedByHost), grantedAll(kB, 2)}));
+  EXPECT_EQ(arbiter.holder(), kB);
+  EXPECT_TRUE(arbiter.queue().empty());
+  EXPECT_EQ(arbiter.acceptDrag(kA, 1, 30ms), DragVerdict::NotHolder) << "the revoked holder's drags are refused";
+  EXPECT_EQ(arbiter.revokeByHost(40ms), (LockEvents{releasedAll(kB, 2, LockReleaseReason::RevokedByHost)}));
+  EXPECT_EQ(arbiter.holder(), kNoPeer);
+}
+
 TEST(LockArbiter, GrantsToFirstRequester) {
   LockArbiter arbiter;
   EXPECT_EQ(arbiter.holder(), kNoPeer);

@@ -64,6 +64,36 @@ TEST(LockClient, RevokedHolderReturnsToIdleAndKnowsWhy) {
   EXPECT_EQ(client.lastLoss(), LockReleaseReason::LeaseExpired);
 }
 
+TEST(LockClient, KnowsWhoWaitsAndFollowsItsPlaceInTheQueue) {
+  LockClient holder(kSelf);
+  holder.request(0ms);
+  holder.apply(granted(kSelf, 1), 1ms);
+  EXPECT_TRUE(holder.waiting().empty());
+  holder.apply({LockNoticeKind::Waiting, kNoPeer, kNoEpoch, 0, {}, {kOther, 7}}, 2ms);
+  EXPECT_EQ(holder.waiting(), (std::vector<PeerId>{kOther, 7}));
+  EXPECT_EQ(holder.state(), LockState::Held) << "a queue notice changes no state";
+  EXPECT_EQ(holder.ignoredNotices(), 0u);
+
+  LockClient waiter(7);
+  waiter.request(0ms);
+  waiter.apply(queued(7, 2), 1ms);
+  waiter.apply({LockNoticeKind::Waiting, kNoPeer, kNoEpoch, 0, {}, {7}}, 2ms);  // kOther gave up its place
+  EXPECT_EQ(waiter.queuePosition(), 1u);
+  EXPECT_EQ(waiter.state(), LockState::Queued);
+}
+
+TEST(LockClient, RevokedByTheHostKnowsWhy) {
+  LockClient client(kSelf);
+  client.request(0ms);
+  client.apply(granted(kSelf, 3), 1ms);
+  client.apply(released(kSelf, 3, LockReleaseReason::RevokedByHost), 2ms);
+  EXPECT_EQ(client.state(), LockState::Idle);
+  EXPECT_EQ(client.lastLoss(), LockReleaseReason::RevokedByHost);
+  EXPECT_FALSE(client.canDrag());
+  client.request(3ms);
+  EXPECT_FALSE(client.lastLoss().has_value()) << "a new request forgets it";
+}
+
 TEST(LockClient, ReleaseGoesThroughReleasing) {
   LockClient client(kSelf);
   client.request(0ms);

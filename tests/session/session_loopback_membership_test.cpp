@@ -43,7 +43,7 @@ TEST_F(SessionLoopback, JoinAndLeaveUpdatePeerLists) {
   // Host shutdown: Leave to everybody.
   host->shutdown();
   ASSERT_TRUE(QTest::qWaitFor([&] { return alice->state() == SessionClient::State::Left; }, kWaitMs));
-  EXPECT_EQ(alice->errorText(), QStringLiteral("the host ended the session"));
+  EXPECT_EQ(alice->errorText(), QStringLiteral("The host ended the session."));
 }
 
 TEST_F(SessionLoopback, WrongPasswordIsRefusedWithItsReason) {

@@ -200,6 +200,9 @@ int runJoinCommand(const QStringList& arguments) {
   QCoreApplication::exec();
 
   const QJsonObject final = figures(client, meter);
+  if (client.leaveReason()) {  // the host ended the session or removed us: no error, but say so
+    QTextStream(progress) << QStringLiteral("session ended: %1\n").arg(client.errorText());
+  }
   if (client.state() == session::SessionClient::State::Failed) {
     command.error(QStringLiteral("session ended: %1").arg(client.errorText()));
     exitCode = kExitNetwork;

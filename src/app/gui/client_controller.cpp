@@ -84,7 +84,8 @@ void ClientController::onClientState() {
       fail(tr("Could not join the session: %1").arg(m_client->errorText()));
     }
   } else if (s == S::Left && !leaving()) {
-    fail(tr("The host ended the session."));
+    // The host's Leave says why (ended, removed you): ClientEngine's leaveText().
+    fail(m_client->errorText().isEmpty() ? tr("The host ended the session.") : m_client->errorText());
   }
 }
 

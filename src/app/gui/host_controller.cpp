@@ -203,6 +203,10 @@ std::vector<session::PeerId> HostController::lockQueue() const {
   return {m_host->lockQueue().begin(), m_host->lockQueue().end()};
 }
 
+bool HostController::kick(session::PeerId peer) { return state() == State::Live && m_host->kick(peer); }
+
+bool HostController::forceReleaseLock() { return state() == State::Live && m_host->forceReleaseLock(); }
+
 spectral::LocatedFullVertices HostController::fullVertices(const spectral::DisplayVertexIds& displayed) const {
   const std::size_t n = m_model ? static_cast<std::size_t>(m_model->vertexCount()) : 0;
   spectral::LocatedFullVertices located;

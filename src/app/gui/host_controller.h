@@ -45,12 +45,16 @@ class HostController final : public SessionController {
   bool requestLock() override;
   [[nodiscard]] session::PeerId lockHolder() const override;
   [[nodiscard]] std::vector<session::PeerId> lockQueue() const override;
+  bool kick(session::PeerId peer) override;
+  bool forceReleaseLock() override;
   [[nodiscard]] const model::SessionFile* savedSession() const override { return m_saved.get(); }
   [[nodiscard]] session::EditLog editLog() const override;
   bool requestEdit(session::EditAction action) override;
   /// Every step of the session's edit history (authors' names, ΔZ, undone or not), oldest first: what a saved
   /// session keeps. Empty when not live.
   [[nodiscard]] std::vector<session::EditStep> editSteps() const;
+  /// What host() was given (the password forgotten once the host started).
+  [[nodiscard]] const HostSettings& settings() const { return m_settings; }
   /// The deformer's exact Z (m by 3, double; the displayed frame is its float copy).
   [[nodiscard]] Eigen::MatrixXd coefficients() const override;
   [[nodiscard]] std::vector<LevelChoice> levels() const override;

@@ -1,6 +1,7 @@
 #include "app/gui/lock_text.h"
 
 #include <QCoreApplication>
+#include <QStringList>
 
 namespace sc::app {
 
@@ -22,21 +23,44 @@ QString ordinal(std::uint32_t n) {
   }
 }
 
+QString peerName(session::PeerId id, const session::PeerList& peers) {
+  for (const session::PeerInfo& peer : peers.peers) {
+    if (peer.peerId == id && !peer.name.isEmpty()) return peer.name;
+  }
+  return tr("peer %1").arg(id);
+}
+
+/// " — bob is waiting", " — bob and carol are waiting", " — bob, carol, dan and 2 others are waiting"; empty when
+/// nobody else waits.
+QString waitingText(const session::LockClient& lock, session::PeerId self, const session::PeerList& peers) {
+  QStringList names;
+  int others = 0;
+  for (const session::PeerId id : lock.waiting()) {
+    if (id == self) continue;
+    if (names.size() < kMaxWaitingNames) {
+      names.push_back(peerName(id, peers));
+    } else {
+      ++others;
+    }
+  }
+  if (names.isEmpty()) return {};
+  if (others > 0) return tr(" — %1 and %2 others are waiting").arg(names.join(QStringLiteral(", "))).arg(others);
+  if (names.size() == 1) return tr(" — %1 is waiting").arg(names.front());
+  const QString last = names.takeLast();
+  return tr(" — %1 and %2 are waiting").arg(names.join(QStringLiteral(", ")), last);
+}
+
 }  // namespace
 
 QString lockText(const session::LockClient& lock, session::PeerId holder, session::PeerId self,
                  const session::PeerList& peers) {
   QString text;
   if (holder == self && lock.canDrag()) {
-    text = tr("You hold the lock");
+    text = tr("You hold the lock") + waitingText(lock, self, peers);
   } else if (holder == session::kNoPeer) {
     text = tr("Lock free");
   } else {
-    QString name = tr("peer %1").arg(holder);
-    for (const session::PeerInfo& peer : peers.peers) {
-      if (peer.peerId == holder && !peer.name.isEmpty()) name = peer.name;
-    }
-    text = tr("Lock held by %1").arg(name);
+    text = tr("Lock held by %1").arg(peerName(holder, peers));
   }
   switch (lock.state()) {
     case session::LockState::Requested:
@@ -49,10 +73,26 @@ QString lockText(const session::LockClient& lock, session::PeerId holder, sessio
       text += tr(" — releasing…");
       break;
     case session::LockState::Idle:
+      if (lock.lastLoss() == session::LockReleaseReason::RevokedByHost) text += tr(" — the host released your lock");
+      break;
     case session::LockState::Held:
       break;
   }
   return text;
+}
+
+QString lockActionText(const session::LockClient& lock) {
+  switch (lock.state()) {
+    case session::LockState::Requested:
+    case session::LockState::Queued:
+      return tr("Cancel request");
+    case session::LockState::Held:
+    case session::LockState::Releasing:
+      return tr("Release lock");
+    case session::LockState::Idle:
+      break;
+  }
+  return tr("Request lock");
 }
 
 }  // namespace sc::app

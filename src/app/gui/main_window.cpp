@@ -50,6 +50,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   setUpSessionDocks();
   setUpEditAndExport();
   setUpSessionFileActions();
+  setUpSessionLife();
   updateLockControls();
 }
 
@@ -243,6 +244,9 @@ bool MainWindow::openMesh(const QString& path) {
     return false;
   }
 
+  // Never show another mesh in a live session (its handles, anchors and drags would go to the hosted model): the
+  // session ends first (File → Open… asks before: openMeshAsking()).
+  if (sessionActive()) leaveSession();
   const auto& mesh = std::get<model::LoadedMesh>(result);
   ui->viewport->setMesh(mesh.V, mesh.F);
   m_proxyBuilder->build(mesh.V, mesh.F);
@@ -264,7 +268,7 @@ void MainWindow::chooseAndOpenMesh() {
       QFileDialog::getOpenFileName(this, tr("Open Mesh"), m_lastDirectory,
                                    tr("Meshes (*.off *.obj *.ply *.stl *.OFF *.OBJ *.PLY *.STL);;All files (*)"));
   if (!path.isEmpty()) {
-    openMesh(path);
+    openMeshAsking(path);
   }
 }
 

@@ -5,12 +5,17 @@
 // frameChanged go to the viewport's setDisplayLevel() and showFrame(); nothing is pulled back.
 
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/session_life.h"
 #include "app/gui/session_settings.h"
 
 #include <QMainWindow>
 #include <QString>
 
+#include <utility>
+
+class QCloseEvent;
 class QComboBox;
+class QMenu;
 class QLabel;
 class QProgressBar;
 class QToolButton;
@@ -75,6 +80,27 @@ class MainWindow : public QMainWindow {
   /// Undo/redo of the session's shared edit history (Edit menu; see edit_actions.h).
   [[nodiscard]] EditActions* editActions() const { return m_editActions; }
 
+  // --- session life (main_window_life.cpp): questions before a session ends, moderation, the invitation
+  /// Who answers the questions asked before a session ends (quitting or leaving while hosting with people in the
+  /// session, opening a mesh while hosting or joined). Default (none set): a QMessageBox (session_life.h) while
+  /// error dialogs are enabled, else the answer End without asking (tests and --screenshot runs).
+  void setSessionAsker(SessionAsker asker) { m_sessionAsker = std::move(asker); }
+  /// File → Open… with a chosen `path`: while a session is active asks first (End the session and open / Host it
+  /// instead / Cancel); never shows the mesh while still hosting or joined. True when the mesh was opened (or
+  /// hosting it started).
+  bool openMeshAsking(const QString& path);
+  /// Session → Leave Session: a host with others in its session asks first. False when the user cancelled.
+  bool leaveSessionAsking();
+  /// The members of the hosted session other than this user (0 unless a live host).
+  [[nodiscard]] int othersInSession() const;
+  /// Session → Copy Invitation: the invitation (invitation.h) of this live host, also put on the clipboard. Empty
+  /// (and the clipboard untouched) unless hosting live.
+  QString copyInvitation();
+  /// The Peers table's context menu for `peerId` (objectName "peerContextMenu", not shown): on a live host
+  /// "Remove from session" (a member's row) and "Take back the lock" (the holder's row); nullptr when it would be
+  /// empty. Owned by the window until the next call.
+  QMenu* peerContextMenu(quint32 peerId);
+
   // --- export (File menu; also used by tests)
   /// Writes the displayed mesh (the session's current positions at this peer's resolution with that level's
   /// faces; without a session the mesh last opened) to `path`, OBJ or PLY by its extension (model::writeMesh).
@@ -107,8 +133,14 @@ class MainWindow : public QMainWindow {
   void chooseAndSaveSession();
   void chooseAndOpenSession();
 
+ protected:
+  /// A live host with others in its session asks first; ending it sends Leave{HostEnded} and closes the window
+  /// once the Leaves are written (kLeaveFlushMs later).
+  void closeEvent(QCloseEvent* event) override;
+
  private:
   static constexpr int kStatusMessageMs = 10000;  ///< how long transient status bar messages stay
+  static constexpr int kLeaveFlushMs = 300;       ///< the event loop writes the Leaves before the window closes
 
   /// Makes `controller` (new, not started) the current session: the previous one leaves and is deleted later.
   void adoptSession(SessionController* controller);
@@ -118,6 +150,10 @@ class MainWindow : public QMainWindow {
   void setUpSessionStatusBar();
   void connectViewportToSession();
   void setUpSessionDocks();
+  void setUpSessionLife();
+  SessionAnswer ask(const SessionQuestion& question);
+  /// A session is preparing, connecting or live.
+  [[nodiscard]] bool sessionActive() const;
   void onSessionLevel(const spectral::SharedDisplayLevel& level);
   /// Shows a frame of the session in the viewport (the per-frame path) and starts the redraw timing.
   void onSessionFrame(const spectral::DisplayFrame& frame);
@@ -149,6 +185,9 @@ class MainWindow : public QMainWindow {
   bool m_errorDialogsEnabled = true;
   EditActions* m_editActions = nullptr;
   SessionPresence* m_presence = nullptr;
+  SessionAsker m_sessionAsker;
+  bool m_closeConfirmed = false;  ///< the session was ended for the close: the next closeEvent closes
+  QMenu* m_peerMenu = nullptr;
   InteractiveProxyBuilder* m_proxyBuilder = nullptr;  ///< the viewport's proxy while a dense mesh moves
   Eigen::MatrixXd m_openedV;  ///< the mesh last opened with openMesh() (exported when not in a session)
   Eigen::MatrixXi m_openedF;

@@ -37,7 +37,7 @@ namespace sc::app {
 void MainWindow::setUpSessionControls() {
   connect(ui->actionHostSession, &QAction::triggered, this, &MainWindow::showHostDialog);
   connect(ui->actionJoinSession, &QAction::triggered, this, &MainWindow::showJoinDialog);
-  connect(ui->actionLeaveSession, &QAction::triggered, this, &MainWindow::leaveSession);
+  connect(ui->actionLeaveSession, &QAction::triggered, this, &MainWindow::leaveSessionAsking);
   auto* tools = new QActionGroup(this);
   const std::pair<QAction*, ViewportTool> toolActions[] = {{ui->actionToolOrbit, ViewportTool::Orbit},
                                                            {ui->actionToolHandle, ViewportTool::HandleBrush},
@@ -269,8 +269,7 @@ void MainWindow::showSessionSelection() {
 void MainWindow::updateLockControls() {
   const bool live = m_session != nullptr && m_session->state() == SessionController::State::Live;
   ui->actionLock->setEnabled(live);
-  const bool wanted = live && m_session->lockWanted();
-  ui->actionLock->setText(wanted ? tr("Release lock") : tr("Request lock"));
+  ui->actionLock->setText(live ? m_session->lockActionText() : tr("Request lock"));
   m_lockLabel->setText(live ? m_session->lockText() : tr("Not in a session"));
   const bool canDrag = live && m_session->canDrag();
   QString hint;

@@ -101,6 +101,12 @@ QString SessionController::lockText() const {
   return app::lockText(*lock, lockHolder(), selfId(), peers());
 }
 
+QString SessionController::lockActionText() const {
+  const session::LockClient* lock = lockClient();
+  return m_state == State::Live && lock != nullptr ? app::lockActionText(*lock)
+                                                   : app::lockActionText(session::LockClient(0));
+}
+
 void SessionController::onLockChanged() {
   m_editor.lockChanged(canDrag());
   emit lockChanged();

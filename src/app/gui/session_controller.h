@@ -90,6 +90,14 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] virtual session::PeerId lockHolder() const = 0;
   /// Peers waiting for the lock, first in line first (known on a host only; empty on a client).
   [[nodiscard]] virtual std::vector<session::PeerId> lockQueue() const { return {}; }
+  /// The lock button's text (lock_text.h: "Request lock", "Cancel request", "Release lock").
+  [[nodiscard]] QString lockActionText() const;
+
+  // --- moderation (host only; false on a client or when not live)
+  /// Removes the member `peer` from the session (Leave{Kicked}); its lock is freed. False unless it is a member.
+  virtual bool kick(session::PeerId /*peer*/) { return false; }
+  /// Takes the lock back from its holder (Released{RevokedByHost}). False when nobody holds it.
+  virtual bool forceReleaseLock() { return false; }
 
   // --- constraints and drags (ConstraintEditor: displayed ids, mapped to full-resolution ids when sent)
   /// The handle group; sent with the anchors at once when this user holds the lock, otherwise when it is granted.

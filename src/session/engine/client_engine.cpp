@@ -20,6 +20,21 @@ QString protocolError(const QString& what) { return QStringLiteral("protocol err
 
 }  // namespace
 
+QString leaveText(const Leave& leave) {
+  QString text;
+  switch (leave.reason) {
+    case LeaveReason::Kicked:
+      text = QStringLiteral("The host removed you from the session.");
+      break;
+    case LeaveReason::HostEnded:
+    case LeaveReason::ClientLeft:  // not what a host says; read as the end of the session
+      text = QStringLiteral("The host ended the session.");
+      break;
+  }
+  if (!leave.text.isEmpty()) text += QStringLiteral(" (%1)").arg(leave.text);
+  return text;
+}
+
 ClientEngine::ClientEngine(ClientEngineConfig config)
     : m_config(std::move(config)),
       m_handshake(ClientHandshakeConfig{m_config.name, m_config.password, {}, m_config.minPbkdf2Iterations}) {}
@@ -87,7 +102,9 @@ void ClientEngine::fail(const QString& reason, ClientActions& out) {
 ClientActions ClientEngine::leave() {
   ClientActions out;
   if (m_state == ClientState::Idle || m_state == ClientState::Left || m_state == ClientState::Failed) return out;
-  if (live()) send(Leave{}, out);  // during the handshake a Leave would be a protocol error: just close
+  if (live())
+    send(Leave{LeaveReason::ClientLeft, {}},
+         out);  // during the handshake a Leave would be a protocol error: just close
   out.emplace_back(client_action::CloseDatagrams{});
   m_errorText = QStringLiteral("left the session");
   changeState(ClientState::Left, out);
@@ -95,9 +112,10 @@ ClientActions ClientEngine::leave() {
   return out;
 }
 
-void ClientEngine::onHostLeave(ClientActions& out) {
+void ClientEngine::onHostLeave(const Leave& leave, ClientActions& out) {
   out.emplace_back(client_action::CloseDatagrams{});
-  m_errorText = QStringLiteral("the host ended the session");
+  m_leaveReason = leave.reason;
+  m_errorText = leaveText(leave);
   changeState(ClientState::Left, out);
   out.emplace_back(client_action::Disconnect{false});
 }
@@ -190,7 +208,7 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
     case MessageType::Heartbeat:
       return;
     case MessageType::Leave:
-      onHostLeave(out);
+      onHostLeave(std::get<Leave>(message), out);
       return;
     default:
       fail(protocolError(QStringLiteral("unexpected message %1").arg(describe(messageType(message)))), out);

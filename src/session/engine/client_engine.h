@@ -7,9 +7,10 @@
 // States (ClientState; one changeState() emits StateChanged):
 //   Idle --start()--> Connecting --onSecured()--> Handshaking --Welcome, onDatagramsOpened()--> Loading
 //   Loading --onLevelDecoded(level)--> Ready
-//   any --Leave from the host / leave()--> Left;  any --refusal, error, silence--> Failed (reason in errorText():
-//   the host's Refused text, the transport's error, …; once joined, a host that vanished without a Leave reads
-//   "host lost: <why>"). Left and Failed are final; the last level stays readable.
+//   any --Leave from the host / leave()--> Left (errorText(): leaveText() of the host's Leave; leaveReason());
+//   any --refusal, error, silence--> Failed (reason in errorText(): the host's Refused text, the transport's error, …;
+//   once joined, a host that vanished without a Leave reads "host lost: <why>"). Left and Failed are final; the last
+//   level stays readable.
 // Rules
 //   - Welcome: OpenDatagrams; once opened, Loading and a ResolutionRequest{level} (levelFraction, when set,
 //     overrides level with round(fraction · n); ≥ 1 or not > 0 means full, 0).
@@ -51,6 +52,10 @@
 #include <optional>
 
 namespace sc::session {
+
+/// What a client shows for the host's Leave: "The host ended the session." or "The host removed you from the
+/// session.", plus the host's optional text in parentheses (plain text: show it as such).
+QString leaveText(const Leave& leave);
 
 struct ClientEngineConfig {
   QString name;                         ///< display name, ≤ kMaxNameBytes UTF-8
@@ -136,6 +141,8 @@ class ClientEngine {
   /// True while messages are wanted (Handshaking, Loading, Ready).
   [[nodiscard]] bool acceptsMessages() const { return m_state == ClientState::Handshaking || live(); }
   [[nodiscard]] const QString& errorText() const { return m_errorText; }
+  /// Why the host sent its Leave (HostEnded, Kicked); nullopt unless the session ended by the host's Leave.
+  [[nodiscard]] std::optional<LeaveReason> leaveReason() const { return m_leaveReason; }
   [[nodiscard]] const ClientHandshake& handshake() const { return m_handshake; }
   [[nodiscard]] const std::optional<Welcome>& session() const { return m_session; }
   [[nodiscard]] const PeerList& peers() const { return m_peers; }
@@ -170,7 +177,7 @@ class ClientEngine {
   ClientActions lockCommand(std::optional<LockMessage> (LockClient::*command)(Millis), Micros now);
   void handleHandshake(const HandshakeOutput& handshake, ClientActions& out);
   void dispatch(const ControlMessage& message, Micros now, ClientActions& out);
-  void onHostLeave(ClientActions& out);
+  void onHostLeave(const Leave& leave, ClientActions& out);
   /// Another member's presence from the host: PresenceReceived unless its author is 0 or ourselves (dropped,
   /// counted in presenceIgnored()). client_engine_presence.cpp.
   void onPresence(const Presence& presence, ClientActions& out);
@@ -187,6 +194,7 @@ class ClientEngine {
   ClientEngineConfig m_config;
   ClientState m_state = ClientState::Idle;
   QString m_errorText;
+  std::optional<LeaveReason> m_leaveReason;
   ClientHandshake m_handshake;
   std::optional<Welcome> m_session;
   PeerList m_peers;

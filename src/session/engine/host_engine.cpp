@@ -52,7 +52,7 @@ HostActions HostEngine::shutdown(Micros /*now*/) {
   for (auto& [id, peer] : m_peers) {
     if (peer.closing) continue;
     if (peer.welcomed) {
-      out.add(SendToPeer{id, Leave{}});
+      out.add(SendToPeer{id, Leave{LeaveReason::HostEnded, {}}});
     } else {
       out.add(
           SendToPeer{id, Refused{RefuseReason::ShuttingDown, kProtocolVersion, QStringLiteral("the host is closing")}});

@@ -40,7 +40,11 @@
 //     their own limits and deadline, and when all pending slots are taken, the oldest pending connection of the most
 //     represented address makes room for an address with fewer. Wrong passwords are logged and, after
 //     freeWrongPasswords from one address, that address waits (doubling) before its next connection is admitted.
-//   - shutdown(): Leave to welcomed peers, Refused(ShuttingDown) to pending ones, every connection closed.
+//   - shutdown(): Leave{HostEnded} to welcomed peers, Refused(ShuttingDown) to pending ones, every connection closed.
+//   - Moderation (host_engine_moderation.cpp): kick() sends Leave{Kicked} to a member and closes it, its lock or
+//     place in the queue freed at once; forceReleaseLock() revokes the holder (Released{RevokedByHost}). Whenever
+//     the lock's queue changes, LockNotice{Waiting, queue} goes to everybody (a newcomer gets it after its Welcome),
+//     so that the holder sees who waits.
 // Network input never asserts (style.md item 6). Cost: O(peers) per event, plus a deformer solve per drag frame.
 // Not thread-safe: one thread drives it.
 
@@ -59,6 +63,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -219,6 +224,14 @@ class HostEngine {
   /// Nothing before start() or after shutdown(), or for a value that does not encode (non-finite, out of bounds).
   HostActions setLocalPresence(const Presence& presence, Micros now);
 
+  // === moderation by the host's user (host_engine_moderation.cpp)
+  /// Removes the member `peer` (not the host's own user): Leave{Kicked, text} to it, then a graceful close; its lock
+  /// is freed and it leaves the queue at once, the PeerList goes out without it. `kicked`: whether it was a member.
+  HostActions kick(PeerId peer, Micros now, const QString& text = {}, bool* kicked = nullptr);
+  /// Takes the lock back from its holder (Released{RevokedByHost} to all; the queue's head is granted next).
+  /// `revoked`: whether anybody held it.
+  HostActions forceReleaseLock(Micros now, bool* revoked = nullptr);
+
   // === queries
   [[nodiscard]] PeerList peerList() const;
   [[nodiscard]] bool nameTaken(const QString& name) const;
@@ -292,6 +305,11 @@ class HostEngine {
   /// Sends the history's log to everybody and tells the adapter.
   void historyChanged(HostActions& out);
   [[nodiscard]] QString authorName(PeerId peer) const;
+  // host_engine_moderation.cpp
+  /// LockNotice{Waiting} to everybody (and the host's own LockClient) when the arbiter's queue differs from the one
+  /// last announced; true when it did.
+  bool announceLockQueue(Micros now, HostActions& out);
+  [[nodiscard]] LockNotice waitingNotice() const;
   // host_engine_frames.cpp: frames
   /// Sends the current Z as a frame, solving the pending pose first if there is one. `jumped`: Z changed outside
   /// a drag (undo / redo), which counts as a moving frame for the still frame.
@@ -305,6 +323,7 @@ class HostEngine {
   std::map<PeerId, Peer> m_peers;  ///< every open connection, welcomed or not
   LockArbiter m_arbiter;
   LockClient m_localLock{kHostPeer};
+  std::deque<PeerId> m_announcedQueue;  ///< the lock queue as last sent in a Waiting notice
   std::unique_ptr<spectral::SpectralDeformer> m_deformer;
   HostEngineCounters m_counters;
   PeerId m_nextPeerId = kHostPeer + 1;

@@ -26,11 +26,10 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
       }
     }
   }
-  if (!events.empty()) {
-    // a stroke ends with its author's tenure (released, revoked, gone): what it did is a step of the history
-    if (m_strokeAuthor != kNoPeer && m_arbiter.holder() != m_strokeAuthor) commitStroke(now, out);
-    out.add(LockChanged{});
-  }
+  const bool queueChanged = announceLockQueue(now, out);
+  // a stroke ends with its author's tenure (released, revoked, gone): what it did is a step of the history
+  if (!events.empty() && m_strokeAuthor != kNoPeer && m_arbiter.holder() != m_strokeAuthor) commitStroke(now, out);
+  if (!events.empty() || queueChanged) out.add(LockChanged{});
 }
 
 HostActions HostEngine::requestLock(Micros now, bool* sent) {

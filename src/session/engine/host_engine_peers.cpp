@@ -109,6 +109,7 @@ HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*
     out.add(SendToPeer{id, LockNotice{LockNoticeKind::Granted, m_arbiter.holder(), m_arbiter.epoch(), 0, {}}});
   }
   if (!m_history.steps().empty()) out.add(SendToPeer{id, m_history.log()});
+  if (!m_arbiter.queue().empty()) out.add(SendToPeer{id, waitingNotice()});
   out.add(LogLine{
       QStringLiteral("%1 joined as peer %2 from %3").arg(name).arg(id).arg(QString::fromStdString(peer.address))});
   out.add(PeersChanged{});

@@ -75,6 +75,11 @@ LockEvents LockArbiter::peerDisconnected(PeerId peer, Millis now) {
   return {};
 }
 
+LockEvents LockArbiter::revokeByHost(Millis now) {
+  if (!m_holder) return {};
+  return endTenure(LockReleaseReason::RevokedByHost, now);
+}
+
 LockEvents LockArbiter::tick(Millis now) {
   if (m_holder && now - m_holder->lastHeard > m_lease) {
     return endTenure(LockReleaseReason::LeaseExpired, now);

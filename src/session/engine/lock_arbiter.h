@@ -60,6 +60,10 @@ class LockArbiter {
   /// The peer's control connection closed: frees the lock at once if it held it, leaves the queue otherwise.
   LockEvents peerDisconnected(PeerId peer, Millis now);
 
+  /// The host's user takes the lock back: the holder (whoever it is) loses it at once (Released{RevokedByHost} to
+  /// all) and the queue's head is granted. Nothing when the lock is free (not counted: this is no network input).
+  LockEvents revokeByHost(Millis now);
+
   /// Revokes the holder if it has been silent for strictly more than the lease, or has held the lock too long while
   /// others wait (see the invariants). Call often (e.g. every 100 ms).
   LockEvents tick(Millis now);

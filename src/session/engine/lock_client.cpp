@@ -1,5 +1,7 @@
 #include "session/engine/lock_client.h"
 
+#include <algorithm>
+
 #include <cassert>
 
 namespace sc::session {
@@ -25,6 +27,7 @@ std::optional<LockMessage> LockClient::request(Millis now) {
   if (m_state != LockState::Idle) {
     return std::nullopt;
   }
+  m_lastLoss.reset();  // a new request: the last loss is history
   changeState(LockState::Requested, now);
   return LockMessage{LockRequestKind::Request, kNoEpoch};
 }
@@ -60,6 +63,9 @@ std::optional<LockMessage> LockClient::apply(const LockNotice& notice, Millis no
       return std::nullopt;
     case LockNoticeKind::Dequeued:
       onDequeued(now);
+      return std::nullopt;
+    case LockNoticeKind::Waiting:
+      onWaiting(notice);
       return std::nullopt;
   }
   return ignore();
@@ -129,6 +135,13 @@ void LockClient::onReleased(const LockNotice& notice, Millis now) {
     return;
   }
   ignore();
+}
+
+void LockClient::onWaiting(const LockNotice& notice) {
+  m_waiting = notice.waiting;
+  if (m_state != LockState::Queued) return;
+  const auto it = std::find(m_waiting.begin(), m_waiting.end(), m_self);
+  if (it != m_waiting.end()) m_queuePosition = static_cast<std::uint32_t>(it - m_waiting.begin()) + 1;
 }
 
 void LockClient::onDequeued(Millis now) {

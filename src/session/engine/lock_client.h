@@ -10,6 +10,7 @@
 //   Held --Released(self) (lease expired, disconnected)--> Idle           |        Released(self) | Dequeued
 //   Requested | Queued --release()--> Releasing  (cancel; sends Release{kNoEpoch})               v
 //   Held --Granted(other) (we missed our Released)--> Idle                                      Idle
+//   any --Waiting{queue}--> same state: waiting() is the host's queue (a Queued peer's position follows it)
 //
 // Invariants: heldEpoch() != kNoEpoch exactly in Held; canDrag() only in Held; holder()/holderEpoch() mirror the
 // host's latest Granted/Released broadcast whatever this peer's own state. Notices that make no sense in the
@@ -19,6 +20,7 @@
 // Cost: O(1) per call.
 
 #include <optional>
+#include <vector>
 
 #include "session/wire/lock_messages.h"
 
@@ -50,7 +52,10 @@ class LockClient {
   [[nodiscard]] LockEpoch holderEpoch() const { return m_holderEpoch; }
   /// 1 = next in line; 0 unless Queued.
   [[nodiscard]] std::uint32_t queuePosition() const { return m_queuePosition; }
-  /// Why this peer last stopped holding (Released = it gave the lock back itself); nullopt before any tenure ended.
+  /// The peers waiting for the lock, head first, as the host last broadcast them (Waiting notices; ≤ kMaxPeers).
+  [[nodiscard]] const std::vector<PeerId>& waiting() const { return m_waiting; }
+  /// Why this peer last stopped holding (Released = it gave the lock back itself); nullopt before any tenure ended
+  /// and again from its next request().
   [[nodiscard]] std::optional<LockReleaseReason> lastLoss() const { return m_lastLoss; }
   /// When pollRenew() will next return a Renew; nullopt unless Held. Lets the adapter arm a single timer.
   [[nodiscard]] std::optional<Millis> nextRenewDue() const;
@@ -65,6 +70,7 @@ class LockClient {
   void onQueued(const LockNotice& notice, Millis now);
   void onReleased(const LockNotice& notice, Millis now);
   void onDequeued(Millis now);
+  void onWaiting(const LockNotice& notice);
   std::optional<LockMessage> ignore();
 
   PeerId m_self;
@@ -76,6 +82,7 @@ class LockClient {
   std::uint32_t m_queuePosition = 0;
   Millis m_lastRenew{0};
   std::optional<LockReleaseReason> m_lastLoss;
+  std::vector<PeerId> m_waiting;
   std::uint64_t m_ignored = 0;
 };
 

@@ -141,6 +141,8 @@ class SessionClient final : public QObject {
 
   [[nodiscard]] State state() const { return m_state; }
   [[nodiscard]] const QString& errorText() const { return m_engine.errorText(); }
+  /// Why the host ended this client's session (its Leave's reason); nullopt unless the host sent a Leave.
+  [[nodiscard]] std::optional<LeaveReason> leaveReason() const { return m_engine.leaveReason(); }
   /// SHA-256 of the certificate the host showed (empty before the TLS handshake ends; set also when the
   /// fingerprint check refused it, so that the UI can show both).
   [[nodiscard]] const QByteArray& hostFingerprint() const { return m_hostFingerprint; }

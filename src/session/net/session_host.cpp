@@ -126,6 +126,18 @@ bool SessionHost::releaseLock() {
   return sent;
 }
 
+bool SessionHost::kick(PeerId peer, const QString& text) {
+  bool kicked = false;
+  apply(m_engine.kick(peer, sessionNow(), text, &kicked));
+  return kicked;
+}
+
+bool SessionHost::forceReleaseLock() {
+  bool revoked = false;
+  apply(m_engine.forceReleaseLock(sessionNow(), &revoked));
+  return revoked;
+}
+
 bool SessionHost::setConstraints(const spectral::ConstraintSet& constraints) {
   bool accepted = false;
   apply(m_engine.setConstraints(constraints, sessionNow(), &accepted));

@@ -123,6 +123,10 @@ class SessionHost final : public QObject {
   /// Releases (or cancels the request for) the lock.
   bool releaseLock();
   [[nodiscard]] const LockClient& localLock() const { return m_engine.localLock(); }
+  /// Moderation (HostEngine::kick / forceReleaseLock): removes a member with Leave{Kicked}; takes the lock back
+  /// from its holder. False when `peer` is no member / nobody holds the lock.
+  bool kick(PeerId peer, const QString& text = {});
+  bool forceReleaseLock();
   /// Sets the constraints as the lock holder; false without the lock or with invalid ids.
   bool setConstraints(const spectral::ConstraintSet& constraints);
   /// Drags as the lock holder (one pose per handle group); false without the lock.

@@ -186,6 +186,8 @@ void write(ByteWriter& w, const LockNotice& m) {
   w.u32(m.epoch);
   w.u32(m.queuePosition);
   w.u8(static_cast<std::uint8_t>(m.reason));
+  w.u8(static_cast<std::uint8_t>(m.waiting.size()));  // > kMaxPeers fails encodeControlMessage()'s check
+  for (const PeerId peer : m.waiting) w.u32(peer);
 }
 bool read(ByteReader& r, LockNotice& m) {
   const std::uint8_t kind = r.u8();
@@ -195,7 +197,14 @@ bool read(ByteReader& r, LockNotice& m) {
   m.queuePosition = r.u32();
   const std::uint8_t reason = r.u8();
   m.reason = static_cast<LockReleaseReason>(reason);
-  return inRange<std::uint8_t>(kind, 1, 4) && reason <= 2;
+  const int count = r.u8();
+  if (count > kMaxPeers || (count > 0 && m.kind != LockNoticeKind::Waiting)) return false;
+  m.waiting.resize(static_cast<std::size_t>(count));
+  for (PeerId& peer : m.waiting) {
+    peer = r.u32();
+    if (!inRange<PeerId>(peer, 1, 0xffff)) return false;
+  }
+  return inRange<std::uint8_t>(kind, 1, kLockNoticeKindLast) && reason <= kLockReleaseReasonLast;
 }
 
 void write(ByteWriter& w, const Drag& m) {
@@ -236,8 +245,15 @@ bool read(ByteReader& r, Keyframe& m) {
   return true;
 }
 
-void write(ByteWriter&, const Leave&) {}
-bool read(ByteReader&, Leave&) { return true; }
+void write(ByteWriter& w, const Leave& m) {
+  w.u8(static_cast<std::uint8_t>(m.reason));
+  writeText(w, m.text, Prefix::U16);
+}
+bool read(ByteReader& r, Leave& m) {
+  const std::uint8_t reason = r.u8();
+  m.reason = static_cast<LeaveReason>(reason);
+  return reason <= kLeaveReasonLast && readText(r, m.text, Prefix::U16, kMaxTextBytes);
+}
 
 void write(ByteWriter& w, const Heartbeat& m) { w.u32(m.sequence); }
 bool read(ByteReader& r, Heartbeat& m) {

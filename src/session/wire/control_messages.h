@@ -126,7 +126,18 @@ struct Keyframe {
   friend bool operator==(const Keyframe&, const Keyframe&) = default;
 };
 
+/// Why a peer leaves (wire values explicit and stable; since version 4).
+enum class LeaveReason : std::uint8_t {
+  ClientLeft = 0,  ///< a client leaves of its own accord
+  HostEnded = 1,   ///< the host ended the session (its user quit, left, or the host process was asked to stop)
+  Kicked = 2,      ///< the host's user removed this client from the session
+};
+inline constexpr std::uint8_t kLeaveReasonLast = 2;
+
+/// The last message before a graceful close, either direction.
 struct Leave {
+  LeaveReason reason = LeaveReason::ClientLeft;
+  QString text;  ///< optional words for the other side, ≤ kMaxTextBytes in UTF-8 (plain text, never rich)
   friend bool operator==(const Leave&, const Leave&) = default;
 };
 

@@ -11,12 +11,15 @@
 //   Release{epoch} ---------->   holder (epoch matches or 0): [Released{peer, epoch, Released}]* + next grant
 //                                queued: Dequeued{peer} (to peer)           else ignored and counted
 //   (3 s silence / disconnect)   [Released{peer, epoch, LeaseExpired | Disconnected}]* + next grant
+//   (the host's user revokes)    [Released{peer, epoch, RevokedByHost}]* + next grant     (since version 4)
+//   (the queue changed)          [Waiting{queue}]* : who waits, head first                (since version 4)
 //
 // Epochs strictly increase with every grant, so a drag stamped with an older epoch is recognisably stale
 // (a fencing token).
 
 #include <chrono>
 #include <cstdint>
+#include <vector>
 
 namespace sc::session {
 
@@ -40,10 +43,13 @@ struct LockMessage {
 };
 
 /// Host → peer(s).
-enum class LockNoticeKind : std::uint8_t { Granted = 1, Queued = 2, Released = 3, Dequeued = 4 };
+/// Waiting (since version 4): the queue changed; `waiting` lists the waiting peers, head first.
+enum class LockNoticeKind : std::uint8_t { Granted = 1, Queued = 2, Released = 3, Dequeued = 4, Waiting = 5 };
+inline constexpr std::uint8_t kLockNoticeKindLast = 5;
 
-/// Why a holder stopped holding.
-enum class LockReleaseReason : std::uint8_t { Released = 0, LeaseExpired = 1, Disconnected = 2 };
+/// Why a holder stopped holding. RevokedByHost (since version 4): the host's user took the lock back.
+enum class LockReleaseReason : std::uint8_t { Released = 0, LeaseExpired = 1, Disconnected = 2, RevokedByHost = 3 };
+inline constexpr std::uint8_t kLockReleaseReasonLast = 3;
 
 struct LockNotice {
   LockNoticeKind kind = LockNoticeKind::Granted;
@@ -51,6 +57,7 @@ struct LockNotice {
   LockEpoch epoch = kNoEpoch;       ///< Granted/Released: the grant's epoch; otherwise kNoEpoch
   std::uint32_t queuePosition = 0;  ///< Queued: 1 = next in line; otherwise 0
   LockReleaseReason reason = LockReleaseReason::Released;  ///< Released only
+  std::vector<PeerId> waiting{};  ///< Waiting only: the queue, head first, ≤ kMaxPeers (wire_format.h); else empty
   friend bool operator==(const LockNotice&, const LockNotice&) = default;
 };
 

@@ -141,11 +141,14 @@
 //   16  n  bytes                                      |
 //
 // 0x48 PeerList (host → all, on every change)        | 0x4a LockNotice (host → peer(s); lock_messages.h)
-//    0  2  count  c ≤ kMaxPeers, then c entries:      |    0  1  kind      LockNoticeKind 1..4
+//    0  2  count  c ≤ kMaxPeers, then c entries:      |    0  1  kind      LockNoticeKind 1..5 (v4: 5 Waiting)
 //          +0  4  peerId       1..65535               |    1  4  peer      PeerId
 //          +4  4  vertexCount  its resolution level   |    5  4  epoch     LockEpoch
 //          +8  1  nameLen      n ≤ kMaxNameBytes      |    9  4  queuePos  Queued: 1 = next, else 0
-//          +9  n  name         UTF-8                  |   13  1  reason    LockReleaseReason 0..2
+//          +9  n  name         UTF-8                  |   13  1  reason    LockReleaseReason 0..3 (v4: 3
+//                                                     |                    RevokedByHost)
+//                                                     |   14  1  count     w ≤ kMaxPeers; 0 unless Waiting (v4)
+//                                                     |   15 4w  waiting   PeerIds 1..65535, the queue, head first
 //
 // 0x4b Drag (lock holder → host)                     | 0x4c Keyframe (host → client: at join, exact references)
 //    0  4  epoch  the held lock's epoch, ≥ 1          |    0  4  frame     frame number of these coefficients
@@ -153,7 +156,11 @@
 //          +0  2  handle     handle index             |    6 24m Z         m rows × (x, y, z) f64, row-major:
 //          +2 96  transform  3×4 affine f64, row-major|                    full precision, not quantised
 //
-// 0x4d Leave (either direction, then close): empty   | 0x4e Heartbeat (either direction, ~1 s): 0 4 sequence
+// 0x4d Leave (either direction, then close; v4)     | 0x4e Heartbeat (either direction, ~1 s): 0 4 sequence
+//    0  1  reason   LeaveReason 0 ClientLeft,         |
+//                   1 HostEnded, 2 Kicked             |
+//    1  2  textLen  t ≤ kMaxTextBytes                 |
+//    3  t  text     optional words, UTF-8, plain      |
 //
 // 0x4f Constraints (lock holder → host, before drags)| 0x50 StatsReport (client → host, ~1 s)
 //    0  4  epoch   the held lock's epoch, ≥ 1         |    0  4  vertexCount      displayed level's vertices
@@ -212,7 +219,7 @@ namespace sc::session {
 
 inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
 /// 3: issue 14 (encrypted datagrams, path challenge); 4: issue 15 (strokes and the shared edit history, presence,
-/// moderation).
+/// Leave reason and text, LockNotice Waiting with the lock queue, Released{RevokedByHost}).
 inline constexpr std::uint8_t kProtocolVersion = 4;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
