@@ -133,13 +133,12 @@ class PresenceWindows : public sc::testing::TorusSessionTest {
 
 TEST_F(PresenceWindows, TheClientsCameraAndPointerShowOnTheHost) {
   MainWindow hostWindow;
-  sc::testing::showSessionWindow(hostWindow, QSize(800, 600));
-  HostController* host = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
-  ASSERT_EQ(host->state(), State::Live) << host->errorText().toStdString();
   MainWindow clientWindow;
-  sc::testing::showSessionWindow(clientWindow, QSize(640, 480));
-  ClientController* client =
-      sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(host->tcpPort(), knownHostsFile()));
+  const LiveSession live = hostAndJoin(hostWindow, clientWindow, QSize(800, 600), QSize(640, 480));
+  HostController* host = live.host;
+  ClientController* client = live.client;
+  ASSERT_EQ(host->state(), State::Live) << host->errorText().toStdString();
+  ASSERT_NE(client, nullptr);
   ASSERT_EQ(client->state(), State::Live) << client->errorText().toStdString();
   const session::PeerId bob = client->selfId();
   SessionPresence& atHost = *hostWindow.presence();

@@ -70,14 +70,12 @@ class SessionLevelSwitchTest : public sc::testing::TorusSessionTest {};
 
 TEST_F(SessionLevelSwitchTest, HandleAndAnchorsSurviveAResolutionSwitchAndTheNextDragBuildsOnTheLast) {
   MainWindow hostWindow;
-  sc::testing::showSessionWindow(hostWindow, QSize(900, 700));
-  HostController* hosting = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
-  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
   MainWindow clientWindow;
-  sc::testing::showSessionWindow(clientWindow, QSize(900, 700));
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&clientWindow));
-  ClientController* joined =
-      sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(hosting->tcpPort(), knownHostsFile()));
+  const LiveSession live = hostAndJoin(hostWindow, clientWindow);
+  HostController* hosting = live.host;
+  ClientController* joined = live.client;
+  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
+  ASSERT_NE(joined, nullptr);
   ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
   ASSERT_TRUE(joined->requestLock());
   ASSERT_TRUE(QTest::qWaitFor([joined] { return joined->canDrag(); }, 5000)) << joined->lockText().toStdString();
@@ -178,14 +176,12 @@ QPointF screenOfCentroid(MainWindow& window, const Eigen::MatrixXd& rest, const 
 // lock) is tinted where the client shows it while the host drags that region.
 TEST_F(SessionLevelSwitchTest, YourTintFollowsTheShapeWhileSomeoneElseDrags) {
   MainWindow hostWindow;
-  sc::testing::showSessionWindow(hostWindow, QSize(900, 700));
-  HostController* hosting = sc::testing::hostAndWait(hostWindow, sc::testing::loopbackHostSettings(m_meshPath, 20));
-  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
   MainWindow clientWindow;
-  sc::testing::showSessionWindow(clientWindow, QSize(900, 700));
-  ASSERT_TRUE(QTest::qWaitForWindowExposed(&clientWindow));
-  ClientController* joined =
-      sc::testing::joinAndWait(clientWindow, sc::testing::loopbackJoinSettings(hosting->tcpPort(), knownHostsFile()));
+  const LiveSession live = hostAndJoin(hostWindow, clientWindow);
+  HostController* hosting = live.host;
+  ClientController* joined = live.client;
+  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
+  ASSERT_NE(joined, nullptr);
   ASSERT_EQ(joined->state(), State::Live) << joined->errorText().toStdString();
 
   const Eigen::MatrixXd rest = joined->displayRestPositions();

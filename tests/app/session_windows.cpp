@@ -61,4 +61,16 @@ void TorusSessionTest::SetUp() {
 
 QString TorusSessionTest::knownHostsFile() const { return m_dir.filePath(QStringLiteral("known_hosts.ini")); }
 
+TorusSessionTest::LiveSession TorusSessionTest::hostAndJoin(app::MainWindow& hostWindow, app::MainWindow& clientWindow,
+                                                            QSize hostSize, QSize clientSize) {
+  LiveSession live;
+  showSessionWindow(hostWindow, hostSize);
+  live.host = hostAndWait(hostWindow, loopbackHostSettings(m_meshPath, 20));
+  if (live.host->state() != app::SessionController::State::Live) return live;
+  showSessionWindow(clientWindow, clientSize);
+  static_cast<void>(QTest::qWaitForWindowExposed(&clientWindow));
+  live.client = joinAndWait(clientWindow, loopbackJoinSettings(live.host->tcpPort(), knownHostsFile()));
+  return live;
+}
+
 }  // namespace sc::testing

@@ -49,6 +49,17 @@ class TorusSessionTest : public ::testing::Test {
   /// A known-hosts INI file in the temporary folder (for loopbackJoinSettings).
   [[nodiscard]] QString knownHostsFile() const;
 
+  /// The two windows of a session: what hostAndJoin() returns.
+  struct LiveSession {
+    app::HostController* host = nullptr;
+    app::ClientController* client = nullptr;
+  };
+  /// Shows `hostWindow` and `clientWindow` at the given sizes, hosts the torus (m = 20) in the first and joins it
+  /// from the second, waiting for each (hostAndWait, joinAndWait). Returns both controllers in the states they
+  /// reached; the caller asserts Live (the join is not tried when hosting failed: client stays nullptr).
+  LiveSession hostAndJoin(app::MainWindow& hostWindow, app::MainWindow& clientWindow, QSize hostSize = {900, 700},
+                          QSize clientSize = {900, 700});
+
   QTemporaryDir m_dir;
   GeneratedMesh m_mesh;
   QString m_meshPath;
