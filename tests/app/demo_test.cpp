@@ -27,7 +27,6 @@
 #include <QSpinBox>
 #include <QTemporaryDir>
 #include <QTest>
-#include <QUndoStack>
 
 namespace sc::app {
 namespace {

@@ -239,6 +239,18 @@ TEST(EditHistory, KeepsAtMostItsCapacityAndForgetsTheOldest) {
   EXPECT_EQ(history.log().steps.size(), 3u);
 }
 
+TEST(EditHistory, ALongAuthorNameIsCutToWholeCharactersAndTheLogStillEncodes) {
+  EditHistory history;
+  QString name;
+  for (int i = 0; i < 40; ++i) name += QString::fromUtf8("🦆");  // 4 UTF-8 bytes, two UTF-16 units each
+  history.commit(2, name, Eigen::MatrixXd::Constant(2, 3, 1.0));
+  const EditLog log = history.log();
+  ASSERT_EQ(log.steps.size(), 1u);
+  EXPECT_LE(log.steps[0].authorName.toUtf8().size(), kMaxNameBytes);
+  EXPECT_EQ(log.steps[0].authorName, name.left(32));  // 16 ducks
+  EXPECT_FALSE(encodeControlMessage(log).isEmpty());
+}
+
 TEST(EditHistory, ANewStepEndsItsAuthorsRedoButNotOthers) {
   EditHistory history;
   history.commit(2, QStringLiteral("bob"), Eigen::MatrixXd::Constant(2, 3, 1.0));

@@ -12,7 +12,7 @@ namespace {
 
 /// `name` cut to at most `maxBytes` of UTF-8 (whole characters).
 QString clipped(QString name, int maxBytes) {
-  while (name.toUtf8().size() > maxBytes) name.chop(1);
+  while (name.toUtf8().size() > maxBytes) name.chop(name.back().isLowSurrogate() ? 2 : 1);
   return name;
 }
 

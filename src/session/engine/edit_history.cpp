@@ -82,7 +82,7 @@ EditLog EditHistory::log() const {
   for (std::size_t i = first; i < m_steps.size(); ++i) {
     const EditStep& s = m_steps[i];
     QString name = s.authorName;
-    while (name.toUtf8().size() > kMaxNameBytes) name.chop(1);
+    while (name.toUtf8().size() > kMaxNameBytes) name.chop(name.back().isLowSurrogate() ? 2 : 1);  // whole characters
     out.steps.push_back({s.id, s.author, s.undoneBy, s.redoable, name});
   }
   return out;
