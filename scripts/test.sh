@@ -20,6 +20,28 @@ run_ctest() {
   xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure -j"$(nproc)" --timeout 600 "$@"
 }
 
+# LeakSanitizer's own stop-the-world tracer sometimes crashes at a test process's exit, after the test passed
+# ("Tracer caught signal 11 … LeakSanitizer has encountered a fatal error"; google/sanitizers#1353; seen here on
+# 2026-11-26 after SessionLifeTest.TheHolderSeesWhoWaits… passed): no leak was reported, the check did not run.
+# Only when that signature is in the output are the failed tests run once more (ctest --rerun-failed, leak check
+# included), and they must pass then; any other failure fails the job at once. The rerun is announced in the log.
+run_sanitised_ctest() {
+  local log
+  log=$(mktemp)
+  if run_ctest "$@" 2>&1 | tee "$log"; then
+    rm -f "$log"
+    return 0
+  fi
+  if ! grep -q "LeakSanitizer has encountered a fatal error" "$log"; then
+    rm -f "$log"
+    return 1
+  fi
+  rm -f "$log"
+  echo "sanitiser job: LeakSanitizer's tracer crashed at a test's exit; running the failed tests once more:"
+  cat Testing/Temporary/LastTestsFailed.log
+  xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" ctest --output-on-failure --timeout 600 --rerun-failed
+}
+
 ci_start=$SECONDS
 start=$SECONDS
 "$root/scripts/setup.sh" -DSHAPECAST_WERROR=ON
@@ -41,7 +63,7 @@ if [[ "${SHAPECAST_SANITIZE_JOB:-1}" == 1 ]]; then
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:check_initialization_order=1
   export LSAN_OPTIONS="suppressions=$root/cmake/lsan.supp:print_suppressions=0"
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-  (cd "$root/build-asan" && run_ctest "$@")
+  (cd "$root/build-asan" && run_sanitised_ctest "$@")
   echo "sanitiser job (ASan + UBSan build + tests): $((SECONDS - start)) s"
 fi
 echo "CI total: $((SECONDS - ci_start)) s"
