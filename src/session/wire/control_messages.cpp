@@ -1,6 +1,7 @@
 #include "session/wire/control_messages.h"
 
 #include "session/wire/byte_io.h"
+#include "session/wire/control_codec.h"
 
 #include <cmath>
 #include <utility>
@@ -8,39 +9,14 @@
 namespace sc::session {
 namespace {
 
-enum class Prefix { U8, U16 };
+using detail::inRange;
+using detail::Prefix;
+using detail::readFinite;
+using detail::readText;
+using detail::writeText;
 
-template <typename T>
-bool inRange(T value, T low, T high) {
-  return value >= low && value <= high;
-}
-
-void writeText(ByteWriter& writer, const QString& text, Prefix prefix) {
-  const QByteArray utf8 = text.toUtf8();
-  // An over-long text wraps its prefix here and then fails the round-trip check in encodeControlMessage().
-  if (prefix == Prefix::U8) {
-    writer.u8(static_cast<std::uint8_t>(utf8.size()));
-  } else {
-    writer.u16(static_cast<std::uint16_t>(utf8.size()));
-  }
-  writer.bytes(utf8);
-}
-
-/// Reads a length-prefixed UTF-8 text of at most maxBytes; false on short input, over-long or invalid UTF-8.
-bool readText(ByteReader& reader, QString& text, Prefix prefix, int maxBytes) {
-  const int size = prefix == Prefix::U8 ? reader.u8() : reader.u16();
-  if (size > maxBytes) return false;
-  const QByteArray utf8 = reader.bytes(size);
-  text = QString::fromUtf8(utf8);
-  return reader.ok() && text.toUtf8() == utf8;  // invalid sequences became U+FFFD and no longer match
-}
-
-bool readFinite(ByteReader& reader, double& value) {
-  value = reader.f64();
-  return std::isfinite(value);
-}
-
-// === one write()/read() pair per message; read() checks ranges, the caller checks exact consumption.
+// === one write()/read() pair per message; read() checks ranges, the caller checks exact consumption. The messages
+// of editing together (version 4) are in control_messages_collab.cpp.
 
 void write(ByteWriter& w, const Hello& m) {
   w.u16(kMagic);
@@ -341,79 +317,6 @@ bool read(ByteReader& r, LevelList& m) {
     previousId = level.levelId;
   }
   return true;
-}
-
-void write(ByteWriter& w, const StrokeEnd& m) { w.u32(m.epoch); }
-bool read(ByteReader& r, StrokeEnd& m) {
-  m.epoch = r.u32();
-  return m.epoch != kNoEpoch;
-}
-
-void write(ByteWriter& w, const EditRequest& m) { w.u8(static_cast<std::uint8_t>(m.action)); }
-bool read(ByteReader& r, EditRequest& m) {
-  const std::uint8_t action = r.u8();
-  m.action = static_cast<EditAction>(action);
-  return inRange<std::uint8_t>(action, 1, 2);
-}
-
-void write(ByteWriter& w, const EditLog& m) {
-  w.u8(static_cast<std::uint8_t>(m.steps.size()));
-  for (const EditLogEntry& entry : m.steps) {
-    w.u32(entry.step);
-    w.u32(entry.author);
-    w.u32(entry.undoneBy);
-    w.u8(entry.redoable ? 1 : 0);
-    writeText(w, entry.authorName, Prefix::U8);
-  }
-}
-bool read(ByteReader& r, EditLog& m) {
-  const int count = r.u8();
-  if (count > kMaxEditLogSteps) return false;
-  m.steps.resize(static_cast<std::size_t>(count));
-  std::uint32_t previous = 0;
-  for (EditLogEntry& entry : m.steps) {
-    entry.step = r.u32();
-    entry.author = r.u32();
-    entry.undoneBy = r.u32();
-    const std::uint8_t redoable = r.u8();
-    entry.redoable = redoable == 1;
-    if (!r.ok() || entry.step <= previous || entry.author > 0xffff || entry.undoneBy > 0xffff || redoable > 1 ||
-        (entry.redoable && entry.undoneBy == kNoPeer) || !readText(r, entry.authorName, Prefix::U8, kMaxNameBytes)) {
-      return false;
-    }
-    previous = entry.step;
-  }
-  return true;
-}
-
-constexpr std::uint8_t kPresencePointer = 0x01;
-constexpr std::uint8_t kPresenceDragging = 0x02;
-
-void writePoint(ByteWriter& w, const Presence::Point& point) {
-  for (double v : point) w.f64(v);
-}
-bool readPoint(ByteReader& r, Presence::Point& point) {
-  for (double& v : point) {
-    if (!readFinite(r, v) || std::abs(v) > kMaxPresenceCoord) return false;
-  }
-  return true;
-}
-
-void write(ByteWriter& w, const Presence& m) {
-  w.u32(m.author);
-  w.u8(static_cast<std::uint8_t>((m.pointerOn ? kPresencePointer : 0) | (m.dragging ? kPresenceDragging : 0)));
-  for (const Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) writePoint(w, *point);
-}
-bool read(ByteReader& r, Presence& m) {
-  m.author = r.u32();
-  const std::uint8_t flags = r.u8();
-  if (m.author > 0xffff || (flags & ~(kPresencePointer | kPresenceDragging)) != 0) return false;
-  m.pointerOn = (flags & kPresencePointer) != 0;
-  m.dragging = (flags & kPresenceDragging) != 0;
-  for (Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) {
-    if (!readPoint(r, *point)) return false;
-  }
-  return m.pointerOn || m.pointer == Presence::Point{};  // one encoding per value
 }
 
 // === dispatch: variant alternative I has wire type kFirstControlType + I.
