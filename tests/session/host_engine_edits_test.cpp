@@ -251,6 +251,19 @@ TEST(EditHistory, ALongAuthorNameIsCutToWholeCharactersAndTheLogStillEncodes) {
   EXPECT_FALSE(encodeControlMessage(log).isEmpty());
 }
 
+TEST(EditLogReading, EachMemberFindsWhatItsUndoAndRedoWouldDo) {
+  const EditLog log{{{1, 1, 0, false, QStringLiteral("host")},
+                     {2, 2, 0, false, QStringLiteral("bob")},
+                     {3, 3, 2, true, QStringLiteral("carol")},
+                     {4, 3, 0, false, QStringLiteral("carol")}}};
+  EXPECT_EQ(undoableIn(log, 2, false)->step, 2u) << "bob: his own latest applied step";
+  EXPECT_EQ(undoableIn(log, 3, false)->step, 4u);
+  EXPECT_EQ(undoableIn(log, 1, true)->step, 4u) << "the host: anybody's latest";
+  EXPECT_FALSE(undoableIn(log, 9, false).has_value());
+  EXPECT_EQ(redoableIn(log, 2)->step, 3u) << "bob undid carol's step 3 and may redo it";
+  EXPECT_FALSE(redoableIn(log, 3).has_value());
+}
+
 TEST(EditHistory, ANewStepEndsItsAuthorsRedoButNotOthers) {
   EditHistory history;
   history.commit(2, QStringLiteral("bob"), Eigen::MatrixXd::Constant(2, 3, 1.0));

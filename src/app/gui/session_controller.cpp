@@ -3,6 +3,7 @@
 #include "app/gui/session_controller.h"
 
 #include "app/gui/lock_text.h"
+#include "session/engine/edit_history.h"
 #include "session/engine/lock_client.h"
 
 #include <QTimer>
@@ -116,23 +117,11 @@ void SessionController::onLockChanged() {
 // ---------------------------------------------------------------------------------------------------- edits
 
 std::optional<session::EditLogEntry> SessionController::undoableStep() const {
-  const session::EditLog log = editLog();
-  const session::PeerId self = selfId();
-  const bool anyAuthor = role() == Role::Host;  // the host moderates the shared history
-  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
-    if (it->undoneBy == session::kNoPeer && (anyAuthor || it->author == self)) return *it;
-  }
-  return std::nullopt;
+  return session::undoableIn(editLog(), selfId(), role() == Role::Host);  // the host moderates the shared history
 }
 
 std::optional<session::EditLogEntry> SessionController::redoableStep() const {
-  // The log does not say in which order steps were undone; the host redoes the one undone last, which is the
-  // latest listed undone by this user in every history where undo walks backwards (the usual case).
-  const session::EditLog log = editLog();
-  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
-    if (it->undoneBy == selfId() && it->redoable) return *it;
-  }
-  return std::nullopt;
+  return session::redoableIn(editLog(), selfId());
 }
 
 // ---------------------------------------------------------------------------------------------------- display

@@ -129,9 +129,9 @@ class SessionController : public QObject, protected EditTarget {
   /// Undo: a client its own latest step, the host anybody's; redo: the step this user undid last. False when not
   /// live or during a drag (a client's request may still find nothing to do: editLogChanged() tells).
   virtual bool requestEdit(session::EditAction action) = 0;
-  /// The step an undo would take out now (nullptr: none), read from editLog() for this user.
+  /// The step an undo would take out now (nullopt: none): session::undoableIn(editLog()) for this user.
   [[nodiscard]] std::optional<session::EditLogEntry> undoableStep() const;
-  /// The step a redo would put back now (nullopt: none).
+  /// The step a redo would put back now (nullopt: none): session::redoableIn(editLog()) for this user.
   [[nodiscard]] std::optional<session::EditLogEntry> redoableStep() const;
 
   // --- what is displayed (the values last pushed down)

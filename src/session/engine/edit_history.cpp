@@ -88,4 +88,18 @@ EditLog EditHistory::log() const {
   return out;
 }
 
+std::optional<EditLogEntry> undoableIn(const EditLog& log, PeerId self, bool anyAuthor) {
+  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
+    if (it->undoneBy == kNoPeer && (anyAuthor || it->author == self)) return *it;
+  }
+  return std::nullopt;
+}
+
+std::optional<EditLogEntry> redoableIn(const EditLog& log, PeerId self) {
+  for (auto it = log.steps.rbegin(); it != log.steps.rend(); ++it) {
+    if (it->undoneBy == self && it->redoable) return *it;
+  }
+  return std::nullopt;
+}
+
 }  // namespace sc::session

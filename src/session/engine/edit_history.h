@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <vector>
 
 namespace sc::session {
@@ -73,5 +74,12 @@ class EditHistory {
   /// The order in which steps were undone (ids): redo takes the requester's latest that is still redoable.
   std::vector<std::uint32_t> m_undoOrder;
 };
+
+/// What a member reads from the host's EditLog: the step its undo would take out (its own latest applied one; with
+/// `anyAuthor`, as the host's own user, anybody's), nullopt when none. Cost: O(steps).
+[[nodiscard]] std::optional<EditLogEntry> undoableIn(const EditLog& log, PeerId self, bool anyAuthor);
+/// The step a redo by `self` would put back: the latest listed one it undid and may still redo (the host redoes the
+/// one undone last, the same one whenever undos walked backwards), nullopt when none. Cost: O(steps).
+[[nodiscard]] std::optional<EditLogEntry> redoableIn(const EditLog& log, PeerId self);
 
 }  // namespace sc::session
