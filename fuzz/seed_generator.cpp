@@ -156,6 +156,7 @@ void controlSeeds(const fs::path& root) {
       StrokeEnd{42},
       EditRequest{EditAction::Undo},
       EditLog{{{1, 1, 0, false, QStringLiteral("host")}, {2, 3, 1, true, QString::fromUtf8("Zoë")}}},
+      LockNotice{LockNoticeKind::Refused, 3, 42, 0, LockReleaseReason::Released, {2, 4}},
   };
   for (const ControlMessage& message : samples) {
     char name[16];

@@ -157,6 +157,15 @@ Eigen::MatrixXd SpectralDeformer::constraintRightHandSide(std::span<const Handle
   return rhs;
 }
 
+Eigen::MatrixXd SpectralDeformer::change(std::span<const HandleTransform> transforms) const {
+  const std::size_t used = std::min(transforms.size(), m_groupMoments.size());
+  const auto inRange = [this](const HandleTransform& T) { return poseInRange(T, m_maxTranslation); };
+  if (!std::all_of(transforms.begin(), transforms.begin() + static_cast<std::ptrdiff_t>(used), inRange)) {
+    return Eigen::MatrixXd::Zero(m_basis.size(), 3);
+  }
+  return m_factor.solve(constraintRightHandSide(transforms));
+}
+
 const Eigen::MatrixXd& SpectralDeformer::solve(std::span<const HandleTransform> transforms) {
   const std::size_t used = std::min(transforms.size(), m_groupMoments.size());
   const auto inRange = [this](const HandleTransform& T) { return poseInRange(T, m_maxTranslation); };

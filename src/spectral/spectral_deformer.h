@@ -139,6 +139,13 @@ class SpectralDeformer {
   /// @return Z, m by 3 displacement coefficients (what is streamed). Zero transforms give Z = 0.
   const Eigen::MatrixXd& solve(std::span<const HandleTransform> transforms);
 
+  /// The linear part of what `transforms` do from the base: A⁻¹·rhs(transforms), m by 3, with A the factored
+  /// system (missing groups at identity, which adds nothing). In linear mode solve(T) = base() + change(T) and the
+  /// change of several groups' poses is the sum of each one's alone: how a session splits a frame moved by several
+  /// people into each one's share. In rigid mode it is the first-order share (the rotation term is left out).
+  /// Poses out of range give zero. Cost: O(m·groups + m²); const, no state.
+  [[nodiscard]] Eigen::MatrixXd change(std::span<const HandleTransform> transforms) const;
+
   /// The largest handle translation solve() accepts: kMaxPoseTranslationDiagonals rest bounding-box diagonals.
   double maxTranslation() const { return m_maxTranslation; }
   /// How many solve() calls were rejected (a pose out of range or a non-finite result).

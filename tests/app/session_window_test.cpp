@@ -53,11 +53,13 @@ std::vector<float> interleaved(const Eigen::MatrixXd& V) {
 
 class SessionWindowTest : public sc::testing::TorusSessionTest {
  protected:
-  /// Shows `window` and hosts the torus in it (m = 20, any port, password "secret"); waits until it is live.
+  /// Shows `window` and hosts the torus in it (m = 20, any port, password "secret", one person dragging at a time:
+  /// the paper's lock, so that a second one waits); waits until it is live.
   HostController* host(MainWindow& window) {
     sc::testing::showSessionWindow(window, QSize(640, 480));
     HostSettings settings = sc::testing::loopbackHostSettings(m_meshPath, 20);
     settings.password = QStringLiteral("secret");
+    settings.editors = 1;
     return sc::testing::hostAndWait(window, settings);
   }
 

@@ -186,9 +186,13 @@ TEST_F(HostEngineConstraints, StaleOrOrphanedFactorisationsAreNotInstalled) {
   completeConstraints(second);
   EXPECT_EQ(engine().deformer().factorizationCount(), factored + 1);
   const HostActions orphan = engine().onMessage(m_member, Constraints{epoch, {{5, 6}}, {12}}, now());
-  engine().onMessage(m_member, LockMessage{LockRequestKind::Release, epoch}, now());
+  const HostActions released = engine().onMessage(m_member, LockMessage{LockRequestKind::Release, epoch}, now());
   completeConstraints(orphan);
   EXPECT_EQ(engine().deformer().factorizationCount(), factored + 1) << "the lock changed hands meanwhile";
+  ASSERT_TRUE(engine().constraintsInFlight()) << "the union without the member's set is on its way";
+  completeConstraints(released);
+  EXPECT_EQ(engine().deformer().factorizationCount(), factored + 2);
+  EXPECT_TRUE(engine().deformer().constraints().handles.empty()) << "a lease's end takes its set out";
   EXPECT_FALSE(engine().constraintsInFlight());
 }
 

@@ -125,16 +125,36 @@ TEST(LockClient, UnwantedGrantIsHandedBack) {
   EXPECT_EQ(client.state(), LockState::Idle);
 }
 
-TEST(LockClient, GrantToAnotherWhileHeldMeansWeLostIt) {
+TEST(LockClient, AGrantToAnotherWhileHeldKeepsOursSinceSeveralMayHoldAtOnce) {
   LockClient client(kSelf);
   client.request(0ms);
   client.apply(granted(kSelf, 1), 0ms);
-  client.apply(granted(kOther, 2), 5000ms);  // our Released was lost on the way
-  EXPECT_EQ(client.state(), LockState::Idle);
-  EXPECT_EQ(client.holder(), kOther);
+  client.apply(granted(kOther, 2), 5000ms);
+  EXPECT_EQ(client.state(), LockState::Held);
+  EXPECT_EQ(client.heldEpoch(), 1u);
+  EXPECT_EQ(client.holders(), (std::vector<PeerId>{kSelf, kOther}));
   EXPECT_EQ(client.holderEpoch(), 2u);
-  client.apply(granted(kSelf, 1), 5001ms);
-  EXPECT_EQ(client.holder(), kOther) << "an older grant does not overwrite a newer one";
+  client.apply(LockNotice{LockNoticeKind::Released, kSelf, 1, 0, LockReleaseReason::Released}, 5001ms);
+  EXPECT_EQ(client.state(), LockState::Idle);
+  EXPECT_EQ(client.holders(), (std::vector<PeerId>{kOther}));
+  client.apply(granted(kSelf, 1), 5002ms);
+  EXPECT_EQ(client.holders(), (std::vector<PeerId>{kOther})) << "an older grant arriving late is ignored";
+}
+
+TEST(LockClient, ARefusalOfOurConstraintsIsKeptForTheUserAndChangesNoState) {
+  LockClient client(kSelf);
+  client.request(0ms);
+  client.apply(granted(kSelf, 3), 0ms);
+  LockNotice refused{LockNoticeKind::Refused, kSelf, 3, 0, LockReleaseReason::Released, {kOther}};
+  client.apply(refused, 1ms);
+  ASSERT_TRUE(client.lastRefusal().has_value());
+  EXPECT_EQ(client.lastRefusal()->holders, (std::vector<PeerId>{kOther}));
+  EXPECT_EQ(client.lastRefusal()->serial, 1u);
+  EXPECT_EQ(client.state(), LockState::Held);
+  refused.epoch = 2;  // a stale one, for an earlier tenure
+  client.apply(refused, 2ms);
+  EXPECT_EQ(client.lastRefusal()->serial, 1u);
+  EXPECT_EQ(client.ignoredNotices(), 1u);
 }
 
 TEST(LockClient, RenewTiming) {

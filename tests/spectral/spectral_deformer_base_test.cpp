@@ -134,5 +134,27 @@ TEST(SpectralDeformerBase, RebaseRefusesAWrongSizeOrNonFiniteBaseAndKeepsTheOldO
   EXPECT_EQ(deformer.coefficients(), shape);
 }
 
+TEST(SpectralDeformerChange, TwoGroupsPosesTogetherAreTheSumOfEachAloneFromTheBaseInLinearMode) {
+  const Bar bar;
+  SpectralDeformer deformer(bar.basis, bar.ops, bar.V);
+  const Eigen::MatrixXd shape = firstEdit(bar, deformer);
+  // two people's handles, one solve: +y side and −y side, anchors at −x
+  ASSERT_TRUE(deformer.setConstraints(
+      {{{bar.near(0.0, 1.3, 0.35)}, {bar.near(0.0, -1.3, 0.35)}}, bar.near(-1.3, 0.0, 0.35)}, shape));
+  const HandleTransform both[] = {moved(0.0, 0.3, 0.1, 0.2), moved(0.1, -0.2, 0.0)};
+  const HandleTransform first[] = {both[0], HandleTransform{}};
+  const HandleTransform second[] = {HandleTransform{}, both[1]};
+  const Eigen::MatrixXd a = deformer.change(first);
+  const Eigen::MatrixXd b = deformer.change(second);
+  ASSERT_GT(a.cwiseAbs().maxCoeff(), 1e-3);
+  ASSERT_GT(b.cwiseAbs().maxCoeff(), 1e-3);
+  const Eigen::MatrixXd Z = deformer.solve(both);
+  EXPECT_LT((Z - (shape + a + b)).cwiseAbs().maxCoeff(), 1e-12 * Z.cwiseAbs().maxCoeff());
+  EXPECT_EQ(deformer.change(std::vector<HandleTransform>{}).cwiseAbs().maxCoeff(), 0.0);
+  HandleTransform far = moved(1e9, 0.0, 0.0);
+  const HandleTransform outOfRange[] = {far};
+  EXPECT_EQ(deformer.change(outOfRange).cwiseAbs().maxCoeff(), 0.0) << "a pose out of range changes nothing";
+}
+
 }  // namespace
 }  // namespace sc::spectral

@@ -64,7 +64,10 @@ int runHostCommand(const QStringList& arguments) {
                                           QStringLiteral("N"), QStringLiteral("15"));
   const QCommandLineOption seconds(QStringLiteral("seconds"), QStringLiteral("stop after T seconds (default: Ctrl-C)"),
                                    QStringLiteral("T"));
-  command.parser().addOptions({port, udpPort, passwordFile, name, mode, referenceEvery, seconds});
+  const QCommandLineOption editors(QStringLiteral("editors"),
+                                   QStringLiteral("people who may drag at once, each their own handle (default 4)"),
+                                   QStringLiteral("N"), QStringLiteral("4"));
+  command.parser().addOptions({port, udpPort, passwordFile, name, mode, referenceEvery, seconds, editors});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
 
@@ -76,6 +79,11 @@ int runHostCommand(const QStringList& arguments) {
   options.referenceEvery = command.parser().value(referenceEvery).toInt(&ok3);
   if (!ok || !ok2 || !ok3 || options.referenceEvery < 0) {
     command.error(QStringLiteral("--port, --udp-port and --reference-every take non-negative integers"));
+    return kExitUsage;
+  }
+  options.maxEditors = command.parser().value(editors).toInt(&ok);
+  if (!ok || options.maxEditors < 1 || options.maxEditors > session::kMaxPeers) {
+    command.error(QStringLiteral("--editors takes a number of people from 1 to %1").arg(session::kMaxPeers));
     return kExitUsage;
   }
   const QString modeName = command.parser().value(mode);
@@ -130,11 +138,13 @@ int runHostCommand(const QStringList& arguments) {
   QObject::connect(&host, &session::SessionHost::logMessage, &host,
                    [](const QString& message) { QTextStream(stdout) << message << '\n'; });
   QObject::connect(&host, &session::SessionHost::lockChanged, &host, [&host] {
-    const session::PeerId holder = host.lockHolder();
-    QTextStream(stdout) << (holder == session::kNoPeer ? QStringLiteral("lock: free\n")
-                                                       : QStringLiteral("lock: held by %1 (epoch %2)\n")
-                                                             .arg(peerName(host.peerList(), holder))
-                                                             .arg(host.lockEpoch()));
+    QStringList holders;
+    for (const session::LockHolding& lease : host.lockHolders()) {
+      holders << QStringLiteral("%1 (epoch %2)").arg(peerName(host.peerList(), lease.peer)).arg(lease.epoch);
+    }
+    QTextStream(stdout) << (holders.isEmpty()
+                                ? QStringLiteral("lock: free\n")
+                                : QStringLiteral("lock: held by %1\n").arg(holders.join(QStringLiteral(", "))));
   });
   QTimer figures;
   QObject::connect(&figures, &QTimer::timeout, &host, [&host] { printPeerFigures(host); });

@@ -130,9 +130,9 @@ const session::LockClient* ClientController::lockClient() const {
   return m_client != nullptr ? m_client->lock() : nullptr;
 }
 
-session::PeerId ClientController::lockHolder() const {
+std::vector<session::PeerId> ClientController::lockHolders() const {
   const session::LockClient* lock = lockClient();
-  return state() == State::Live && lock != nullptr ? lock->holder() : session::kNoPeer;
+  return state() == State::Live && lock != nullptr ? lock->holders() : std::vector<session::PeerId>{};
 }
 
 spectral::LocatedFullVertices ClientController::fullVertices(const spectral::DisplayVertexIds& displayed) const {

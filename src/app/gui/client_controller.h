@@ -51,7 +51,7 @@ class ClientController final : public SessionController {
   void cancel() override;
   [[nodiscard]] session::PeerId selfId() const override;
   bool requestLock() override;
-  [[nodiscard]] session::PeerId lockHolder() const override;
+  [[nodiscard]] std::vector<session::PeerId> lockHolders() const override;
   /// Full, then, once the host's LevelList is complete, its levels with their exact vertex counts ("5,231
   /// vertices"); before that model::levelTargets(n) largest first, "≈ N vertices" (the host sends the closest).
   [[nodiscard]] std::vector<LevelChoice> levels() const override;

@@ -85,6 +85,7 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   options.tcpPort = m_settings.port;
   options.password = m_settings.password;
   options.hostName = m_settings.name.isEmpty() ? QStringLiteral("host") : m_settings.name;
+  options.maxEditors = m_settings.editors;
   if (m_saved) options.deformer.mode = m_saved->mode;
   m_host = new session::SessionHost(m_model, options, this);
   QString error;
@@ -194,8 +195,11 @@ const session::LockClient* HostController::lockClient() const {
   return m_host != nullptr ? &m_host->localLock() : nullptr;
 }
 
-session::PeerId HostController::lockHolder() const {
-  return state() == State::Live ? m_host->lockHolder() : session::kNoPeer;
+std::vector<session::PeerId> HostController::lockHolders() const {
+  std::vector<session::PeerId> out;
+  if (state() != State::Live) return out;
+  for (const session::LockHolding& lease : m_host->lockHolders()) out.push_back(lease.peer);
+  return out;
 }
 
 std::vector<session::PeerId> HostController::lockQueue() const {
@@ -205,7 +209,9 @@ std::vector<session::PeerId> HostController::lockQueue() const {
 
 bool HostController::kick(session::PeerId peer) { return state() == State::Live && m_host->kick(peer); }
 
-bool HostController::forceReleaseLock() { return state() == State::Live && m_host->forceReleaseLock(); }
+bool HostController::forceReleaseLock(session::PeerId holder) {
+  return state() == State::Live && m_host->forceReleaseLock(holder);
+}
 
 spectral::LocatedFullVertices HostController::fullVertices(const spectral::DisplayVertexIds& displayed) const {
   const std::size_t n = m_model ? static_cast<std::size_t>(m_model->vertexCount()) : 0;

@@ -43,10 +43,10 @@ class HostController final : public SessionController {
   [[nodiscard]] quint16 tcpPort() const override;
   [[nodiscard]] session::PeerId selfId() const override;
   bool requestLock() override;
-  [[nodiscard]] session::PeerId lockHolder() const override;
+  [[nodiscard]] std::vector<session::PeerId> lockHolders() const override;
   [[nodiscard]] std::vector<session::PeerId> lockQueue() const override;
   bool kick(session::PeerId peer) override;
-  bool forceReleaseLock() override;
+  bool forceReleaseLock(session::PeerId holder = session::kNoPeer) override;
   [[nodiscard]] const model::SessionFile* savedSession() const override { return m_saved.get(); }
   [[nodiscard]] session::EditLog editLog() const override;
   bool requestEdit(session::EditAction action) override;

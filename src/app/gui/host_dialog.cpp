@@ -51,6 +51,7 @@ HostSettings HostDialog::settings() const {
   if (!ui->passwordEdit->text().isEmpty()) s.password = ui->passwordEdit->text();
   s.m = ui->frequenciesSpin->value();
   s.name = ui->nameCombo->currentText().trimmed();
+  s.editors = ui->editorsSpin->value();
   return s;
 }
 
@@ -60,6 +61,7 @@ void HostDialog::setSettings(const HostSettings& settings) {
   if (settings.password) ui->passwordEdit->setText(*settings.password);
   ui->frequenciesSpin->setValue(settings.m);
   ui->nameCombo->setEditText(settings.name);
+  ui->editorsSpin->setValue(settings.editors);
 }
 
 QString HostDialog::errorText() const { return ui->errorLabel->text(); }

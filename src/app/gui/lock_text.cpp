@@ -3,6 +3,8 @@
 #include <QCoreApplication>
 #include <QStringList>
 
+#include <algorithm>
+
 namespace sc::app {
 
 namespace {
@@ -50,17 +52,36 @@ QString waitingText(const session::LockClient& lock, session::PeerId self, const
   return tr(" — %1 and %2 are waiting").arg(names.join(QStringLiteral(", ")), last);
 }
 
+/// "bob", "bob and carol", "bob, carol and dan" (every name: at most maxEditors ≤ kMaxPeers of them).
+QString namesText(const std::vector<session::PeerId>& ids, const session::PeerList& peers) {
+  QStringList names;
+  for (const session::PeerId id : ids) names.push_back(peerName(id, peers));
+  if (names.size() <= 1) return names.join(QString());
+  const QString last = names.takeLast();
+  return tr("%1 and %2").arg(names.join(QStringLiteral(", ")), last);
+}
+
 }  // namespace
 
-QString lockText(const session::LockClient& lock, session::PeerId holder, session::PeerId self,
+QString lockText(const session::LockClient& lock, const std::vector<session::PeerId>& holders, session::PeerId self,
                  const session::PeerList& peers) {
+  const bool selfHolds = lock.canDrag() && std::find(holders.begin(), holders.end(), self) != holders.end();
+  std::vector<session::PeerId> others;
+  for (const session::PeerId id : holders) {
+    if (id != self || !selfHolds) others.push_back(id);
+  }
   QString text;
-  if (holder == self && lock.canDrag()) {
-    text = tr("You hold the lock") + waitingText(lock, self, peers);
-  } else if (holder == session::kNoPeer) {
+  if (selfHolds) {
+    text = tr("You hold the lock");
+    if (others.size() == 1) text += tr(" — %1 drags too").arg(namesText(others, peers));
+    if (others.size() > 1) text += tr(" — %1 drag too").arg(namesText(others, peers));
+    text += waitingText(lock, self, peers);
+  } else if (others.empty()) {
     text = tr("Lock free");
+  } else if (others.size() == 1) {
+    text = tr("Lock held by %1").arg(peerName(others.front(), peers));
   } else {
-    text = tr("Lock held by %1").arg(peerName(holder, peers));
+    text = tr("Locks held by %1").arg(namesText(others, peers));
   }
   switch (lock.state()) {
     case session::LockState::Requested:
@@ -79,6 +100,14 @@ QString lockText(const session::LockClient& lock, session::PeerId holder, sessio
       break;
   }
   return text;
+}
+
+QString refusalText(const session::LockRefusal& refusal, const session::PeerList& peers) {
+  if (refusal.holders.empty()) {
+    return tr("Too many handle and anchor vertices for everybody together: paint fewer");
+  }
+  return tr("Your handle or anchors overlap %1's: paint where nobody else holds")
+      .arg(namesText(refusal.holders, peers));
 }
 
 QString lockActionText(const session::LockClient& lock) {

@@ -36,7 +36,7 @@ void MainWindow::setUpSessionLife() {
   connect(invitation, &QAction::triggered, this, [this] { copyInvitation(); });
   QAction* takeBack = ui->menuSession->addAction(tr("&Take Back the Lock"));
   takeBack->setObjectName(QStringLiteral("actionForceRelease"));
-  takeBack->setStatusTip(tr("Release the lock its holder has (the next in the queue gets it)"));
+  takeBack->setStatusTip(tr("Release the locks their holders have (the next in the queue get them)"));
   ui->sessionToolBar->insertAction(ui->actionLock, takeBack);
   connect(takeBack, &QAction::triggered, this, [this] {
     if (m_session != nullptr) m_session->forceReleaseLock();
@@ -45,9 +45,12 @@ void MainWindow::setUpSessionLife() {
     const bool liveHost = m_session != nullptr && m_session->role() == SessionController::Role::Host &&
                           m_session->state() == SessionController::State::Live;
     invitation->setEnabled(liveHost);
-    const session::PeerId holder = liveHost ? m_session->lockHolder() : session::kNoPeer;
+    bool othersHold = false;
+    for (const session::PeerId holder : liveHost ? m_session->lockHolders() : std::vector<session::PeerId>{}) {
+      othersHold = othersHold || holder != m_session->selfId();
+    }
     takeBack->setVisible(liveHost);
-    takeBack->setEnabled(holder != session::kNoPeer && holder != m_session->selfId());
+    takeBack->setEnabled(othersHold);
   };
   connect(this, &MainWindow::sessionStarted, this, [this, updateActions](SessionController* controller) {
     connect(controller, &SessionController::stateChanged, this, updateActions);
@@ -76,7 +79,7 @@ QMenu* MainWindow::peerContextMenu(quint32 peerId) {
   }
   const auto peer = static_cast<session::PeerId>(peerId);
   const bool self = peer == m_session->selfId();
-  const bool holds = m_session->lockHolder() == peer;
+  const bool holds = m_session->holdsLock(peer);
   if (self && !holds) return nullptr;
   m_peerMenu = new QMenu(this);
   m_peerMenu->setObjectName(QStringLiteral("peerContextMenu"));
@@ -92,8 +95,8 @@ QMenu* MainWindow::peerContextMenu(quint32 peerId) {
   if (holds) {
     QAction* release = m_peerMenu->addAction(self ? tr("Release the Lock") : tr("Take Back the Lock"));
     release->setObjectName(QStringLiteral("actionPeerForceRelease"));
-    connect(release, &QAction::triggered, this, [this] {
-      if (m_session != nullptr) m_session->forceReleaseLock();
+    connect(release, &QAction::triggered, this, [this, peer] {
+      if (m_session != nullptr) m_session->forceReleaseLock(peer);
     });
   }
   return m_peerMenu;

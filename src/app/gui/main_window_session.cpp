@@ -196,6 +196,8 @@ void MainWindow::adoptSession(SessionController* controller) {
   connect(m_session, &SessionController::frameChanged, this, &MainWindow::onSessionFrame);
   connect(m_session, &SessionController::meshChanged, this, &MainWindow::onSessionMesh);
   connect(m_session, &SessionController::lockChanged, this, &MainWindow::updateLockControls);
+  connect(m_session, &SessionController::constraintsRefused, this,
+          [this](const QString& message) { statusBar()->showMessage(message, kStatusMessageMs); });
   connect(m_session, &SessionController::peersChanged, this, &MainWindow::updateLockControls);
   connect(m_session, &SessionController::levelsChanged, this, &MainWindow::updateLevelCombo);
   connect(m_session, &SessionController::statsChanged, this, &MainWindow::updateTimingLabel);

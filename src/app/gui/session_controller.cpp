@@ -99,7 +99,7 @@ bool SessionController::lockWanted() const {
 QString SessionController::lockText() const {
   const session::LockClient* lock = lockClient();
   if (m_state != State::Live || lock == nullptr) return {};
-  return app::lockText(*lock, lockHolder(), selfId(), peers());
+  return app::lockText(*lock, lockHolders(), selfId(), peers());
 }
 
 QString SessionController::lockActionText() const {
@@ -108,7 +108,17 @@ QString SessionController::lockActionText() const {
                                                    : app::lockActionText(session::LockClient(0));
 }
 
+bool SessionController::holdsLock(session::PeerId peer) const {
+  const std::vector<session::PeerId> holders = lockHolders();
+  return std::find(holders.begin(), holders.end(), peer) != holders.end();
+}
+
 void SessionController::onLockChanged() {
+  const session::LockClient* lock = lockClient();
+  if (lock != nullptr && lock->lastRefusal() && lock->lastRefusal()->serial != m_refusalsShown) {
+    m_refusalsShown = lock->lastRefusal()->serial;
+    emit constraintsRefused(app::refusalText(*lock->lastRefusal(), peers()));
+  }
   m_editor.lockChanged(canDrag());
   emit lockChanged();
   emit peersChanged();  // the peers view shows the holder

@@ -87,7 +87,10 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] bool lockWanted() const;
   /// Who holds the lock and where this user stands (lock_text.h); empty when not live.
   [[nodiscard]] QString lockText() const;
-  [[nodiscard]] virtual session::PeerId lockHolder() const = 0;
+  /// Who holds a lock (several may drag at once, each their own handle), oldest grant first; empty when not live.
+  [[nodiscard]] virtual std::vector<session::PeerId> lockHolders() const = 0;
+  /// Whether `peer` is among lockHolders().
+  [[nodiscard]] bool holdsLock(session::PeerId peer) const;
   /// Peers waiting for the lock, first in line first (known on a host only; empty on a client).
   [[nodiscard]] virtual std::vector<session::PeerId> lockQueue() const { return {}; }
   /// The lock button's text (lock_text.h: "Request lock", "Cancel request", "Release lock").
@@ -96,8 +99,8 @@ class SessionController : public QObject, protected EditTarget {
   // --- moderation (host only; false on a client or when not live)
   /// Removes the member `peer` from the session (Leave{Kicked}); its lock is freed. False unless it is a member.
   virtual bool kick(session::PeerId /*peer*/) { return false; }
-  /// Takes the lock back from its holder (Released{RevokedByHost}). False when nobody holds it.
-  virtual bool forceReleaseLock() { return false; }
+  /// Takes the lock back from `holder` (kNoPeer: from everybody; Released{RevokedByHost}). False when it holds none.
+  virtual bool forceReleaseLock(session::PeerId /*holder*/ = session::kNoPeer) { return false; }
 
   // --- constraints and drags (ConstraintEditor: displayed ids, mapped to full-resolution ids when sent)
   /// The handle group; sent with the anchors at once when this user holds the lock, otherwise when it is granted.
@@ -193,6 +196,8 @@ class SessionController : public QObject, protected EditTarget {
   /// A new level is live (after displayLevelChanged()): re-read level-dependent figures (sizes, levels()).
   void meshChanged();
   void lockChanged();
+  /// The host refused this user's handle and anchors: `message` says why, in words (whose they overlap).
+  void constraintsRefused(const QString& message);
   void peersChanged();
   void statsChanged();
   /// A readable error; state() is Failed (or, for a rejected level, stays Live).
@@ -246,6 +251,7 @@ class SessionController : public QObject, protected EditTarget {
   spectral::SharedDisplayLevel m_level;
   spectral::DisplayFrame m_frame;
   ConstraintEditor m_editor{*this};
+  std::uint64_t m_refusalsShown = 0;  ///< the serial of the last refusal told (LockClient::lastRefusal())
   QTimer* m_secondTimer = nullptr;
 };
 

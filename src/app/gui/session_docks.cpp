@@ -51,7 +51,7 @@ model::StatisticsModel* SessionDocks::statisticsOf(quint32 peer) const {
 void SessionDocks::refreshPeers() {
   if (!m_controller) return;
   const session::PeerList peers = m_controller->peers();
-  const session::PeerId holder = m_controller->lockHolder();
+  const std::vector<session::PeerId> holders = m_controller->lockHolders();
   const std::vector<session::PeerId> queue = m_controller->lockQueue();
   std::uint32_t fullVertices = 0;
   std::vector<model::PeerRow> rows;
@@ -64,7 +64,7 @@ void SessionDocks::refreshPeers() {
     row.isSelf = peer.peerId == m_controller->selfId();
     if (row.isHost) fullVertices = peer.vertexCount;
     const auto waiting = std::find(queue.begin(), queue.end(), peer.peerId);
-    if (peer.peerId == holder) {
+    if (std::find(holders.begin(), holders.end(), peer.peerId) != holders.end()) {
       row.lock = model::PeerRow::Lock::Holder;
     } else if (waiting != queue.end()) {
       row.lock = model::PeerRow::Lock::Queued;

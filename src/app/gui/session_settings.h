@@ -25,6 +25,8 @@ struct HostSettings {
   int m = 100;                      ///< number of frequencies, 1 ≤ m < #V (clamped to #V − 1)
   QString name = QStringLiteral("host");
   bool useBasisCache = true;  ///< look up / store the basis in model::basisCacheDirectory()
+  /// People who may hold a lock and drag their own handle at once (session::HostEngineOptions::maxEditors).
+  int editors = 4;
 };
 
 /// What ClientController::join() needs.

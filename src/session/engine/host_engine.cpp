@@ -20,7 +20,7 @@ HostEngine::HostEngine(std::shared_ptr<const HostModel> model, HostEngineOptions
     : m_model(std::move(model)),
       m_options(std::move(options)),
       m_ladder(static_cast<std::uint32_t>(m_model->vertexCount()), ladderTargets),
-      m_arbiter(kLockLease, m_options.maxLockHoldWhileWaited) {
+      m_arbiter(kLockLease, m_options.maxLockHoldWhileWaited, std::clamp(m_options.maxEditors, 1, kMaxPeers)) {
   m_deformer =
       std::make_unique<spectral::SpectralDeformer>(m_model->basis, m_model->operators, m_model->V, m_options.deformer);
   m_Z = std::make_shared<const Eigen::MatrixXd>(Eigen::MatrixXd::Zero(m_model->rowCount(), 3));
@@ -30,6 +30,7 @@ HostEngine::~HostEngine() = default;
 
 HostActions HostEngine::start(Micros now) {
   m_options.maxPeers = std::clamp(m_options.maxPeers, 1, kMaxPeers - 1);
+  m_options.maxEditors = m_arbiter.maxHolders();
   m_options.maxPendingHandshakes = std::max(m_options.maxPendingHandshakes, 1);
   m_options.maxPendingPerAddress = std::max(m_options.maxPendingPerAddress, 1);
   m_options.handshakeTimeout = std::max(m_options.handshakeTimeout, Millis{1});

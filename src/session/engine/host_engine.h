@@ -16,9 +16,13 @@
 //     to that peer and PeerList to everybody.
 //   - Lock: LockMessages go to the LockArbiter (ticked at every housekeeping tick, every 100 ms) and its events
 //     are sent (to everybody or one peer); the host's own LockClient (peer 1) is driven in the same way.
-//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. A member's accepted Constraints
-//     are factored off the network thread (PrepareConstraints, then onConstraintsPrepared(), which installs them if
-//     still the latest and the epoch unchanged); drag frames wait for that (the 1 s refresh does not), so the
+//   - Constraints/Drag need arbiter.acceptDrag(peer, epoch); rejections are counted. Up to maxEditors peers hold a
+//     lease at once, each with its own constraint set (shared_constraints.h); the deformer solves their union, each
+//     holder's poses moving its own groups. A set that overlaps another holder's (its handles on their handles or
+//     anchors, or its anchors on their handles), or makes the union too large, is refused: LockNotice{Refused} to
+//     its sender, nothing changes. A lease's end takes its set out of the union. The union is factored off the
+//     network thread (PrepareConstraints, then onConstraintsPrepared(), which installs it if the union has not
+//     changed since); drag frames wait for that (the 1 s refresh does not), so the
 //     network thread never runs the O(ids·m² + m³) factorisation. The host's own setConstraints() is synchronous. An
 //     accepted drag solves at once and sends a frame (stamp = the drag's arrival) unless the previous DRAG frame went
 //     out less than `coalesce` ago: then one frame with the latest pose when that spacing has passed. After a moving
@@ -57,6 +61,7 @@
 #include "session/engine/level_ladder.h"
 #include "session/engine/lock_arbiter.h"
 #include "session/engine/lock_client.h"
+#include "session/engine/shared_constraints.h"
 #include "session/engine/still_frame_schedule.h"
 #include "spectral/spectral_deformer.h"
 
@@ -87,6 +92,8 @@ inline Millis toMillis(Micros t) { return std::chrono::duration_cast<Millis>(t);
 struct HostEngineOptions {
   QString hostName = QStringLiteral("host");  ///< the host's own PeerList entry (peer 1)
   int maxPeers = 16;  ///< clients at once, 1..kMaxPeers − 1 (the PeerList also holds the host)
+  /// Edit leases at once (people dragging at once, each their own handle groups), 1..kMaxPeers; 1 = one lock.
+  int maxEditors = 1;
   spectral::DeformerOptions deformer;
   int referenceEvery = 15;  ///< a Keyframe to every loaded peer each this many frames; 1 = every frame; 0 = never
   std::chrono::milliseconds idleRefresh{1000};   ///< repeat the current Z when nothing moved for this long
@@ -128,7 +135,8 @@ struct HostEngineCounters {
   std::uint64_t dragsNotHolder = 0;
   std::uint64_t dragsStale = 0;
   std::uint64_t constraintsAccepted = 0;
-  std::uint64_t constraintsRejected = 0;  ///< lock verdict, or ids ≥ n / empty groups
+  std::uint64_t constraintsRejected = 0;     ///< lock verdict, or ids ≥ n / empty groups, or overlapping
+  std::uint64_t constraintsOverlapping = 0;  ///< refused with LockNotice{Refused}: another holder's, or too many
   std::uint64_t silentPeersDropped = 0;
   std::uint64_t framesSent = 0;
   std::uint64_t keyframesSent = 0;
@@ -228,9 +236,9 @@ class HostEngine {
   /// Removes the member `peer` (not the host's own user): Leave{Kicked, text} to it, then a graceful close; its lock
   /// is freed and it leaves the queue at once, the PeerList goes out without it. `kicked`: whether it was a member.
   HostActions kick(PeerId peer, Micros now, const QString& text = {}, bool* kicked = nullptr);
-  /// Takes the lock back from its holder (Released{RevokedByHost} to all; the queue's head is granted next).
-  /// `revoked`: whether anybody held it.
-  HostActions forceReleaseLock(Micros now, bool* revoked = nullptr);
+  /// Takes `holder`'s lease back (kNoPeer: every lease; Released{RevokedByHost} to all; the queue's head is granted
+  /// next). `revoked`: whether it held one.
+  HostActions forceReleaseLock(Micros now, bool* revoked = nullptr, PeerId holder = kNoPeer);
 
   // === queries
   [[nodiscard]] PeerList peerList() const;
@@ -294,13 +302,31 @@ class HostEngine {
   /// The host's own LockClient's message (if any) to the arbiter; `sent`: whether there was one.
   HostActions localLockMessage(const std::optional<LockMessage>& message, Micros now, bool* sent);
   void handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out);
+  /// False (LockNotice{Refused} to `peer`, counted) when `set` overlaps another holder's or the union would be over
+  /// maxConstraintWork.
+  bool admitConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now, HostActions& out);
   bool applyConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now, HostActions& out);
   bool acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::HandleTransform> poses, Micros arrivedAt,
                   Micros now, HostActions& out);
   // host_engine_edits.cpp: strokes and the shared edit history
-  /// Ends the stroke going on (the pending pose's frame first): its change since the deformer's base becomes an
-  /// edit step of its author and the base moves to the current shape. No-op without a change.
-  void commitStroke(Micros now, HostActions& out);
+  /// Solves the pending poses if it can, splits the change since the deformer's base among the strokes going on
+  /// (each holder's share) and folds each one's poses into it: the caller then moves the deformer's base to the
+  /// current shape (rebase or install) and every stroke carries on from there with relative poses.
+  void foldStrokes(Micros now, HostActions& out);
+  /// foldStrokes(), the base moved to the current shape, then `author`'s stroke becomes an edit step of its author
+  /// and ends (its next poses start from identity). kNoPeer: every stroke's change so far becomes a step, and the
+  /// drags going on carry on. No step for a stroke without a change.
+  void commitStroke(Micros now, HostActions& out, PeerId author = kNoPeer);
+  /// The combined poses of every holder, relative to what is folded, laid out as the installed union's groups; each
+  /// stroke's `solved` poses are set to what is returned for it.
+  std::vector<spectral::HandleTransform> combinedPoses();
+  /// `author` ended its stroke (StrokeEnd): commitStroke(), or, while its last poses wait for the union's
+  /// factorisation, once they are solved.
+  void endStrokeOf(PeerId author, Micros now, HostActions& out);
+  /// `peer` holds no lease any more (released, revoked, gone): its stroke is a step, its set leaves the union.
+  void endEditing(PeerId peer, Micros now, HostActions& out);
+  /// Factors the current union off the network thread (PrepareConstraints); drags wait for it.
+  void prepareUnion(HostActions& out);
   void applyEdit(PeerId requester, EditAction action, Micros now, HostActions& out);
   /// Sends the history's log to everybody and tells the adapter.
   void historyChanged(HostActions& out);
@@ -346,17 +372,26 @@ class HostEngine {
   int m_framesSinceKeyframe = 0;
   Micros m_lastFrameAt{0};
   Micros m_lastDragFrameAt{0};  ///< the coalescing spacing counts from drag frames only
-  std::vector<spectral::HandleTransform> m_pendingPoses;
-  PeerId m_pendingAuthor = kNoPeer;  ///< who sent m_pendingPoses
-  PeerId m_strokeAuthor = kNoPeer;   ///< whose poses moved the shape since the deformer's base (kNoPeer: nobody's)
+  /// One holder's drag going on. Poses are its own groups', as it sends them (from its stroke's start); what the
+  /// deformer gets is relative to `folded`, the poses already in the deformer's base.
+  struct Stroke {
+    std::vector<spectral::HandleTransform> received;  ///< the latest poses it sent
+    std::vector<spectral::HandleTransform> solved;    ///< `received` as of the last solve
+    std::vector<spectral::HandleTransform> folded;    ///< in the base since the last rebase (empty: none)
+    Eigen::MatrixXd share;                            ///< its change folded so far (empty: none)
+    bool unsolved = false;                            ///< `received` came after the last solve
+    bool ending = false;  ///< its StrokeEnd came while its poses waited for a factorisation: ends after it
+  };
+  std::map<PeerId, Stroke> m_strokes;  ///< by author
+  SharedConstraints m_shared;          ///< every holder's latest accepted set
+  SharedConstraints m_installed;       ///< what the deformer has (m_shared once a preparation is installed)
   EditHistory m_history;
   std::optional<Micros> m_pendingArrival;  ///< set while an accepted drag waits for its frame
   std::optional<Micros> m_coalesceDue;     ///< when the pending pose's frame goes out
   std::optional<Micros> m_stillDue;        ///< when the still frame goes out
   struct ConstraintsInFlight {
     std::uint64_t ticket = 0;
-    LockEpoch epoch = kNoEpoch;  ///< installed only if the lock is still under this grant
-    std::size_t groups = 0;      ///< handle groups of the set (drags meanwhile are read against it)
+    std::uint64_t version = 0;  ///< installed only while m_shared.version() is still this
   };
   std::optional<ConstraintsInFlight> m_constraintsInFlight;
   std::uint64_t m_constraintsTicket = 0;

@@ -12,9 +12,8 @@ void HostEngine::produceFrame(Micros now, bool still, HostActions& out, bool jum
   Micros stamp = now;
   bool moved = jumped;
   if (m_pendingArrival && !m_constraintsInFlight) {  // poses wait for their constraints' factorisation
-    Eigen::MatrixXd Z = m_deformer->solve(m_pendingPoses);
+    Eigen::MatrixXd Z = m_deformer->solve(combinedPoses());
     moved = Z != *m_Z;
-    if (moved) m_strokeAuthor = m_pendingAuthor;
     m_Z = std::make_shared<const Eigen::MatrixXd>(std::move(Z));
     stamp = *m_pendingArrival;
     m_pendingArrival.reset();

@@ -27,8 +27,10 @@ void HostEngine::dispatchLock(const LockEvents& events, Micros now, HostActions&
     }
   }
   const bool queueChanged = announceLockQueue(now, out);
-  // a stroke ends with its author's tenure (released, revoked, gone): what it did is a step of the history
-  if (!events.empty() && m_strokeAuthor != kNoPeer && m_arbiter.holder() != m_strokeAuthor) commitStroke(now, out);
+  // a stroke and a constraint set end with their holder's lease (released, revoked, gone)
+  for (const LockEvent& event : events) {
+    if (event.notice.kind == LockNoticeKind::Released) endEditing(event.notice.peer, now, out);
+  }
   if (!events.empty() || queueChanged) out.add(LockChanged{});
 }
 
@@ -63,22 +65,50 @@ HostActions HostEngine::drag(std::span<const spectral::HandleTransform> poses, M
   return finish(std::move(out));
 }
 
+namespace {
+
+spectral::ConstraintSet toConstraintSet(const Constraints& constraints) {
+  spectral::ConstraintSet set;
+  for (const std::vector<std::uint32_t>& group : constraints.groups) {
+    set.handles.push_back({std::vector<int>(group.begin(), group.end())});
+  }
+  set.anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
+  return set;
+}
+
+}  // namespace
+
+bool HostEngine::admitConstraints(PeerId peer, LockEpoch epoch, const spectral::ConstraintSet& set, Micros now,
+                                  HostActions& out) {
+  std::vector<PeerId> overlapping = m_shared.conflicts(peer, set);
+  const double m = static_cast<double>(m_model->rowCount());
+  const bool tooLarge = static_cast<double>(m_shared.idsWith(peer, set)) * m * m > m_options.maxConstraintWork;
+  if (overlapping.empty() && !tooLarge) return true;
+  ++m_counters.constraintsRejected;
+  ++m_counters.constraintsOverlapping;
+  LockNotice refused{LockNoticeKind::Refused, peer, epoch, 0, LockReleaseReason::Released, std::move(overlapping)};
+  dispatchLock({LockEvent{LockAudience::OnePeer, peer, std::move(refused)}}, now, out);
+  return false;
+}
+
 void HostEngine::handleConstraints(PeerId peer, const Constraints& constraints, Micros now, HostActions& out) {
   if (!constraintsWithinBounds(constraints) ||
       m_arbiter.acceptDrag(peer, constraints.epoch, toMillis(now)) != DragVerdict::Accepted) {
     ++m_counters.constraintsRejected;
     return;
   }
-  auto set = std::make_shared<spectral::ConstraintSet>();
-  for (const std::vector<std::uint32_t>& group : constraints.groups) {
-    set->handles.push_back({std::vector<int>(group.begin(), group.end())});
-  }
-  set->anchors.assign(constraints.anchors.begin(), constraints.anchors.end());
-  commitStroke(now, out);  // the previous constraints' stroke ends here; the new set starts from this shape
+  spectral::ConstraintSet set = toConstraintSet(constraints);
+  if (!admitConstraints(peer, constraints.epoch, set, now, out)) return;
+  commitStroke(now, out, peer);  // its previous constraints' stroke ends here; the new set starts from this shape
   ++m_counters.constraintsAccepted;
-  m_pendingArrival.reset();  // a pose for the previous groups means nothing now
-  m_coalesceDue.reset();
-  m_constraintsInFlight = ConstraintsInFlight{++m_constraintsTicket, constraints.epoch, set->handles.size()};
+  m_shared.set(peer, std::move(set));
+  if (const auto it = m_strokes.find(peer); it != m_strokes.end()) it->second.received.clear();
+  prepareUnion(out);
+}
+
+void HostEngine::prepareUnion(HostActions& out) {
+  auto set = std::make_shared<spectral::ConstraintSet>(m_shared.combined());
+  m_constraintsInFlight = ConstraintsInFlight{++m_constraintsTicket, m_shared.version()};
   out.add(PrepareConstraints{m_constraintsInFlight->ticket, std::move(set)});
 }
 
@@ -86,14 +116,22 @@ HostActions HostEngine::onConstraintsPrepared(std::uint64_t ticket,
                                               std::optional<spectral::PreparedConstraints> prepared, Micros now) {
   HostActions out;
   if (!m_constraintsInFlight || m_constraintsInFlight->ticket != ticket) return finish(std::move(out));  // stale
-  const LockEpoch epoch = m_constraintsInFlight->epoch;
-  m_constraintsInFlight.reset();
-  if (!prepared || m_arbiter.epoch() != epoch) {
-    m_pendingArrival.reset();  // its poses were for these constraints
+  const std::uint64_t version = m_constraintsInFlight->version;
+  if (!prepared || m_shared.version() != version) {
+    m_constraintsInFlight.reset();
+    if (prepared) prepareUnion(out);  // the union changed meanwhile: factor the current one
     return finish(std::move(out));
   }
-  m_deformer->install(std::move(*prepared), *m_Z);                     // from the shape as it is now, not from rest
+  foldStrokes(now, out);  // with the deformer still solving the previous union
+  m_constraintsInFlight.reset();
+  m_deformer->install(std::move(*prepared), *m_Z);  // from the shape as it is now, not from rest
+  m_installed = m_shared;
   if (m_pendingArrival && !m_shutDown) produceFrame(now, false, out);  // the poses that waited
+  std::vector<PeerId> ending;
+  for (const auto& [peer, stroke] : m_strokes) {
+    if (stroke.ending) ending.push_back(peer);
+  }
+  for (const PeerId peer : ending) commitStroke(now, out, peer);  // their StrokeEnd came while they waited
   return finish(std::move(out));
 }
 
@@ -103,14 +141,20 @@ bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::
     ++m_counters.constraintsRejected;
     return false;
   }
-  commitStroke(now, out);  // the previous constraints' stroke ends here; the new set starts from this shape
-  if (!m_deformer->setConstraints(set, *m_Z)) {
+  if (!admitConstraints(peer, epoch, set, now, out)) return false;
+  commitStroke(now, out, peer);  // its previous constraints' stroke ends here; the new set starts from this shape
+  SharedConstraints next = m_shared;
+  next.set(peer, set);
+  foldStrokes(now, out);
+  if (!m_deformer->setConstraints(next.combined(), *m_Z)) {
     ++m_counters.constraintsRejected;
     return false;
   }
   ++m_counters.constraintsAccepted;
-  m_constraintsInFlight.reset();  // a member's set still being factored is superseded
-  m_pendingArrival.reset();       // a pose for the previous groups means nothing now
+  m_shared = std::move(next);
+  m_installed = m_shared;
+  m_constraintsInFlight.reset();  // a member's set still being factored is in this union too
+  if (const auto it = m_strokes.find(peer); it != m_strokes.end()) it->second.received.clear();
   return true;
 }
 
@@ -127,8 +171,9 @@ bool HostEngine::acceptPose(PeerId peer, LockEpoch epoch, std::vector<spectral::
       break;
   }
   ++m_counters.dragsAccepted;
-  m_pendingPoses = std::move(poses);
-  m_pendingAuthor = peer;
+  Stroke& stroke = m_strokes[peer];
+  stroke.received = std::move(poses);
+  stroke.unsolved = true;
   m_pendingArrival = arrivedAt;
   if (m_coalesceDue || m_constraintsInFlight) return true;  // the pending frame (or the install) sends it
   const Micros since = now - m_lastDragFrameAt;

@@ -20,13 +20,18 @@ HostActions HostEngine::kick(PeerId id, Micros now, const QString& text, bool* k
   return finish(std::move(out));
 }
 
-HostActions HostEngine::forceReleaseLock(Micros now, bool* revoked) {
+HostActions HostEngine::forceReleaseLock(Micros now, bool* revoked, PeerId holder) {
   HostActions out;
-  const PeerId holder = m_arbiter.holder();
-  if (revoked) *revoked = holder != kNoPeer && !m_shutDown;
-  if (holder == kNoPeer || m_shutDown) return finish(std::move(out));
-  dispatchLock(m_arbiter.revokeByHost(toMillis(now)), now, out);
-  out.add(LogLine{QStringLiteral("the host took the lock back from peer %1").arg(holder)});
+  const bool holds = holder == kNoPeer ? m_arbiter.holder() != kNoPeer : m_arbiter.epochOf(holder) != kNoEpoch;
+  if (revoked) *revoked = holds && !m_shutDown;
+  if (!holds || m_shutDown) return finish(std::move(out));
+  const LockEvents events = m_arbiter.revokeByHost(toMillis(now), holder);
+  for (const LockEvent& event : events) {
+    if (event.notice.kind == LockNoticeKind::Released) {
+      out.add(LogLine{QStringLiteral("the host took the lock back from peer %1").arg(event.notice.peer)});
+    }
+  }
+  dispatchLock(events, now, out);
   return finish(std::move(out));
 }
 

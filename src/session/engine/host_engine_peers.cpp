@@ -105,8 +105,8 @@ HostActions HostEngine::onWelcomed(PeerId id, const QString& name, Micros /*now*
   // re-sends the list to everybody (onLevelReady).
   out.add(SendToPeer{id, m_ladder.levelList()});
   out.add(PrefetchLevels{});
-  if (m_arbiter.holder() != kNoPeer) {
-    out.add(SendToPeer{id, LockNotice{LockNoticeKind::Granted, m_arbiter.holder(), m_arbiter.epoch(), 0, {}}});
+  for (const LockHolding& lease : m_arbiter.holders()) {
+    out.add(SendToPeer{id, LockNotice{LockNoticeKind::Granted, lease.peer, lease.epoch, 0, {}}});
   }
   if (!m_history.steps().empty()) out.add(SendToPeer{id, m_history.log()});
   if (!m_arbiter.queue().empty()) out.add(SendToPeer{id, waitingNotice()});
@@ -147,7 +147,7 @@ HostActions HostEngine::onClosed(PeerId id, Micros now) {
   const auto it = m_peers.find(id);
   if (it == m_peers.end()) return finish(std::move(out));
   const bool wasMember = it->second.welcomed;
-  if (m_strokeAuthor == id) commitStroke(now, out);  // its last stroke is a step, named while it is still listed
+  if (m_strokes.contains(id)) commitStroke(now, out, id);  // its last stroke is a step, named while still listed
   m_peers.erase(m_peers.find(id));
   if (!wasMember) return finish(std::move(out));
   dispatchLock(m_arbiter.peerDisconnected(id, toMillis(now)), now, out);
@@ -186,14 +186,14 @@ HostActions HostEngine::onMessage(PeerId id, const ControlMessage& message, Micr
       break;
     case MessageType::Drag: {
       const Drag& drag = std::get<Drag>(message);
-      const std::size_t groups =
-          m_constraintsInFlight ? m_constraintsInFlight->groups : m_deformer->constraints().handles.size();
+      const std::optional<GroupRange> range = m_shared.groups(id);  // its latest set, installed or on its way
+      const std::size_t groups = range ? range->count : 0;
       acceptPose(id, drag.epoch, fromWire(drag.handles, groups), now, now, out);
       break;
     }
     case MessageType::StrokeEnd:
       if (m_arbiter.acceptDrag(id, std::get<StrokeEnd>(message).epoch, toMillis(now)) == DragVerdict::Accepted) {
-        commitStroke(now, out);
+        endStrokeOf(id, now, out);
       }
       break;
     case MessageType::EditRequest:

@@ -13,8 +13,8 @@ LockEvent toPeer(PeerId peer, const LockNotice& notice) { return LockEvent{LockA
 
 }  // namespace
 
-LockArbiter::LockArbiter(Millis lease, Millis maxHoldWhileWaited)
-    : m_lease(lease), m_maxHoldWhileWaited(maxHoldWhileWaited) {
+LockArbiter::LockArbiter(Millis lease, Millis maxHoldWhileWaited, int maxHolders)
+    : m_lease(lease), m_maxHoldWhileWaited(maxHoldWhileWaited), m_maxHolders(std::max(1, maxHolders)) {
   assert(lease.count() > 0 && "the lease must be positive");
 }
 
@@ -31,14 +31,33 @@ LockEvents LockArbiter::handleMessage(PeerId peer, const LockMessage& message, M
   return ignore();  // an undecoded kind: dropped and counted
 }
 
+std::optional<std::size_t> LockArbiter::indexOf(PeerId peer) const {
+  const auto it = std::find_if(m_holders.begin(), m_holders.end(), [peer](const Holder& h) { return h.peer == peer; });
+  if (it == m_holders.end()) return std::nullopt;
+  return static_cast<std::size_t>(it - m_holders.begin());
+}
+
+std::vector<LockHolding> LockArbiter::holders() const {
+  std::vector<LockHolding> out;
+  out.reserve(m_holders.size());
+  for (const Holder& h : m_holders) out.push_back({h.peer, h.epoch});
+  return out;
+}
+
+LockEpoch LockArbiter::epochOf(PeerId peer) const {
+  const std::optional<std::size_t> index = indexOf(peer);
+  return index ? m_holders[*index].epoch : kNoEpoch;
+}
+
 LockEvents LockArbiter::handleRequest(PeerId peer, Millis now) {
   LockEvents events;
-  if (!m_holder) {
-    grant(peer, now, events);
-  } else if (m_holder->peer == peer) {
+  if (const std::optional<std::size_t> index = indexOf(peer)) {
     // Idempotent: the holder asks again (e.g. it lost our Granted); repeat it to the holder only.
-    m_holder->lastHeard = now;
-    events.push_back(toPeer(peer, LockNotice{LockNoticeKind::Granted, peer, m_holder->epoch}));
+    Holder& holder = m_holders[*index];
+    holder.lastHeard = now;
+    events.push_back(toPeer(peer, LockNotice{LockNoticeKind::Granted, peer, holder.epoch}));
+  } else if (static_cast<int>(m_holders.size()) < m_maxHolders && m_queue.empty()) {
+    grant(peer, now, events);
   } else {
     if (std::find(m_queue.begin(), m_queue.end(), peer) == m_queue.end()) {
       if (m_queue.empty()) m_waitingSince = now;
@@ -50,8 +69,9 @@ LockEvents LockArbiter::handleRequest(PeerId peer, Millis now) {
 }
 
 LockEvents LockArbiter::handleRelease(PeerId peer, LockEpoch epoch, Millis now) {
-  if (m_holder && m_holder->peer == peer && (epoch == kNoEpoch || epoch == m_holder->epoch)) {
-    return endTenure(LockReleaseReason::Released, now);
+  const std::optional<std::size_t> index = indexOf(peer);
+  if (index && (epoch == kNoEpoch || epoch == m_holders[*index].epoch)) {
+    return endTenure(*index, LockReleaseReason::Released, now);
   }
   if (epoch == kNoEpoch && removeFromQueue(peer)) {
     return {toPeer(peer, LockNotice{LockNoticeKind::Dequeued, peer})};
@@ -60,72 +80,95 @@ LockEvents LockArbiter::handleRelease(PeerId peer, LockEpoch epoch, Millis now) 
 }
 
 LockEvents LockArbiter::handleRenew(PeerId peer, LockEpoch epoch, Millis now) {
-  if (!m_holder || m_holder->peer != peer || m_holder->epoch != epoch) {
+  const std::optional<std::size_t> index = indexOf(peer);
+  if (!index || m_holders[*index].epoch != epoch) {
     return ignore();
   }
-  m_holder->lastHeard = now;
+  m_holders[*index].lastHeard = now;
   return {};
 }
 
 LockEvents LockArbiter::peerDisconnected(PeerId peer, Millis now) {
-  if (m_holder && m_holder->peer == peer) {
-    return endTenure(LockReleaseReason::Disconnected, now);
+  if (const std::optional<std::size_t> index = indexOf(peer)) {
+    return endTenure(*index, LockReleaseReason::Disconnected, now);
   }
   removeFromQueue(peer);  // nobody to notify: the peer is gone and positions are only told on request
   return {};
 }
 
-LockEvents LockArbiter::revokeByHost(Millis now) {
-  if (!m_holder) return {};
-  return endTenure(LockReleaseReason::RevokedByHost, now);
+LockEvents LockArbiter::revokeByHost(Millis now, PeerId peer) {
+  std::vector<PeerId> revoked;
+  for (const Holder& h : m_holders) {
+    if (peer == kNoPeer || h.peer == peer) revoked.push_back(h.peer);
+  }
+  LockEvents events;
+  for (const PeerId p : revoked) {  // the queue's heads granted meanwhile keep their new leases
+    const std::optional<std::size_t> index = indexOf(p);
+    if (!index) continue;
+    LockEvents ended = endTenure(*index, LockReleaseReason::RevokedByHost, now);
+    events.insert(events.end(), ended.begin(), ended.end());
+  }
+  return events;
 }
 
 LockEvents LockArbiter::tick(Millis now) {
-  if (m_holder && now - m_holder->lastHeard > m_lease) {
-    return endTenure(LockReleaseReason::LeaseExpired, now);
+  LockEvents events;
+  for (std::size_t i = 0; i < m_holders.size();) {
+    if (now - m_holders[i].lastHeard > m_lease) {
+      LockEvents ended = endTenure(i, LockReleaseReason::LeaseExpired, now);
+      events.insert(events.end(), ended.begin(), ended.end());
+    } else {
+      ++i;
+    }
   }
-  if (m_holder && !m_queue.empty() && m_maxHoldWhileWaited.count() > 0 &&
-      now - std::max(m_holder->grantedAt, m_waitingSince) > m_maxHoldWhileWaited) {
-    ++m_revokedForWaiters;
-    return endTenure(LockReleaseReason::LeaseExpired, now);
+  if (!m_holders.empty() && !m_queue.empty() && m_maxHoldWhileWaited.count() > 0 &&
+      now - std::max(m_holders.front().grantedAt, m_waitingSince) > m_maxHoldWhileWaited) {
+    ++m_revokedForWaiters;  // the longest-held lease makes room
+    LockEvents ended = endTenure(0, LockReleaseReason::LeaseExpired, now);
+    events.insert(events.end(), ended.begin(), ended.end());
   }
-  return {};
+  return events;
 }
 
 DragVerdict LockArbiter::acceptDrag(PeerId peer, LockEpoch epoch, Millis now) {
-  if (!m_holder || m_holder->peer != peer) {
+  const std::optional<std::size_t> index = indexOf(peer);
+  if (!index) {
     return DragVerdict::NotHolder;
   }
-  if (epoch != m_holder->epoch) {
+  if (epoch != m_holders[*index].epoch) {
     return DragVerdict::StaleEpoch;
   }
-  m_holder->lastHeard = now;
+  m_holders[*index].lastHeard = now;
   return DragVerdict::Accepted;
 }
 
 std::optional<Millis> LockArbiter::leaseDeadline() const {
-  if (!m_holder) {
+  if (m_holders.empty()) {
     return std::nullopt;
   }
-  return m_holder->lastHeard + m_lease;
+  Millis earliest = m_holders.front().lastHeard;
+  for (const Holder& h : m_holders) earliest = std::min(earliest, h.lastHeard);
+  return earliest + m_lease;
 }
 
-LockEvents LockArbiter::endTenure(LockReleaseReason reason, Millis now) {
-  assert(m_holder && "endTenure needs a holder");
-  LockEvents events{toAll(LockNotice{LockNoticeKind::Released, m_holder->peer, m_holder->epoch, 0, reason})};
-  m_holder.reset();
+LockEvents LockArbiter::endTenure(std::size_t index, LockReleaseReason reason, Millis now) {
+  assert(index < m_holders.size() && "endTenure needs a holder");
+  const Holder ended = m_holders[index];
+  LockEvents events{toAll(LockNotice{LockNoticeKind::Released, ended.peer, ended.epoch, 0, reason})};
+  m_holders.erase(m_holders.begin() + static_cast<std::ptrdiff_t>(index));
   if (!m_queue.empty()) {
     const PeerId next = m_queue.front();
     m_queue.pop_front();
+    if (!m_queue.empty()) m_waitingSince = now;  // the rest wait on from here for the next lease
     grant(next, now, events);
   }
   return events;
 }
 
 void LockArbiter::grant(PeerId peer, Millis now, LockEvents& events) {
-  assert(!m_holder && "never grant twice");
-  m_holder = Holder{peer, ++m_lastEpoch, now, now};
-  events.push_back(toAll(LockNotice{LockNoticeKind::Granted, peer, m_holder->epoch}));
+  assert(static_cast<int>(m_holders.size()) < m_maxHolders && !indexOf(peer) && "never grant twice");
+  m_holders.push_back(Holder{peer, ++m_lastEpoch, now, now});
+  events.push_back(toAll(LockNotice{LockNoticeKind::Granted, peer, m_holders.back().epoch}));
 }
 
 bool LockArbiter::removeFromQueue(PeerId peer) {

@@ -67,6 +67,9 @@ std::optional<LockMessage> LockClient::apply(const LockNotice& notice, Millis no
     case LockNoticeKind::Waiting:
       onWaiting(notice);
       return std::nullopt;
+    case LockNoticeKind::Refused:
+      onRefused(notice);
+      return std::nullopt;
   }
   return ignore();
 }
@@ -90,13 +93,11 @@ std::optional<LockMessage> LockClient::onGranted(const LockNotice& notice, Milli
   if (notice.epoch != kNoEpoch && notice.epoch < m_holderEpoch) {
     return ignore();  // older than what we already know
   }
-  m_holder = notice.peer;
   m_holderEpoch = notice.epoch;
+  forgetHolder(notice.peer);
+  m_holders.push_back({notice.peer, notice.epoch});
   if (notice.peer != m_self) {
-    if (m_state == LockState::Held) {
-      changeState(LockState::Idle, now);  // our Released was lost: someone else holds it now
-    }
-    return std::nullopt;
+    return std::nullopt;  // several may hold at once: another's grant says nothing about ours
   }
   switch (m_state) {
     case LockState::Requested:
@@ -123,9 +124,8 @@ void LockClient::onQueued(const LockNotice& notice, Millis now) {
 }
 
 void LockClient::onReleased(const LockNotice& notice, Millis now) {
-  if (notice.epoch == m_holderEpoch) {
-    m_holder = kNoPeer;  // the lock is free until the next Granted (which may follow at once)
-  }
+  const auto it = std::find(m_holders.begin(), m_holders.end(), LockHolding{notice.peer, notice.epoch});
+  if (it != m_holders.end()) m_holders.erase(it);  // that lease is free until the next Granted
   if (notice.peer != m_self) {
     return;
   }
@@ -142,6 +142,26 @@ void LockClient::onWaiting(const LockNotice& notice) {
   if (m_state != LockState::Queued) return;
   const auto it = std::find(m_waiting.begin(), m_waiting.end(), m_self);
   if (it != m_waiting.end()) m_queuePosition = static_cast<std::uint32_t>(it - m_waiting.begin()) + 1;
+}
+
+void LockClient::onRefused(const LockNotice& notice) {
+  if (notice.peer != m_self || m_state != LockState::Held || notice.epoch != m_heldEpoch) {
+    ignore();
+    return;
+  }
+  m_refusal = LockRefusal{++m_refusalCount, notice.waiting};
+}
+
+void LockClient::forgetHolder(PeerId peer) {
+  const auto it =
+      std::find_if(m_holders.begin(), m_holders.end(), [peer](const LockHolding& h) { return h.peer == peer; });
+  if (it != m_holders.end()) m_holders.erase(it);
+}
+
+std::vector<PeerId> LockClient::holders() const {
+  std::vector<PeerId> out;
+  for (const LockHolding& h : m_holders) out.push_back(h.peer);
+  return out;
 }
 
 void LockClient::onDequeued(Millis now) {

@@ -9,13 +9,14 @@
 //                           \---------Granted(self)-------------------/   |                    |
 //   Held --Released(self) (lease expired, disconnected)--> Idle           |        Released(self) | Dequeued
 //   Requested | Queued --release()--> Releasing  (cancel; sends Release{kNoEpoch})               v
-//   Held --Granted(other) (we missed our Released)--> Idle                                      Idle
+//   Held --Granted(other)--> Held (several peers may hold a lease at once, since version 5)     Idle
 //   any --Waiting{queue}--> same state: waiting() is the host's queue (a Queued peer's position follows it)
 //
-// Invariants: heldEpoch() != kNoEpoch exactly in Held; canDrag() only in Held; holder()/holderEpoch() mirror the
-// host's latest Granted/Released broadcast whatever this peer's own state. Notices that make no sense in the
-// current state are ignored and counted (ignoredNotices()), except a Granted(self) while Idle, which is answered
-// with a Release so the host does not keep a lock nobody uses.
+// Invariants: heldEpoch() != kNoEpoch exactly in Held; canDrag() only in Held; holders() mirror the host's Granted
+// and Released broadcasts whatever this peer's own state. A Refused notice for our held epoch (our constraints
+// overlap another holder's) leaves the state as it is and is kept in lastRefusal() for the UI. Notices that make no
+// sense in the current state are ignored and counted (ignoredNotices()), except a Granted(self) while Idle, which is
+// answered with a Release so the host does not keep a lock nobody uses.
 //
 // Cost: O(1) per call.
 
@@ -25,6 +26,14 @@
 #include "session/wire/lock_messages.h"
 
 namespace sc::session {
+
+/// The host refused this peer's constraints (LockNotice Refused): `holders` are those whose handles or anchors they
+/// overlap; empty: everybody's together would be too many. `serial` counts refusals (1 = the first).
+struct LockRefusal {
+  std::uint64_t serial = 0;
+  std::vector<PeerId> holders;
+  friend bool operator==(const LockRefusal&, const LockRefusal&) = default;
+};
 
 enum class LockState : std::uint8_t { Idle, Requested, Queued, Held, Releasing };
 
@@ -46,9 +55,11 @@ class LockClient {
   [[nodiscard]] bool canDrag() const { return m_state == LockState::Held; }
   /// Epoch to stamp on drags; kNoEpoch unless Held.
   [[nodiscard]] LockEpoch heldEpoch() const { return m_heldEpoch; }
-  /// Who holds the lock as far as this peer knows (kNoPeer: free), for the UI, and the epoch of the latest grant
-  /// seen (kept after a release, so that older grants arriving late are recognised and ignored).
-  [[nodiscard]] PeerId holder() const { return m_holder; }
+  /// Who holds a lease as far as this peer knows, oldest grant first, for the UI.
+  [[nodiscard]] std::vector<PeerId> holders() const;
+  /// The oldest of them (kNoPeer: nobody), and the epoch of the latest grant seen (kept after a release, so that
+  /// older grants arriving late are recognised and ignored).
+  [[nodiscard]] PeerId holder() const { return m_holders.empty() ? kNoPeer : m_holders.front().peer; }
   [[nodiscard]] LockEpoch holderEpoch() const { return m_holderEpoch; }
   /// 1 = next in line; 0 unless Queued.
   [[nodiscard]] std::uint32_t queuePosition() const { return m_queuePosition; }
@@ -60,6 +71,8 @@ class LockClient {
   /// When pollRenew() will next return a Renew; nullopt unless Held. Lets the adapter arm a single timer.
   [[nodiscard]] std::optional<Millis> nextRenewDue() const;
   [[nodiscard]] std::uint64_t ignoredNotices() const { return m_ignored; }
+  /// The host's latest refusal of this peer's constraints; nullopt before any.
+  [[nodiscard]] const std::optional<LockRefusal>& lastRefusal() const { return m_refusal; }
 
  private:
   /// The only place m_state changes. Entry effects: Held records @p heldEpoch and stamps the renew clock; every
@@ -71,12 +84,16 @@ class LockClient {
   void onReleased(const LockNotice& notice, Millis now);
   void onDequeued(Millis now);
   void onWaiting(const LockNotice& notice);
+  void onRefused(const LockNotice& notice);
+  void forgetHolder(PeerId peer);
   std::optional<LockMessage> ignore();
 
   PeerId m_self;
   Millis m_renewEvery;
   LockState m_state = LockState::Idle;
-  PeerId m_holder = kNoPeer;
+  std::vector<LockHolding> m_holders;  ///< oldest grant first
+  std::optional<LockRefusal> m_refusal;
+  std::uint64_t m_refusalCount = 0;
   LockEpoch m_holderEpoch = kNoEpoch;
   LockEpoch m_heldEpoch = kNoEpoch;
   std::uint32_t m_queuePosition = 0;

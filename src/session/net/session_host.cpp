@@ -132,9 +132,9 @@ bool SessionHost::kick(PeerId peer, const QString& text) {
   return kicked;
 }
 
-bool SessionHost::forceReleaseLock() {
+bool SessionHost::forceReleaseLock(PeerId holder) {
   bool revoked = false;
-  apply(m_engine.forceReleaseLock(sessionNow(), &revoked));
+  apply(m_engine.forceReleaseLock(sessionNow(), &revoked, holder));
   return revoked;
 }
 

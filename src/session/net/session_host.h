@@ -101,6 +101,8 @@ class SessionHost final : public QObject {
   /// The current PeerList (the host first).
   [[nodiscard]] PeerList peerList() const { return m_engine.peerList(); }
   [[nodiscard]] PeerId lockHolder() const { return m_engine.arbiter().holder(); }
+  /// Every current lease, oldest grant first (up to options().maxEditors at once).
+  [[nodiscard]] std::vector<LockHolding> lockHolders() const { return m_engine.arbiter().holders(); }
   [[nodiscard]] LockEpoch lockEpoch() const { return m_engine.arbiter().epoch(); }
   [[nodiscard]] const std::deque<PeerId>& lockQueue() const { return m_engine.arbiter().queue(); }
   [[nodiscard]] const SessionHostCounters& counters() const { return m_engine.counters(); }
@@ -124,9 +126,9 @@ class SessionHost final : public QObject {
   bool releaseLock();
   [[nodiscard]] const LockClient& localLock() const { return m_engine.localLock(); }
   /// Moderation (HostEngine::kick / forceReleaseLock): removes a member with Leave{Kicked}; takes the lock back
-  /// from its holder. False when `peer` is no member / nobody holds the lock.
+  /// from `holder` (kNoPeer: from every holder). False when `peer` is no member / it holds no lock.
   bool kick(PeerId peer, const QString& text = {});
-  bool forceReleaseLock();
+  bool forceReleaseLock(PeerId holder = kNoPeer);
   /// Sets the constraints as the lock holder; false without the lock or with invalid ids.
   bool setConstraints(const spectral::ConstraintSet& constraints);
   /// Drags as the lock holder (one pose per handle group); false without the lock.

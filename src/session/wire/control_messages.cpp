@@ -174,7 +174,9 @@ bool read(ByteReader& r, LockNotice& m) {
   const std::uint8_t reason = r.u8();
   m.reason = static_cast<LockReleaseReason>(reason);
   const int count = r.u8();
-  if (count > kMaxPeers || (count > 0 && m.kind != LockNoticeKind::Waiting)) return false;
+  if (count > kMaxPeers || (count > 0 && m.kind != LockNoticeKind::Waiting && m.kind != LockNoticeKind::Refused)) {
+    return false;
+  }
   m.waiting.resize(static_cast<std::size_t>(count));
   for (PeerId& peer : m.waiting) {
     peer = r.u32();

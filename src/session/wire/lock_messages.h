@@ -13,7 +13,12 @@
 //   (3 s silence / disconnect)   [Released{peer, epoch, LeaseExpired | Disconnected}]* + next grant
 //   (the host's user revokes)    [Released{peer, epoch, RevokedByHost}]* + next grant     (since version 4)
 //   (the queue changed)          [Waiting{queue}]* : who waits, head first                (since version 4)
+//   Constraints overlapping      Refused{peer, epoch, holders} (to peer): its handles touch the listed holders'
+//   another holder's              handles or anchors, or (holders empty) everybody's together are too many
+//                                                                                          (since version 5)
 //
+// Several peers may hold a lease at once (the host's "people dragging at once", since version 5): each Granted and
+// Released names its own peer and epoch, and a newcomer is sent one Granted per current lease.
 // Epochs strictly increase with every grant, so a drag stamped with an older epoch is recognisably stale
 // (a fencing token).
 
@@ -33,6 +38,13 @@ inline constexpr LockEpoch kNoEpoch = 0;        ///< reserved: "never granted" /
 inline constexpr Millis kLockLease{3000};       ///< host revokes after strictly more than this much silence
 inline constexpr Millis kLockRenewEvery{1000};  ///< client renew period: three chances per lease
 
+/// One current lease: its holder and epoch.
+struct LockHolding {
+  PeerId peer = kNoPeer;
+  LockEpoch epoch = kNoEpoch;
+  friend bool operator==(const LockHolding&, const LockHolding&) = default;
+};
+
 /// Peer → host.
 enum class LockRequestKind : std::uint8_t { Request = 1, Release = 2, Renew = 3 };
 
@@ -44,8 +56,16 @@ struct LockMessage {
 
 /// Host → peer(s).
 /// Waiting (since version 4): the queue changed; `waiting` lists the waiting peers, head first.
-enum class LockNoticeKind : std::uint8_t { Granted = 1, Queued = 2, Released = 3, Dequeued = 4, Waiting = 5 };
-inline constexpr std::uint8_t kLockNoticeKindLast = 5;
+/// Refused (since version 5): the addressee's Constraints were refused; `waiting` lists the holders they overlap.
+enum class LockNoticeKind : std::uint8_t {
+  Granted = 1,
+  Queued = 2,
+  Released = 3,
+  Dequeued = 4,
+  Waiting = 5,
+  Refused = 6
+};
+inline constexpr std::uint8_t kLockNoticeKindLast = 6;
 
 /// Why a holder stopped holding. RevokedByHost (since version 4): the host's user took the lock back.
 enum class LockReleaseReason : std::uint8_t { Released = 0, LeaseExpired = 1, Disconnected = 2, RevokedByHost = 3 };
@@ -53,11 +73,13 @@ inline constexpr std::uint8_t kLockReleaseReasonLast = 3;
 
 struct LockNotice {
   LockNoticeKind kind = LockNoticeKind::Granted;
-  PeerId peer = kNoPeer;            ///< Granted: new holder; Released: old holder; Queued/Dequeued: the addressee
-  LockEpoch epoch = kNoEpoch;       ///< Granted/Released: the grant's epoch; otherwise kNoEpoch
-  std::uint32_t queuePosition = 0;  ///< Queued: 1 = next in line; otherwise 0
+  PeerId peer = kNoPeer;       ///< Granted: new holder; Released: old holder; Queued/Dequeued/Refused: the addressee
+  LockEpoch epoch = kNoEpoch;  ///< Granted/Released: the grant's epoch; Refused: the refused set's; else kNoEpoch
+  std::uint32_t queuePosition = 0;                         ///< Queued: 1 = next in line; otherwise 0
   LockReleaseReason reason = LockReleaseReason::Released;  ///< Released only
-  std::vector<PeerId> waiting{};  ///< Waiting only: the queue, head first, ≤ kMaxPeers (wire_format.h); else empty
+  /// Waiting: the queue, head first; Refused: the holders the set overlaps (empty: the union would be too large);
+  /// ≤ kMaxPeers (wire_format.h); empty for the other kinds.
+  std::vector<PeerId> waiting{};
   friend bool operator==(const LockNotice&, const LockNotice&) = default;
 };
 

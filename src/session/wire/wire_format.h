@@ -141,14 +141,18 @@
 //   16  n  bytes                                      |
 //
 // 0x48 PeerList (host → all, on every change)        | 0x4a LockNotice (host → peer(s); lock_messages.h)
-//    0  2  count  c ≤ kMaxPeers, then c entries:      |    0  1  kind      LockNoticeKind 1..5 (v4: 5 Waiting)
+//    0  2  count  c ≤ kMaxPeers, then c entries:      |    0  1  kind      LockNoticeKind 1..6 (v4: 5 Waiting;
+//                                                     |                    v5: 6 Refused)
 //          +0  4  peerId       1..65535               |    1  4  peer      PeerId
 //          +4  4  vertexCount  its resolution level   |    5  4  epoch     LockEpoch
 //          +8  1  nameLen      n ≤ kMaxNameBytes      |    9  4  queuePos  Queued: 1 = next, else 0
 //          +9  n  name         UTF-8                  |   13  1  reason    LockReleaseReason 0..3 (v4: 3
 //                                                     |                    RevokedByHost)
 //                                                     |   14  1  count     w ≤ kMaxPeers; 0 unless Waiting (v4)
-//                                                     |   15 4w  waiting   PeerIds 1..65535, the queue, head first
+//                                                     |                    or Refused (v5)
+//                                                     |   15 4w  waiting   PeerIds 1..65535: Waiting the queue,
+//                                                     |                    head first; Refused the holders the
+//                                                     |                    set overlaps
 //
 // 0x4b Drag (lock holder → host)                     | 0x4c Keyframe (host → client: at join, exact references)
 //    0  4  epoch  the held lock's epoch, ≥ 1          |    0  4  frame     frame number of these coefficients
@@ -219,8 +223,9 @@ namespace sc::session {
 
 inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
 /// 3: issue 14 (encrypted datagrams, path challenge); 4: issue 15 (strokes and the shared edit history, presence,
-/// Leave reason and text, LockNotice Waiting with the lock queue, Released{RevokedByHost}).
-inline constexpr std::uint8_t kProtocolVersion = 4;
+/// Leave reason and text, LockNotice Waiting with the lock queue, Released{RevokedByHost}); 5: several leases at
+/// once (one Granted per lease to a newcomer, LockNotice Refused for overlapping constraints).
+inline constexpr std::uint8_t kProtocolVersion = 5;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {
