@@ -37,7 +37,7 @@ enum class StandardView { Home, Front, Back, Left, Right, Top, Bottom };
 class OrbitCamera {
  public:
   static constexpr float kFieldOfViewY = 30.0f;          ///< vertical field of view, degrees.
-  static constexpr float kDefaultYaw = -35.0f;           ///< initial yaw after frame(), degrees.
+  static constexpr float kDefaultYaw = 35.0f;            ///< initial yaw after frame(), degrees.
   static constexpr float kDefaultPitch = 18.0f;          ///< initial elevation after frame(), degrees.
   static constexpr float kFillFraction = 0.9f;           ///< fraction of the half-view the framed points reach.
   static constexpr std::size_t kMaxFramePoints = 50000;  ///< larger point sets are subsampled (by stride).

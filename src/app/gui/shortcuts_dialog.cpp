@@ -32,7 +32,9 @@ void collect(const QList<QAction*>& actions, const QString& path, std::vector<Sh
       continue;
     }
     if (action->shortcut().isEmpty()) continue;
-    rows.push_back({path, plainText(action->text()), action->shortcut().toString(QKeySequence::NativeText)});
+    QStringList keys;
+    for (const QKeySequence& key : action->shortcuts()) keys << key.toString(QKeySequence::NativeText);
+    rows.push_back({path, plainText(action->text()), keys.join(QStringLiteral(", "))});
   }
 }
 

@@ -12,7 +12,7 @@ class QMenuBar;
 namespace sc::app {
 
 /// One row of the list: the menu path ("View ▸ Standard Views"), the action's text without its mnemonic and
-/// ellipsis, and the shortcut in the platform's native text.
+/// ellipsis, and its shortcuts in the platform's native text (several: joined by ", ").
 struct ShortcutRow {
   QString menu;
   QString action;
