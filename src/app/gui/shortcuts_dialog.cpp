@@ -49,7 +49,6 @@ std::vector<ShortcutRow> shortcutRows(const QMenuBar& bar) {
 ShortcutsDialog::ShortcutsDialog(const QMenuBar& bar, QWidget* parent) : QDialog(parent) {
   setObjectName(QStringLiteral("shortcutsDialog"));
   setWindowTitle(tr("Keyboard Shortcuts"));
-  setAttribute(Qt::WA_DeleteOnClose, false);
   const std::vector<ShortcutRow> rows = shortcutRows(bar);
   auto* table = new QTableWidget(static_cast<int>(rows.size()), 3, this);
   table->setObjectName(QStringLiteral("shortcutsTable"));

@@ -139,8 +139,8 @@ QMenu* ViewActions::addPanelToggles(QMenu& menu) {
 void ViewActions::addToolsMenu(const Parts& parts) {
   auto* menu = new QMenu(tr("&Tools"), m_window);
   menu->setObjectName(QStringLiteral("menuTools"));
-  const Qt::Key keys[] = {Qt::Key_O, Qt::Key_H, Qt::Key_A, Qt::Key_D};
-  for (int i = 0; i < 4; ++i) {
+  const std::array<Qt::Key, 4> keys{Qt::Key_O, Qt::Key_H, Qt::Key_A, Qt::Key_D};
+  for (std::size_t i = 0; i < keys.size(); ++i) {
     parts.tools[i]->setShortcut(QKeySequence(keys[i]));
     menu->addAction(parts.tools[i]);
   }
@@ -167,9 +167,10 @@ void ViewActions::addToolsMenu(const Parts& parts) {
   m_brushBox->setToolTip(tr("Brush radius of the Handle and Anchors tools ([ and ] change it)"));
   m_brushBox->setValue(static_cast<int>(std::lround(m_viewport->brushRadius())));
   connect(m_brushBox, &QSpinBox::valueChanged, this, [this](int pixels) { m_viewport->setBrushRadius(pixels); });
-  const QList<QAction*> bar2 = parts.toolBar->actions();
-  const qsizetype dragAt = bar2.indexOf(parts.tools[3]);
-  parts.toolBar->insertWidget(dragAt >= 0 && dragAt + 1 < bar2.size() ? bar2[dragAt + 1] : nullptr, m_brushBox);
+  const QList<QAction*> barActions = parts.toolBar->actions();
+  const qsizetype dragAt = barActions.indexOf(parts.tools[3]);
+  parts.toolBar->insertWidget(dragAt >= 0 && dragAt + 1 < barActions.size() ? barActions[dragAt + 1] : nullptr,
+                              m_brushBox);
 }
 
 void ViewActions::setBrushRadius(double pixels) {

@@ -11,6 +11,7 @@
 #include <QObject>
 #include <QString>
 
+#include <array>
 #include <optional>
 
 class QAction;
@@ -37,7 +38,7 @@ class ViewActions final : public QObject {
     MeshViewport* viewport = nullptr;
     QMenu* viewMenu = nullptr;
     QAction* resetView = nullptr;
-    QAction* tools[4] = {};
+    std::array<QAction*, 4> tools{};
     QToolBar* toolBar = nullptr;
   };
   static constexpr double kBrushStep = 1.25;  ///< Larger / Smaller Brush multiply / divide the radius by this.
