@@ -289,3 +289,42 @@ TEST_F(MeshViewportToolsTest, InterleavedPositionsRenderLikeEigenPositions) {
   m_viewport.setPositionsInterleaved(xyz);
   EXPECT_EQ(m_viewport.grabFramebuffer(), eigen);
 }
+
+// Issue 16, viewer habits: Alt+left drag orbits in the painting and dragging tools, and paints or drags nothing.
+TEST_F(MeshViewportToolsTest, AltDragOrbitsInEveryTool) {
+  m_viewport.setSelection(sc::app::visibleWithin(projected(), kCentre, 20.0), {});
+  for (const ViewportTool tool : {ViewportTool::HandleBrush, ViewportTool::AnchorBrush, ViewportTool::Drag}) {
+    m_viewport.setTool(tool);
+    const float yaw = m_viewport.camera().yaw();
+    const std::vector<int> handles = m_viewport.handles();
+    QTest::mousePress(&m_viewport, Qt::LeftButton, Qt::AltModifier, kCentre);
+    moveTo(kCentre + QPoint(40, 0), Qt::AltModifier);
+    QTest::mouseRelease(&m_viewport, Qt::LeftButton, Qt::AltModifier, kCentre + QPoint(40, 0));
+    EXPECT_NEAR(m_viewport.camera().yaw(), yaw - 40 * 0.4f, 1e-3f) << static_cast<int>(tool);
+    EXPECT_TRUE(m_handleEvents.empty());
+    EXPECT_TRUE(m_anchorEvents.empty());
+    EXPECT_EQ(m_dragStarts, 0);
+    EXPECT_EQ(m_viewport.handles(), handles);
+  }
+}
+
+// Issue 16: a double click on the mesh makes the surface point under the cursor the orbit pivot (brought to the
+// centre of the view); a double click on the background re-frames.
+TEST_F(MeshViewportToolsTest, DoubleClickOnTheMeshSetsThePivotToTheSurfacePoint) {
+  const QPoint spot = kCentre + QPoint(30, -20);
+  const QMatrix4x4 before = m_viewport.camera().projection() * m_viewport.camera().view();
+  QTest::mouseDClick(&m_viewport, Qt::LeftButton, Qt::NoModifier, spot);
+  const QVector3D pivot = m_viewport.camera().target();
+  EXPECT_NEAR(pivot.length(), 1.0f, 0.02f) << "the pivot lies on the unit sphere's surface";
+  EXPECT_GT(QVector3D::dotProduct(pivot, m_viewport.camera().eye()), 0.0f) << "on the visible side";
+  // it was under the cursor
+  const QVector3D was = before.map(pivot);
+  EXPECT_NEAR((was.x() + 1.0f) * 0.5f * 320.0f, spot.x(), 1.5f);
+  EXPECT_NEAR((1.0f - was.y()) * 0.5f * 240.0f, spot.y(), 1.5f);
+  const QVector3D ndc = (m_viewport.camera().projection() * m_viewport.camera().view()).map(pivot);
+  EXPECT_NEAR(ndc.x(), 0.0f, 1e-4f);
+  EXPECT_NEAR(ndc.y(), 0.0f, 1e-4f);
+  // the background: back to the framed view, the pivot at the mesh's centre
+  QTest::mouseDClick(&m_viewport, Qt::LeftButton, Qt::NoModifier, QPoint(3, 3));
+  EXPECT_LT(m_viewport.camera().target().length(), 0.1f);
+}

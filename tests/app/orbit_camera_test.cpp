@@ -112,3 +112,142 @@ TEST(OrbitCamera, PanMovesTheSceneWithTheCursor) {
   EXPECT_NEAR(ndc.x(), 0.2f, 1e-3f);
   EXPECT_NEAR(ndc.y(), -0.2f, 1e-3f);
 }
+
+// --- issue 16, viewer habits: up axis, standard views, trackball, pivot
+
+namespace {
+
+using sc::app::RotationMode;
+using sc::app::StandardView;
+using sc::app::UpAxis;
+
+QVector3D eyeDirection(const OrbitCamera& camera) { return (camera.eye() - camera.target()).normalized(); }
+
+void expectNear(const QVector3D& a, const QVector3D& b, float tolerance, const char* what) {
+  EXPECT_LE((a - b).length(), tolerance) << what << ": (" << a.x() << ", " << a.y() << ", " << a.z() << ") vs ("
+                                         << b.x() << ", " << b.y() << ", " << b.z() << ")";
+}
+
+}  // namespace
+
+TEST(OrbitCamera, HomeViewLooksFromTheFrontAndAboveForEitherUpAxis) {
+  for (const UpAxis axis : {UpAxis::Y, UpAxis::Z}) {
+    OrbitCamera camera;
+    camera.setViewportSize(400, 300);
+    camera.setUpAxis(axis);
+    camera.frame(QVector3D(-1, -1, -1), QVector3D(1, 1, 1));
+    const QVector3D up = axis == UpAxis::Y ? QVector3D(0, 1, 0) : QVector3D(0, 0, 1);
+    const QVector3D front = axis == UpAxis::Y ? QVector3D(0, 0, 1) : QVector3D(0, -1, 0);
+    const QVector3D d = eyeDirection(camera);
+    EXPECT_NEAR(QVector3D::dotProduct(d, up), std::sin(OrbitCamera::kDefaultPitch * 3.14159265f / 180.0f), 1e-4f)
+        << "the eye is above the mesh";
+    EXPECT_GT(QVector3D::dotProduct(d, front), 0.7f) << "the eye is in front of the mesh";
+    EXPECT_GT(QVector3D::dotProduct(camera.up(), up), 0.9f) << "the up axis points up on screen";
+    // the up axis projects straight up: its screen x component is zero (no roll)
+    const QVector3D top = toNdc(camera, camera.target() + 0.1f * up) - toNdc(camera, camera.target());
+    EXPECT_NEAR(top.x(), 0.0f, 1e-5f);
+    EXPECT_GT(top.y(), 0.0f);
+  }
+}
+
+TEST(OrbitCamera, StandardViewsLookAlongTheAxesAndFit) {
+  struct Case {
+    StandardView view;
+    QVector3D eyeY, eyeZ;  // the eye's direction for y up and for z up
+  };
+  const Case cases[] = {{StandardView::Front, {0, 0, 1}, {0, -1, 0}}, {StandardView::Back, {0, 0, -1}, {0, 1, 0}},
+                        {StandardView::Right, {1, 0, 0}, {1, 0, 0}},  {StandardView::Left, {-1, 0, 0}, {-1, 0, 0}},
+                        {StandardView::Top, {0, 1, 0}, {0, 0, 1}},    {StandardView::Bottom, {0, -1, 0}, {0, 0, -1}}};
+  const QVector3D lo(-1, -2, -0.5f);
+  const QVector3D hi(3, 1, 0.5f);
+  for (const UpAxis axis : {UpAxis::Y, UpAxis::Z}) {
+    for (const Case& c : cases) {
+      OrbitCamera camera;
+      camera.setViewportSize(640, 480);
+      camera.setUpAxis(axis);
+      camera.frame(lo, hi, c.view);
+      expectNear(eyeDirection(camera), axis == UpAxis::Y ? c.eyeY : c.eyeZ, 1e-4f, "eye direction");
+      EXPECT_GT(checkInsideAndGetSpan(camera, lo, hi), 0.85f) << "the box is framed";
+      if (c.view == StandardView::Front) {
+        expectNear(camera.up(), axis == UpAxis::Y ? QVector3D(0, 1, 0) : QVector3D(0, 0, 1), 1e-4f, "front's up");
+      }
+      if (c.view == StandardView::Top) {  // the front at the bottom of the screen: the back points up
+        expectNear(camera.up(), axis == UpAxis::Y ? QVector3D(0, 0, -1) : QVector3D(0, 1, 0), 1e-4f, "top's up");
+      }
+    }
+  }
+  // nullopt keeps the direction ("fit")
+  OrbitCamera camera;
+  camera.setViewportSize(640, 480);
+  camera.frame(lo, hi, StandardView::Right);
+  camera.orbit(30, 20);
+  const QVector3D before = eyeDirection(camera);
+  camera.frame(lo, hi, std::nullopt);
+  expectNear(eyeDirection(camera), before, 1e-5f, "fit keeps the direction");
+  EXPECT_GT(checkInsideAndGetSpan(camera, lo, hi), 0.85f);
+}
+
+TEST(OrbitCamera, TrackballRotationKeepsThePivotDistanceAndGoesOverThePole) {
+  OrbitCamera camera;
+  camera.setViewportSize(400, 300);
+  camera.frame(QVector3D(-1, -1, -1), QVector3D(1, 1, 1), StandardView::Front);
+  camera.setRotationMode(RotationMode::Trackball);
+  const QVector3D target = camera.target();
+  const float distance = camera.distance();
+  const QVector3D start = eyeDirection(camera);
+  camera.orbit(0, 300);  // 120 degrees about the screen's x axis: the turntable would stop at 89
+  EXPECT_EQ(camera.target(), target);
+  EXPECT_NEAR((camera.eye() - target).length(), distance, 1e-4f * distance);
+  EXPECT_NEAR(QVector3D::dotProduct(eyeDirection(camera), start), std::cos(120.0f * 3.14159265f / 180.0f), 1e-4f);
+  camera.orbit(57, -23);
+  camera.orbit(-140, 91);
+  EXPECT_EQ(camera.target(), target);
+  EXPECT_NEAR((camera.eye() - target).length(), distance, 1e-4f * distance);
+  const QVector3D ndc = toNdc(camera, target);
+  EXPECT_NEAR(ndc.x(), 0.0f, 1e-5f);
+  EXPECT_NEAR(ndc.y(), 0.0f, 1e-5f);
+  // Back to the turntable: the eye stays, any roll goes (the up axis projects straight up again).
+  const QVector3D eye = camera.eye();
+  camera.setRotationMode(RotationMode::Turntable);
+  expectNear(camera.eye(), eye, 1e-3f * distance, "the eye stays");
+  const QVector3D top = toNdc(camera, target + QVector3D(0, 0.1f, 0)) - toNdc(camera, target);
+  EXPECT_NEAR(top.x(), 0.0f, 1e-4f);
+}
+
+TEST(OrbitCamera, TrackballAndTurntableAgreeOnAPureHorizontalDrag) {
+  OrbitCamera turntable;
+  OrbitCamera trackball;
+  for (OrbitCamera* camera : {&turntable, &trackball}) {
+    camera->setViewportSize(400, 300);
+    camera->frame(QVector3D(-1, -1, -1), QVector3D(1, 1, 1), StandardView::Front);
+  }
+  trackball.setRotationMode(RotationMode::Trackball);
+  turntable.orbit(50, 0);
+  trackball.orbit(50, 0);
+  expectNear(trackball.eye(), turntable.eye(), 1e-4f, "same eye");
+  expectNear(trackball.up(), turntable.up(), 1e-4f, "same up");
+}
+
+TEST(OrbitCamera, SetPivotCentresThePointKeepingTheOrientation) {
+  OrbitCamera camera;
+  camera.setViewportSize(400, 300);
+  camera.frame(QVector3D(-1, -1, -1), QVector3D(1, 1, 1));
+  camera.orbit(40, 10);
+  const QVector3D pivot(0.8f, -0.6f, 0.9f);
+  const QVector3D direction = eyeDirection(camera);
+  const QVector3D up = camera.up();
+  const float depth = -camera.view().map(pivot).z();  // the pivot's distance along the view axis
+  ASSERT_GT(toNdc(camera, pivot).toVector2D().length(), 0.1f) << "the pivot starts off-centre";
+  camera.setPivot(pivot);
+  EXPECT_EQ(camera.target(), pivot);
+  const QVector3D ndc = toNdc(camera, pivot);
+  EXPECT_NEAR(ndc.x(), 0.0f, 1e-5f);
+  EXPECT_NEAR(ndc.y(), 0.0f, 1e-5f);
+  expectNear(eyeDirection(camera), direction, 1e-5f, "orientation kept");
+  expectNear(camera.up(), up, 1e-5f, "no roll");
+  EXPECT_NEAR(camera.distance(), depth, 1e-4f * depth) << "the pivot keeps its depth (a pan, no zoom)";
+  // orbiting now turns about the pivot
+  camera.orbit(80, -30);
+  EXPECT_NEAR(toNdc(camera, pivot).x(), 0.0f, 1e-5f);
+  EXPECT_NEAR((camera.eye() - pivot).length(), depth, 1e-4f * depth);
+}

@@ -9,6 +9,7 @@
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/orbit_camera.h"
 #include "app/gui/session_controller.h"
 #include "app/gui/vertex_id_lists.h"
 #include "app/gui/vertex_picking.h"
@@ -26,6 +27,8 @@
 #include <QTemporaryDir>
 #include <QTest>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <span>
 #include <string>
@@ -179,6 +182,64 @@ TEST_F(SessionSaveTest, ABrokenFileFailsToHostWithAReadableError) {
   EXPECT_EQ(window->session()->state(), State::Failed);
   EXPECT_TRUE(window->session()->errorText().contains(QStringLiteral("truncated")))
       << window->session()->errorText().toStdString();
+}
+
+// Issue 16, "re-hosting a saved session frames the rest shape, cutting off the restored pose": the handle is dragged
+// far beyond the rest shape's bounds, the session saved and hosted again; the view frames the shape shown (every
+// vertex inside the view, the shape filling most of it), where framing the rest shape would cut it off.
+TEST_F(SessionSaveTest, ReHostingASavedMovedPoseFramesItsBounds) {
+  const QString sessionPath = m_dir.filePath(QStringLiteral("moved.shapecast"));
+  std::vector<float> moved;
+  {
+    std::unique_ptr<MainWindow> window = host(m_meshPath);
+    SessionController* session = window->session();
+    ASSERT_EQ(session->state(), State::Live) << session->errorText().toStdString();
+    ASSERT_TRUE(session->requestLock());
+    ASSERT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
+    const Eigen::MatrixXd& V = session->displayRestPositions();
+    std::vector<int> handle = defaultHandle(V);
+    std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
+    window->viewport()->setSelection(handle, anchors);
+    ASSERT_TRUE(session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
+                                      typedIds<spectral::DisplayVertexId>(anchors)));
+    const std::vector<float> rest = copyOf(session->positions());
+    drag(*window, Eigen::Vector3d(0.0, 0.0, 1.5 * m_diagonal), 0.0);
+    ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), rest) > 0.3 * m_diagonal; }, 10000));
+    QTest::qWait(100);
+    moved = copyOf(session->positions());
+    QString error;
+    ASSERT_TRUE(window->saveSession(sessionPath, &error)) << error.toStdString();
+  }
+  std::unique_ptr<MainWindow> window = host(sessionPath);
+  ASSERT_EQ(window->session()->state(), State::Live) << window->session()->errorText().toStdString();
+  ASSERT_TRUE(shows(*window, moved));
+  QTest::qWait(50);
+  MeshViewport* view = window->viewport();
+  const OrbitCamera& camera = view->camera();
+  const QVector3D origin = view->localView().eye - camera.eye();  // the viewport's coordinates are the mesh's less it
+  const std::vector<float> shown = view->hostPositions();
+  ASSERT_EQ(shown.size(), moved.size());
+  const auto extent = [&](const QMatrix4x4& viewProjection) {
+    float largest = 0.0f;
+    for (std::size_t i = 0; i < shown.size(); i += 3) {
+      const QVector3D ndc = viewProjection.map(QVector3D(shown[i], shown[i + 1], shown[i + 2]) - origin);
+      largest = std::max({largest, std::abs(ndc.x()), std::abs(ndc.y())});
+    }
+    return largest;
+  };
+  const float framed = extent(camera.projection() * camera.view());
+  EXPECT_LE(framed, 1.0f) << "a vertex of the restored pose is outside the view";
+  EXPECT_GT(framed, 0.8f) << "the restored pose should fill the view";
+  // The same view framed on the rest shape (the old behaviour) cuts the pose off: the test would catch it.
+  OrbitCamera restFramed;
+  restFramed.setViewportSize(view->width(), view->height());
+  const Eigen::MatrixXd& rest = window->session()->displayRestPositions();
+  std::vector<QVector3D> restPoints;
+  for (Eigen::Index i = 0; i < rest.rows(); ++i) {
+    restPoints.push_back(QVector3D(float(rest(i, 0)), float(rest(i, 1)), float(rest(i, 2))) - origin);
+  }
+  restFramed.frame(restPoints);
+  EXPECT_GT(extent(restFramed.projection() * restFramed.view()), 1.0f);
 }
 
 }  // namespace

@@ -2,11 +2,13 @@
 // --demo --screenshot-dir alias to shapecast-screenshots, run as child processes.
 
 #include "address_sanitizer.h"
+#include "app/gui/up_axis_memory.h"
 #include "app_test_support.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
 
+#include <QColor>
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFileInfo>
@@ -15,6 +17,8 @@
 #include <QProcessEnvironment>
 #include <QRegularExpression>
 #include <QTemporaryDir>
+
+#include <cstdlib>
 
 namespace {
 
@@ -118,6 +122,49 @@ TEST_F(ShapecastExe, ScreenshotDirRunsTheScreenshotsTool) {
   for (const char* name :
        {"demo-host.png", "demo-client-full.png", "demo-client-low.png", "main-window-statistics.png"})
     EXPECT_FALSE(QImage(QDir(dir).filePath(QString::fromLatin1(name))).isNull()) << name;
+}
+
+// Issue 16: the up axis chosen for a file is remembered (View → Up Axis, QSettings): the application reads it when
+// it opens the file. A tube along z stands upright in the picture with z up and lies across it with y up.
+TEST_F(ShapecastExe, OpensAFileWithItsRememberedUpAxis) {
+  const QString mesh = m_dir.filePath(QStringLiteral("tube.off"));
+  const auto tube = sc::testing::tube(24, 40, 4.0, 0.3);
+  Eigen::MatrixXd alongZ(tube.V.rows(), 3);
+  alongZ << tube.V.col(1), tube.V.col(2), tube.V.col(0);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, alongZ, tube.F));
+  // The mesh's extent in the picture: pixels that differ from the background at the left edge of their row.
+  const auto extent = [](const QImage& image) {
+    QRect box;
+    for (int y = 0; y < image.height(); ++y) {
+      const QColor background = image.pixelColor(0, y);
+      for (int x = 1; x < image.width(); ++x) {
+        const QColor c = image.pixelColor(x, y);
+        if (std::abs(c.red() - background.red()) + std::abs(c.green() - background.green()) +
+                std::abs(c.blue() - background.blue()) >
+            40)
+          box |= QRect(x, y, 1, 1);
+      }
+    }
+    return box;
+  };
+  QSize sizes[2];
+  for (const bool zUp : {false, true}) {
+    const QString config = m_dir.filePath(zUp ? QStringLiteral("config-z") : QStringLiteral("config-y"));
+    if (zUp) {  // what View → Z Up wrote in an earlier run
+      sc::app::UpAxisMemory(QDir(config).filePath(QStringLiteral("ShapeCast/shapecast.conf")))
+          .remember(mesh, sc::app::UpAxis::Z);
+    }
+    QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+    environment.insert(QStringLiteral("XDG_CONFIG_HOME"), config);
+    const QString png = m_dir.filePath(zUp ? QStringLiteral("z.png") : QStringLiteral("y.png"));
+    const RunResult run = runShapecast({mesh, QStringLiteral("--screenshot"), png}, environment);
+    ASSERT_EQ(run.exitCode, 0) << run.standardError.toStdString();
+    const QRect box = extent(QImage(png));
+    ASSERT_FALSE(box.isEmpty());
+    sizes[zUp ? 1 : 0] = box.size();
+  }
+  EXPECT_GT(sizes[1].height(), 2 * sizes[1].width()) << "z up: the tube stands";
+  EXPECT_LT(sizes[0].height(), sizes[0].width()) << "y up: the tube lies across the picture";
 }
 
 TEST(ShapecastExeWithoutOpenGl, SaysWhatIsMissingAndExitsCleanly) {

@@ -13,11 +13,13 @@
 // PNG was written, 2 otherwise (the reason on stderr), 2 also when shapecast-screenshots cannot be run.
 
 #include "app/common/sibling_executable.h"
+#include "app/gui/app_theme.h"
 #include "app/gui/demo.h"
 #include "app/gui/first_start.h"
 #include "app/gui/launch_options.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/view_actions.h"
 #include "app/gui/viewport/renderer_defaults.h"
 
 #include <QApplication>
@@ -75,6 +77,8 @@ int runDemo(const sc::app::LaunchOptions& options) {
 int runWindow(const sc::app::LaunchOptions& options) {
   sc::app::MainWindow window;
   window.setErrorDialogsEnabled(!options.screenshotFile);
+  window.viewActions()->rememberUpAxes();
+  if (!options.screenshotFile) window.viewActions()->rememberLayout();  // a screenshot's window keeps its size
   QObject::connect(&window, &sc::app::MainWindow::loadFailed,
                    [](const QString&, const QString& message) { printError(message); });
   const bool loaded = options.meshPath.isEmpty() || window.openMesh(options.meshPath);
@@ -136,6 +140,7 @@ int main(int argc, char* argv[]) {
     printError(problem);
     return kLaunchExitNoOpenGl;
   }
+  sc::app::applySystemColorScheme();
   if (options.screenshotDirectory) {
     printError(sc::app::execSibling(QStringLiteral("shapecast-screenshots"), given) +
                QStringLiteral(" (--screenshot-dir: build the target shapecast-screenshots, tools/screenshots/)"));

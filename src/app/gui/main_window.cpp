@@ -13,6 +13,7 @@
 #include "app/gui/mesh_summary.h"
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/session_snapshot.h"
+#include "app/gui/view_actions.h"
 #include "model/mesh_loader.h"
 #include "model/mesh_writer.h"
 
@@ -52,6 +53,28 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   setUpSessionFileActions();
   setUpSessionLife();
   updateLockControls();
+  setUpViewActions();
+}
+
+void MainWindow::setUpViewActions() {
+  // Last: the View menu lists every dock and toolbar made above.
+  m_viewActions =
+      new ViewActions({this,
+                       ui->viewport,
+                       ui->menuView,
+                       ui->actionResetView,
+                       {ui->actionToolOrbit, ui->actionToolHandle, ui->actionToolAnchors, ui->actionToolDrag},
+                       ui->sessionToolBar});
+  // The up axis remembered for a file: a mesh opened, or the mesh or session file hosted.
+  connect(this, &MainWindow::meshLoaded, m_viewActions,
+          [this](const QString& path) { m_viewActions->showingFile(path); });
+  connect(this, &MainWindow::sessionStarted, m_viewActions, [this](SessionController* controller) {
+    const auto* host = qobject_cast<const HostController*>(controller);
+    if (host == nullptr) return;
+    connect(
+        controller, &SessionController::displayLevelChanged, m_viewActions,
+        [this, host] { m_viewActions->showingFile(host->settings().meshPath); }, Qt::SingleShotConnection);
+  });
 }
 
 void MainWindow::setUpSessionFileActions() {

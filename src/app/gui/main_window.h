@@ -33,6 +33,7 @@ class InteractiveProxyBuilder;
 class SessionDocks;
 class SessionPresence;
 class NetworkConditionsDock;
+class ViewActions;
 
 /// The ShapeCast main window: File → Open…/Quit, View → Reset View, a MeshViewport as central widget and a status
 /// bar with the mesh size (permanent, objectName "meshSizeLabel") and, briefly, the cleaning report.
@@ -79,6 +80,9 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] double redrawMs() const { return m_redrawMs; }
   /// Undo/redo of the session's shared edit history (Edit menu; see edit_actions.h).
   [[nodiscard]] EditActions* editActions() const { return m_editActions; }
+  /// View, Tools and Help menus: standard views, up axis, trackball, wireframe, panels, brush size, shortcuts, and
+  /// what the viewer remembers (view_actions.h).
+  [[nodiscard]] ViewActions* viewActions() const { return m_viewActions; }
 
   // --- session life (main_window_life.cpp): questions before a session ends, moderation, the invitation
   /// Who answers the questions asked before a session ends (quitting or leaving while hosting with people in the
@@ -151,6 +155,7 @@ class MainWindow : public QMainWindow {
   void connectViewportToSession();
   void setUpSessionDocks();
   void setUpSessionLife();
+  void setUpViewActions();
   SessionAnswer ask(const SessionQuestion& question);
   /// A session is preparing, connecting or live.
   [[nodiscard]] bool sessionActive() const;
@@ -184,6 +189,7 @@ class MainWindow : public QMainWindow {
   QString m_lastDirectory;
   bool m_errorDialogsEnabled = true;
   EditActions* m_editActions = nullptr;
+  ViewActions* m_viewActions = nullptr;
   SessionPresence* m_presence = nullptr;
   SessionAsker m_sessionAsker;
   bool m_closeConfirmed = false;  ///< the session was ended for the close: the next closeEvent closes

@@ -161,6 +161,7 @@ void MainWindow::setUpSessionDocks() {
     if (controller == nullptr) return;
     connect(controller, &SessionController::savedSessionRestored, this, [this, controller] {
       showSessionSelection();
+      ui->viewport->resetView();  // frame the restored shape: the level was framed at rest
       const model::SessionFile* saved = controller->savedSession();
       if (saved != nullptr && saved->droppedLegacyDrags > 0) {
         statusBar()->showMessage(tr("This session was saved by an older ShapeCast: its shape is restored, its undo "

@@ -225,16 +225,7 @@ void MeshViewport::setWireframe(bool on) {
   update();
 }
 
-void MeshViewport::resetView() {
-  const std::span<const float> positions = pickPositions();
-  std::vector<QVector3D> points(static_cast<std::size_t>(m_vertexCount));
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    points[i] = QVector3D{positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]};
-  }
-  m_camera.setViewportSize(width(), height());
-  m_camera.frame(points);
-  update();
-}
+void MeshViewport::resetView() { showView(StandardView::Home); }
 
 // ---------------------------------------------------------------------------------------------------- selection
 
@@ -316,7 +307,9 @@ void MeshViewport::setPointer(std::optional<QPointF> position) {
 
 void MeshViewport::mouseReleaseEvent(QMouseEvent* event) { m_input.release(event); }
 
-void MeshViewport::mouseDoubleClickEvent(QMouseEvent* /*event*/) { resetView(); }
+void MeshViewport::mouseDoubleClickEvent(QMouseEvent* event) {
+  if (!setPivotAt(event->position())) resetView();
+}
 
 void MeshViewport::wheelEvent(QWheelEvent* event) { m_input.wheel(event); }
 

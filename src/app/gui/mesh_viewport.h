@@ -43,7 +43,8 @@ namespace sc::app {
 /// gradient background, framed on its vertices; optionally with its edges drawn over it (wireframe) and with the
 /// handle (orange-red) and anchor (blue) vertices tinted.
 ///
-/// Mouse: see ViewportTool; a double click re-frames. Brush picking is a real visibility test: at the start of
+/// Mouse: see ViewportTool; a double click on the surface makes the point under the cursor the orbit pivot (and
+/// centres it), off the surface it re-frames (resetView()). Brush picking is a real visibility test: at the start of
 /// each stroke the mesh is rendered into an offscreen depth buffer that is read back, and only vertices within
 /// brushRadius() pixels of the cursor whose depth matches the rendered surface are painted (projectToScreen()).
 ///
@@ -210,11 +211,24 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   [[nodiscard]] QSize minimumSizeHint() const override;
   [[nodiscard]] QSize sizeHint() const override;
 
+  // --- camera (mesh_viewport_camera.cpp): the view habits of View → Standard Views, Up Axis, Trackball
+  /// Re-frames the camera on the mesh's current vertices, turned to `view` (nullopt: keeping the orientation).
+  void showView(std::optional<StandardView> view);
+  /// The up axis of the camera (OrbitCamera::setUpAxis): re-frames from the Home view.
+  void setUpAxis(UpAxis axis);
+  [[nodiscard]] UpAxis upAxis() const { return m_camera.upAxis(); }
+  /// Turntable or trackball rotation for orbit drags (OrbitCamera::setRotationMode).
+  void setRotationMode(RotationMode mode) { m_camera.setRotationMode(mode); }
+  [[nodiscard]] RotationMode rotationMode() const { return m_camera.rotationMode(); }
+  /// Makes the surface point under `position` (widget pixels) the orbit pivot (OrbitCamera::setPivot): true, or
+  /// false (nothing changes) when no surface is under it. Emits cameraMovedByUser() when it moved.
+  bool setPivotAt(QPointF position);
+
  public slots:
-  /// Re-frames the camera on the mesh's current vertices, with the default view angles.
+  /// Re-frames the camera on the mesh's current vertices, with the default view angles (showView(Home)).
   void resetView();
-  /// Same as resetView() (the name the View menu uses).
-  void fitToView() { resetView(); }
+  /// Re-frames the camera on the mesh's current vertices keeping its orientation (showView(nullopt)).
+  void fitToView() { showView(std::nullopt); }
   /// Releases the GL objects; safe to call more than once and without a context ever having existed.
   void cleanup();
 

@@ -3,7 +3,8 @@
 
 namespace sc::app {
 
-/// What a left drag does in the viewport. Right/middle drag always pans and the wheel always zooms.
+/// What a left drag does in the viewport. Right/middle drag always pans, the wheel always zooms and Alt+left drag
+/// always orbits.
 enum class ViewportTool {
   Orbit,        ///< left drag orbits the camera (the default).
   HandleBrush,  ///< left drag paints handle vertices, Shift+left drag erases them.

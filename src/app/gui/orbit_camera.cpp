@@ -12,6 +12,32 @@ namespace {
 constexpr float kDegreesPerPixel = 0.4f;
 constexpr float kMaxPitch = 89.0f;
 constexpr float kZoomPerStep = 0.85f;
+constexpr float kDegrees = 57.29577951308232f;
+
+struct Angles {
+  float yaw;
+  float pitch;
+};
+
+Angles anglesOf(StandardView view) {
+  switch (view) {
+    case StandardView::Home:
+      return {OrbitCamera::kDefaultYaw, OrbitCamera::kDefaultPitch};
+    case StandardView::Front:
+      return {0.0f, 0.0f};
+    case StandardView::Back:
+      return {180.0f, 0.0f};
+    case StandardView::Left:
+      return {-90.0f, 0.0f};
+    case StandardView::Right:
+      return {90.0f, 0.0f};
+    case StandardView::Top:
+      return {0.0f, 90.0f};
+    case StandardView::Bottom:
+      return {0.0f, -90.0f};
+  }
+  return {OrbitCamera::kDefaultYaw, OrbitCamera::kDefaultPitch};
+}
 }  // namespace
 
 void OrbitCamera::setSceneBounds(const QVector3D& lo, const QVector3D& hi) {
@@ -26,10 +52,10 @@ void OrbitCamera::setSceneBounds(const QVector3D& lo, const QVector3D& hi) {
   m_sceneRadius = half.length();
 }
 
-void OrbitCamera::frame(std::span<const QVector3D> points) {
+void OrbitCamera::frame(std::span<const QVector3D> points, std::optional<StandardView> view) {
   m_framePoints.clear();
   if (points.empty()) {
-    frame(QVector3D{-0.5f, -0.5f, -0.5f}, QVector3D{0.5f, 0.5f, 0.5f});
+    frame(QVector3D{-0.5f, -0.5f, -0.5f}, QVector3D{0.5f, 0.5f, 0.5f}, view);
     return;
   }
   QVector3D lo = points.front();
@@ -45,18 +71,62 @@ void OrbitCamera::frame(std::span<const QVector3D> points) {
   }
   setSceneBounds(lo, hi);
   m_target = (m_lo + m_hi) * 0.5f;  // the orbit pivot starts at the box centre; fit() shifts it across the view
-  m_yaw = kDefaultYaw;
-  m_pitch = kDefaultPitch;
+  if (view) orient(*view);
   m_fitPending = true;
   fit();
 }
 
-void OrbitCamera::frame(const QVector3D& lo, const QVector3D& hi) {
+void OrbitCamera::orient(StandardView view) {
+  const Angles angles = anglesOf(view);
+  m_yaw = angles.yaw;
+  m_pitch = angles.pitch;
+  m_trackball = turntable();
+}
+
+void OrbitCamera::setUpAxis(UpAxis axis) {
+  m_upAxis = axis;
+  orient(StandardView::Home);
+  if (!m_framePoints.empty()) {
+    m_target = (m_lo + m_hi) * 0.5f;
+    m_fitPending = true;
+    fit();
+  }
+}
+
+void OrbitCamera::setRotationMode(RotationMode mode) {
+  if (mode == m_mode) return;
+  if (mode == RotationMode::Trackball) {
+    m_trackball = turntable();
+  } else {
+    aimFrom(eye() - m_target);  // the eye stays; any roll goes
+  }
+  m_mode = mode;
+}
+
+void OrbitCamera::setPivot(const QVector3D& pivot) {
+  // A pan that brings the pivot to the centre of the screen: the eye moves in its view plane only.
+  const QVector3D back = rotation().transposed().map(QVector3D{0.0f, 0.0f, 1.0f});
+  const float depth = QVector3D::dotProduct(eye() - pivot, back);
+  m_target = pivot;
+  m_distance = std::clamp(depth, 1e-3f * m_sceneRadius, 100.0f * m_sceneRadius);
+  m_fitPending = false;
+}
+
+void OrbitCamera::aimFrom(const QVector3D& back) {
+  const float length = back.length();
+  if (!(length > 0.0f)) return;
+  const QVector3D d = upSpace().rotatedVector(back / length);
+  m_pitch = std::clamp(std::asin(std::clamp(d.y(), -1.0f, 1.0f)) * kDegrees, -kMaxPitch, kMaxPitch);
+  m_yaw = std::atan2(d.x(), d.z()) * kDegrees;
+  m_trackball = turntable();
+}
+
+void OrbitCamera::frame(const QVector3D& lo, const QVector3D& hi, std::optional<StandardView> view) {
   std::vector<QVector3D> corners;
   for (int c = 0; c < 8; ++c) {
     corners.emplace_back((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
   }
-  frame(corners);
+  frame(corners, view);
 }
 
 void OrbitCamera::setViewportSize(int width, int height) {
@@ -68,10 +138,23 @@ void OrbitCamera::setViewportSize(int width, int height) {
 }
 
 void OrbitCamera::orbit(float dxPixels, float dyPixels) {
+  m_fitPending = false;
+  if (m_mode == RotationMode::Trackball) {
+    const float pixels = std::hypot(dxPixels, dyPixels);
+    if (!(pixels > 0.0f)) return;
+    // The scene turns about the camera axis perpendicular to the drag (the turntable's yaw and pitch directions).
+    m_trackball =
+        (QQuaternion::fromAxisAndAngle(QVector3D{dyPixels, dxPixels, 0.0f} / pixels, pixels * kDegreesPerPixel) *
+         m_trackball)
+            .normalized();
+    const QVector3D d = m_trackball.conjugated().rotatedVector({0.0f, 0.0f, 1.0f});  // the eye, up space
+    m_pitch = std::asin(std::clamp(d.y(), -1.0f, 1.0f)) * kDegrees;
+    m_yaw = std::atan2(d.x(), d.z()) * kDegrees;
+    return;
+  }
   m_yaw -= dxPixels * kDegreesPerPixel;
   m_yaw = std::remainder(m_yaw, 360.0f);
   m_pitch = std::clamp(m_pitch + dyPixels * kDegreesPerPixel, -kMaxPitch, kMaxPitch);
-  m_fitPending = false;
 }
 
 void OrbitCamera::pan(float dxPixels, float dyPixels) {
@@ -91,12 +174,22 @@ void OrbitCamera::zoom(float steps) {
   m_fitPending = false;
 }
 
+QQuaternion OrbitCamera::turntable() const {
+  // Up-space-to-camera rotation Rx(pitch) Ry(-yaw): it maps the eye direction (seen from the target) to +z without
+  // roll, so the camera looks down its -z axis with the up axis projecting upwards.
+  return QQuaternion::fromAxisAndAngle(1.0f, 0.0f, 0.0f, m_pitch) *
+         QQuaternion::fromAxisAndAngle(0.0f, 1.0f, 0.0f, -m_yaw);
+}
+
+QQuaternion OrbitCamera::upSpace() const {
+  // z up: Rx(-90°) maps (x, y, z) to (x, z, -y), world +z to +y.
+  return m_upAxis == UpAxis::Z ? QQuaternion::fromAxisAndAngle(1.0f, 0.0f, 0.0f, -90.0f) : QQuaternion();
+}
+
 QMatrix4x4 OrbitCamera::rotation() const {
-  // World-to-camera rotation R = Rx(pitch) Ry(-yaw): it maps the eye direction (seen from the target) to +z
-  // without roll, so the camera looks down its -z axis with world +y projecting upwards.
+  const QQuaternion camera = m_mode == RotationMode::Trackball ? m_trackball : turntable();
   QMatrix4x4 r;
-  r.rotate(m_pitch, 1.0f, 0.0f, 0.0f);
-  r.rotate(-m_yaw, 0.0f, 1.0f, 0.0f);
+  r.rotate(camera * upSpace());
   return r;
 }
 
@@ -112,10 +205,7 @@ void OrbitCamera::lookAt(const QVector3D& eye, const QVector3D& target) {
   const QVector3D back = eye - target;
   const float length = back.length();
   if (length > 0.0f) {
-    const QVector3D d = back / length;
-    constexpr float kDegrees = 57.29577951308232f;
-    m_pitch = std::clamp(std::asin(std::clamp(d.y(), -1.0f, 1.0f)) * kDegrees, -89.0f, 89.0f);
-    m_yaw = std::atan2(d.x(), d.z()) * kDegrees;
+    aimFrom(back);
     m_distance = std::clamp(length, 1e-3f * m_sceneRadius, 100.0f * m_sceneRadius);
   }
   m_fitPending = false;

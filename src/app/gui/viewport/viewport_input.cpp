@@ -139,7 +139,9 @@ void ViewportInput::press(QMouseEvent* event) {
   endGesture();
   const QPointF pos = event->position();
   m_lastMousePos = pos.toPoint();
-  if (event->button() != Qt::LeftButton || m_tool == ViewportTool::Orbit || m_view.vertexCount() == 0) {
+  // Alt+left orbits in every tool (the painting and dragging tools keep the camera at hand).
+  if (event->button() != Qt::LeftButton || m_tool == ViewportTool::Orbit || m_view.vertexCount() == 0 ||
+      event->modifiers().testFlag(Qt::AltModifier)) {
     m_gesture = Gesture::Camera;
     return;
   }
