@@ -5,6 +5,9 @@
 
 #include "app/gui/host_controller.h"
 #include "app/gui/main_window.h"
+#include "app/gui/mesh_viewport.h"
+#include "app/gui/session_presence.h"
+#include "app/gui/vertex_id_lists.h"
 #include "app_test_support.h"
 #include "session/engine/host_engine.h"
 #include "session_windows.h"
@@ -16,6 +19,7 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QPainter>
 #include <QProcess>
 #include <QTest>
 
@@ -68,6 +72,30 @@ class CoeditingTest : public sc::testing::TorusSessionTest {
     return process;
   }
 
+  /// The torus (around the z axis): its east end (largest x, within 8 % of the diagonal), its west end, and its
+  /// south side (y below −0.6 of the largest y), which both drivers hold.
+  struct Ends {
+    std::vector<int> east, west, anchors;
+    int eastVertex = 0, westVertex = 0;
+    double diagonal = 0.0;
+  };
+  Ends ends() const {
+    const Eigen::MatrixXd& V = m_mesh.V;
+    Ends out;
+    Eigen::Index east = 0, west = 0;
+    V.col(0).maxCoeff(&east);
+    V.col(0).minCoeff(&west);
+    out.eastVertex = static_cast<int>(east);
+    out.westVertex = static_cast<int>(west);
+    out.diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+    for (Eigen::Index i = 0; i < V.rows(); ++i) {
+      if (V(i, 1) < -0.6 * V.col(1).maxCoeff()) out.anchors.push_back(static_cast<int>(i));
+      if ((V.row(i) - V.row(east)).norm() <= 0.08 * out.diagonal) out.east.push_back(static_cast<int>(i));
+      if ((V.row(i) - V.row(west)).norm() <= 0.08 * out.diagonal) out.west.push_back(static_cast<int>(i));
+    }
+    return out;
+  }
+
   /// The mean displacement along z of `ids` in interleaved positions `xyz` against rest `V`.
   static double meanLift(const std::vector<float>& xyz, const Eigen::MatrixXd& V, const std::vector<int>& ids) {
     double sum = 0.0;
@@ -83,25 +111,18 @@ TEST_F(CoeditingTest, TwoCliClientsDragTwoHandlesAtOnceAndTheHostAndAThirdClient
   ASSERT_NE(live.client, nullptr);
   ASSERT_EQ(live.client->state(), State::Live) << live.client->errorText().toStdString();
 
-  // The torus lies around the z axis: its east end (largest x) goes up, its west end (smallest x) down, while its
-  // south side (y below −0.6 of the largest y) is held by both.
   const Eigen::MatrixXd& V = m_mesh.V;
-  Eigen::Index east = 0, west = 0;
-  V.col(0).maxCoeff(&east);
-  V.col(0).minCoeff(&west);
-  const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-  std::vector<int> anchors, eastEnd, westEnd;
-  for (Eigen::Index i = 0; i < V.rows(); ++i) {
-    if (V(i, 1) < -0.6 * V.col(1).maxCoeff()) anchors.push_back(static_cast<int>(i));
-    if ((V.row(i) - V.row(east)).norm() <= 0.08 * diagonal) eastEnd.push_back(static_cast<int>(i));
-    if ((V.row(i) - V.row(west)).norm() <= 0.08 * diagonal) westEnd.push_back(static_cast<int>(i));
-  }
+  const Ends torus = ends();
+  const std::vector<int>& anchors = torus.anchors;
+  const std::vector<int>& eastEnd = torus.east;
+  const std::vector<int>& westEnd = torus.west;
+  const double diagonal = torus.diagonal;
   const quint16 port = live.host->tcpPort();
   const QByteArray fingerprint = live.host->hostFingerprint();
-  const auto up = drive(QStringLiteral("erin"), writeScript(QStringLiteral("up"), static_cast<int>(east), 10, anchors),
-                        port, fingerprint);
-  const auto down = drive(QStringLiteral("finn"),
-                          writeScript(QStringLiteral("down"), static_cast<int>(west), -10, anchors), port, fingerprint);
+  const auto up = drive(QStringLiteral("erin"), writeScript(QStringLiteral("up"), torus.eastVertex, 10, anchors), port,
+                        fingerprint);
+  const auto down = drive(QStringLiteral("finn"), writeScript(QStringLiteral("down"), torus.westVertex, -10, anchors),
+                          port, fingerprint);
 
   // While they drag, both hold a lease at once; the host's window keeps running its event loop meanwhile.
   std::size_t mostHolders = 0;
@@ -139,6 +160,89 @@ TEST_F(CoeditingTest, TwoCliClientsDragTwoHandlesAtOnceAndTheHostAndAThirdClient
   QStringList authors{live.host->editLog().steps[0].authorName, live.host->editLog().steps[1].authorName};
   authors.sort();
   EXPECT_EQ(authors, (QStringList{QStringLiteral("erin"), QStringLiteral("finn")}));
+}
+
+TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople) {
+  MainWindow hostWindow, bobWindow, carolWindow;
+  const LiveSession live = hostAndJoin(hostWindow, bobWindow, QSize(1000, 700), QSize(560, 420));
+  ASSERT_EQ(live.host->state(), State::Live) << live.host->errorText().toStdString();
+  ASSERT_NE(live.client, nullptr);
+  ASSERT_EQ(live.client->state(), State::Live) << live.client->errorText().toStdString();
+  ClientController* bob = live.client;
+  sc::testing::showSessionWindow(carolWindow, QSize(560, 420));
+  JoinSettings carolSettings = sc::testing::loopbackJoinSettings(live.host->tcpPort(), knownHostsFile());
+  carolSettings.name = QStringLiteral("carol");
+  ClientController* carol = sc::testing::joinAndWait(carolWindow, carolSettings);
+  ASSERT_EQ(carol->state(), State::Live) << carol->errorText().toStdString();
+
+  ASSERT_TRUE(bob->requestLock());
+  ASSERT_TRUE(carol->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return bob->canDrag() && carol->canDrag(); }, 5000))
+      << bob->lockText().toStdString() << " / " << carol->lockText().toStdString();
+  EXPECT_EQ(live.host->lockText(), QStringLiteral("Locks held by bob and carol"));
+
+  // Each paints its own end over the shared south side, looks at it, and drags it: bob up, carol down, together.
+  const Ends torus = ends();
+  const auto paint = [&torus](MainWindow& window, ClientController* who, const std::vector<int>& end) {
+    window.viewport()->setSelection(end, torus.anchors);
+    return who->setSelection(typedIds<spectral::DisplayVertexId>(end),
+                             typedIds<spectral::DisplayVertexId>(torus.anchors));
+  };
+  ASSERT_TRUE(paint(bobWindow, bob, torus.east));
+  ASSERT_TRUE(paint(carolWindow, carol, torus.west));
+  bobWindow.viewport()->lookFrom(QVector3D(3.0f, -1.5f, 2.0f), QVector3D(1.2f, 0.0f, 0.0f));
+  carolWindow.viewport()->lookFrom(QVector3D(-3.0f, -1.5f, 2.0f), QVector3D(-1.2f, 0.0f, 0.0f));
+  for (MainWindow* window : {&bobWindow, &carolWindow}) {
+    MeshViewport* view = window->viewport();
+    view->setPointer(QPointF(view->width() / 2.0, view->height() / 2.0));
+  }
+  ASSERT_TRUE(bob->beginDrag());
+  ASSERT_TRUE(carol->beginDrag());
+  const double target = 0.1 * torus.diagonal;
+  for (int step = 1; step <= 10; ++step) {
+    ASSERT_TRUE(bob->dragTo(Eigen::Vector3d(0.0, 0.0, target * step / 10.0), Eigen::Matrix3d::Identity()));
+    ASSERT_TRUE(carol->dragTo(Eigen::Vector3d(0.0, 0.0, -target * step / 10.0), Eigen::Matrix3d::Identity()));
+    QTest::qWait(30);
+  }
+
+  // While both still drag: the host shows both ends moved, and both people (markers, "is dragging").
+  const Eigen::MatrixXd& V = m_mesh.V;
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        const std::vector<float> shown = live.host->positions();
+        return meanLift(shown, V, torus.east) > 0.7 * target && meanLift(shown, V, torus.west) < -0.7 * target;
+      },
+      5000));
+  SessionPresence& atHost = *hostWindow.presence();
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        const session::RemotePresence* b = atHost.board().find(bob->selfId());
+        const session::RemotePresence* c = atHost.board().find(carol->selfId());
+        return b != nullptr && c != nullptr && b->presence.dragging && c->presence.dragging;
+      },
+      3000))
+      << "both are seen dragging";
+  EXPECT_EQ(hostWindow.viewport()->presenceMarkers().size(), 2u);
+  // Each dragger sees the other's end move too.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return meanLift(bob->positions(), V, torus.west) < -0.7 * target; }, 5000));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return meanLift(carol->positions(), V, torus.east) > 0.7 * target; }, 5000));
+
+  if (const QByteArray path = qgetenv("SHAPECAST_COEDITING_SCREENSHOT"); !path.isEmpty()) {
+    hostWindow.viewport()->lookFrom(QVector3D(0.0f, -5.5f, 3.2f), QVector3D(0.0f, 0.0f, 0.0f));
+    QTest::qWait(300);
+    QImage shot = hostWindow.grab().toImage();  // the overlay's QPainter, then the viewport's framebuffer under it
+    {
+      QPainter painter(&shot);
+      const QPoint at = hostWindow.viewport()->mapTo(&hostWindow, QPoint(0, 0));
+      painter.drawImage(QRect(at, hostWindow.viewport()->size()), hostWindow.viewport()->grabFramebuffer());
+    }
+    EXPECT_TRUE(shot.save(QString::fromLocal8Bit(path)));
+  }
+
+  bob->endDrag();
+  carol->endDrag();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return live.host->editLog().steps.size() == 2u; }, 5000))
+      << "each drag is its author's own step";
 }
 
 }  // namespace
