@@ -157,6 +157,8 @@ void controlSeeds(const fs::path& root) {
       EditRequest{EditAction::Undo},
       EditLog{{{1, 1, 0, false, QStringLiteral("host")}, {2, 3, 1, true, QString::fromUtf8("Zoë")}}},
       LockNotice{LockNoticeKind::Refused, 3, 42, 0, LockReleaseReason::Released, {2, 4}},
+      Presence{
+          3, {1.0, 2.0, 3.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, true, {0.5, 0.5, 0.5}, true, true, {0.25, 0.5, 0.75}},
   };
   for (const ControlMessage& message : samples) {
     char name[16];

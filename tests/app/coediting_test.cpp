@@ -222,7 +222,13 @@ TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople)
       },
       3000))
       << "both are seen dragging";
-  EXPECT_EQ(hostWindow.viewport()->presenceMarkers().size(), 2u);
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        const std::vector<PresenceMarker>& markers = hostWindow.viewport()->presenceMarkers();
+        return markers.size() == 2u && markers[0].handle && markers[1].handle;
+      },
+      3000))
+      << "each one's handle is shown where it is";
   // Each dragger sees the other's end move too.
   ASSERT_TRUE(QTest::qWaitFor([&] { return meanLift(bob->positions(), V, torus.west) < -0.7 * target; }, 5000));
   ASSERT_TRUE(QTest::qWaitFor([&] { return meanLift(carol->positions(), V, torus.east) > 0.7 * target; }, 5000));

@@ -94,7 +94,7 @@ TEST(PresenceGeometry, OverlayDrawsMarkerPointerAndDraggingLabelInTheUsersColour
   PresenceOverlay overlay;
   const QColor colour = peerColor(3);
   overlay.setMarkers({PresenceMarker{3, QStringLiteral("carol"), colour, QVector3D(1.5f, 0, 3), QVector3D(0, 0, 0),
-                                     QVector3D(0, 1, 0), QVector3D(0, 0, 0), true}});
+                                     QVector3D(0, 1, 0), QVector3D(0, 0, 0), true, std::nullopt}});
   QImage image(320, 240, QImage::Format_ARGB32);
   const auto countColour = [&](QRect area) {
     int count = 0;

@@ -56,6 +56,16 @@ TEST(PresenceMessage, LayoutRoundTrip) {
   noPointer.pointer = {};
   EXPECT_EQ(static_cast<std::uint8_t>(body(noPointer)[4]), 0x00);
   EXPECT_EQ(std::get<Presence>(decodeControlMessage(0x55, body(noPointer)).message), noPointer);
+
+  Presence withHandle = presence;  // since version 5: the centroid of the painted handle
+  withHandle.handleOn = true;
+  withHandle.handle = {-0.75, 0.5, 2.0};
+  const QByteArray handleBytes = body(withHandle);
+  EXPECT_EQ(static_cast<std::uint8_t>(handleBytes[4]), 0x05);
+  EXPECT_EQ(std::bit_cast<double>(qFromBigEndian<std::uint64_t>(handleBytes.constData() + 101)), -0.75);  // handle.x
+  EXPECT_EQ(std::get<Presence>(decodeControlMessage(0x55, handleBytes).message), withHandle);
+  EXPECT_EQ(decodeError(withDouble(body(presence), 101, 1.0)), ControlError::Malformed)
+      << "a handle point without its flag has two encodings: refused";
 }
 
 TEST(PresenceMessage, ValuesBreakingLimitsDoNotEncode) {
@@ -86,7 +96,7 @@ TEST(PresenceMessage, MalformedBodiesAreRejected) {
   EXPECT_EQ(decodeError(good), ControlError::None);
   for (int size = 0; size < kPresenceSize; ++size) EXPECT_EQ(decodeError(good.first(size)), ControlError::Malformed);
   EXPECT_EQ(decodeError(good + QByteArray(1, '\0')), ControlError::Malformed);  // trailing byte
-  for (int bit = 2; bit < 8; ++bit) {                                           // reserved flag bits
+  for (int bit = 3; bit < 8; ++bit) {                                           // reserved flag bits
     QByteArray flags = good;
     flags[4] = static_cast<char>(flags[4] | (1 << bit));
     EXPECT_EQ(decodeError(flags), ControlError::Malformed) << bit;

@@ -274,8 +274,18 @@ QVector3D asQVector(const Eigen::RowVector3d& v) {
 
 MeshViewport::LocalView MeshViewport::localView() const {
   const QVector3D origin = asQVector(m_origin);
-  LocalView local{m_camera.eye() + origin, m_camera.target() + origin, m_camera.up(), std::nullopt};
+  LocalView local{m_camera.eye() + origin, m_camera.target() + origin, m_camera.up(), std::nullopt, std::nullopt};
   if (m_pointer) local.pointer = *m_pointer + origin;
+  const std::span<const float> xyz = m_frames.lastPositions();  // O(handle): no reconstruction for presence
+  QVector3D sum;
+  int count = 0;
+  for (const int v : handles()) {
+    const auto i = static_cast<std::size_t>(v) * 3;
+    if (v < 0 || i + 2 >= xyz.size()) continue;
+    sum += QVector3D(xyz[i], xyz[i + 1], xyz[i + 2]);
+    ++count;
+  }
+  if (count > 0) local.handle = sum / static_cast<float>(count) + origin;
   return local;
 }
 
@@ -285,6 +295,7 @@ void MeshViewport::setPresenceMarkers(std::vector<PresenceMarker> markers) {
     marker.eye -= origin;
     marker.target -= origin;
     if (marker.pointer) *marker.pointer -= origin;
+    if (marker.handle) *marker.handle -= origin;
   }
   m_presence.setMarkers(std::move(markers));
   update();

@@ -197,6 +197,9 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   struct LocalView {
     QVector3D eye, target, up;
     std::optional<QVector3D> pointer;
+    /// The centroid of the painted handle as last reconstructed on the CPU (LevelFrames::lastPositions()); none
+    /// without a handle.
+    std::optional<QVector3D> handle;
   };
   [[nodiscard]] LocalView localView() const;
   /// The other users' markers to draw (PresenceOverlay), in mesh coordinates; repaints.

@@ -80,6 +80,8 @@ void SessionPresence::offer() {
                              presencePoint(view.up),  view.pointer.has_value(), {},
                              m_controller->dragging()};
   if (view.pointer) presence.pointer = presencePoint(*view.pointer);
+  presence.handleOn = view.handle.has_value();
+  if (view.handle) presence.handle = presencePoint(*view.handle);
   if (m_schedule.offer(presence, session::sessionNow())) m_controller->sendPresence(presence);
 }
 
@@ -89,8 +91,9 @@ void SessionPresence::refreshMarkers() {
     const session::Presence& p = entry.presence;
     PresenceMarker marker{
         id,           entry.name, peerColor(id), presenceVector(p.eye), presenceVector(p.target), presenceVector(p.up),
-        std::nullopt, p.dragging};
+        std::nullopt, p.dragging, std::nullopt};
     if (p.pointerOn) marker.pointer = presenceVector(p.pointer);
+    if (p.handleOn) marker.handle = presenceVector(p.handle);
     markers.push_back(std::move(marker));
   }
   m_viewport->setPresenceMarkers(std::move(markers));

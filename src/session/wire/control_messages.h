@@ -205,6 +205,8 @@ struct Presence {
   bool pointerOn = false;   ///< the pointer is over the surface
   Point pointer{};          ///< its surface point; all zero when !pointerOn
   bool dragging = false;    ///< the user is dragging the handle
+  bool handleOn = false;    ///< the user has painted a handle (since version 5)
+  Point handle{};           ///< its centroid on the shape as shown; all zero when !handleOn
   friend bool operator==(const Presence&, const Presence&) = default;
 };
 

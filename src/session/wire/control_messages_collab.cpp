@@ -60,6 +60,7 @@ namespace {
 
 constexpr std::uint8_t kPresencePointer = 0x01;
 constexpr std::uint8_t kPresenceDragging = 0x02;
+constexpr std::uint8_t kPresenceHandle = 0x04;
 
 void writePoint(ByteWriter& w, const Presence::Point& point) {
   for (double v : point) w.f64(v);
@@ -75,19 +76,22 @@ bool readPoint(ByteReader& r, Presence::Point& point) {
 
 void write(ByteWriter& w, const Presence& m) {
   w.u32(m.author);
-  w.u8(static_cast<std::uint8_t>((m.pointerOn ? kPresencePointer : 0) | (m.dragging ? kPresenceDragging : 0)));
-  for (const Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) writePoint(w, *point);
+  w.u8(static_cast<std::uint8_t>((m.pointerOn ? kPresencePointer : 0) | (m.dragging ? kPresenceDragging : 0) |
+                                 (m.handleOn ? kPresenceHandle : 0)));
+  for (const Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer, &m.handle}) writePoint(w, *point);
 }
 bool read(ByteReader& r, Presence& m) {
   m.author = r.u32();
   const std::uint8_t flags = r.u8();
-  if (m.author > 0xffff || (flags & ~(kPresencePointer | kPresenceDragging)) != 0) return false;
+  if (m.author > 0xffff || (flags & ~(kPresencePointer | kPresenceDragging | kPresenceHandle)) != 0) return false;
   m.pointerOn = (flags & kPresencePointer) != 0;
   m.dragging = (flags & kPresenceDragging) != 0;
-  for (Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer}) {
+  m.handleOn = (flags & kPresenceHandle) != 0;
+  for (Presence::Point* point : {&m.eye, &m.target, &m.up, &m.pointer, &m.handle}) {
     if (!readPoint(r, *point)) return false;
   }
-  return m.pointerOn || m.pointer == Presence::Point{};  // one encoding per value
+  // one encoding per value
+  return (m.pointerOn || m.pointer == Presence::Point{}) && (m.handleOn || m.handle == Presence::Point{});
 }
 
 }  // namespace sc::session

@@ -200,14 +200,15 @@
 //          +12 1  redoable  1 = undoneBy may redo it (0 once undoneBy committed a newer step), 0 when applied
 //          +13 1  nameLen   n ≤ kMaxNameBytes, then n bytes: the author's name, UTF-8
 //
-// 0x55 Presence (client → host, host → the other members; since version 4), kPresenceSize = 101 bytes:
+// 0x55 Presence (client → host, host → the other members; since version 4), kPresenceSize = 125 bytes (v5; 101 in v4):
 //    0  4  author   0 from a client (the host overwrites it with the sender's id); the author's id 1..65535 from
 //                   the host
-//    4  1  flags    bit 0: pointer on the surface, bit 1: dragging; other bits 0
+//    4  1  flags    bit 0: pointer on the surface, bit 1: dragging, bit 2: handle painted (v5); other bits 0
 //    5 24  eye      3 × f64, camera position, full-resolution model coordinates
 //   29 24  target   3 × f64, the point the camera looks at
 //   53 24  up       3 × f64, camera up vector
 //   77 24  pointer  3 × f64, the pointer's surface point; all 0 when bit 0 is clear
+//  101 24  handle   3 × f64, the centroid of the user's handle as shown (v5); all 0 when bit 2 is clear
 //    Every f64 finite with |value| ≤ kMaxPresenceCoord. The host relays at most presenceRate per peer (excess
 //    dropped and counted, never a close by itself); senders send ≤ 30/s while moving, ≤ 2/s when idle.
 //
@@ -302,7 +303,7 @@ inline constexpr int kPathRefreshMs = 5000;  ///< path-open refresh once frames 
 inline constexpr std::uint32_t kMaxConstraintVertices = 30000;  ///< handle + anchor ids in one Constraints
 inline constexpr int kMaxEditLogSteps = 64;  ///< EditLog: the latest steps of the session's edit history
 inline constexpr int kStatsReportSize = 40 + 10 * 8;
-inline constexpr int kPresenceSize = 4 + 1 + 12 * 8;  ///< 101 bytes
+inline constexpr int kPresenceSize = 4 + 1 + 15 * 8;  ///< 125 bytes
 inline constexpr double kMaxPresenceCoord = 1e9;      ///< Presence coordinates: |value| ≤ this
 static_assert(1 + 6 + 24 * kMaxRows <= static_cast<int>(kMaxControlMessageSize));              // largest Keyframe
 static_assert(1 + 16 + kMaxChunkBytes <= kMaxControlMessageSize);                              // largest ModelChunk

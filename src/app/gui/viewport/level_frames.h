@@ -50,6 +50,9 @@ class LevelFrames {
   void ensureFullVertexData(FrameTimes& times);
   /// The host positions, current (reconstructed first when they lag). 3·#V floats relative to the origin.
   std::span<const float> currentPositions();
+  /// The host positions as last reconstructed on the CPU, without reconstructing (on the GPU path they may lag the
+  /// picture until something needs them current). 3·#V floats relative to the origin.
+  [[nodiscard]] std::span<const float> lastPositions() const { return m_buffers.positions(); }
   /// The proxy's positions and normals for the current picture (after the proxy or the selection changed).
   void refreshProxy() { m_cpu.refreshProxy(m_shown, m_buffers); }
   /// The camera's scene bounds: exact from the host positions, or while they lag the shown frame from

@@ -37,8 +37,11 @@ std::optional<QPointF> projectPoint(const QMatrix4x4& viewProjection, const QVec
   return toWidget(clip, widget);
 }
 
-void drawLabel(QPainter& painter, QPointF at, const QString& text, const QColor& color) {
-  const QRectF box = QRectF(painter.fontMetrics().boundingRect(text)).adjusted(-5, -2, 5, 2).translated(at);
+/// A label at `at`; one that would leave the `widget` on the right goes left of `at` instead (by `flip` more).
+void drawLabel(QPainter& painter, QPointF at, const QString& text, const QColor& color, QSize widget = {},
+               qreal flip = 0.0) {
+  QRectF box = QRectF(painter.fontMetrics().boundingRect(text)).adjusted(-5, -2, 5, 2).translated(at);
+  if (widget.isValid() && box.right() > widget.width()) box.moveRight(at.x() - flip);
   painter.setPen(Qt::NoPen);
   painter.setBrush(QColor(255, 255, 255, 210));
   painter.drawRoundedRect(box, 4, 4);
@@ -115,6 +118,15 @@ void PresenceOverlay::paint(QPainter& painter, const QMatrix4x4& view, const QMa
         painter.setPen(QPen(Qt::white, 2.0));
         painter.setBrush(marker.color);
         painter.drawEllipse(*at, 6.0, 6.0);
+      }
+    }
+    if (marker.handle) {  // a ring in the user's colour, named: where their handle is
+      if (const auto at = projectPoint(viewProjection, *marker.handle, widget)) {
+        painter.setPen(QPen(marker.color, 3.0));
+        painter.setBrush(Qt::NoBrush);
+        painter.drawEllipse(*at, 14.0, 14.0);
+        const QString text = QCoreApplication::translate("PresenceOverlay", "%1's handle").arg(marker.name);
+        drawLabel(painter, *at + QPointF(18, -8), text, marker.color, widget, 36.0);
       }
     }
     if (marker.dragging) {

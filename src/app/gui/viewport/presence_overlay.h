@@ -1,10 +1,10 @@
 #pragma once
 // PresenceOverlay: the other users' presence over MeshViewport's picture (issue 15): each user's camera as a small
 // pyramid (apex at the eye, opening towards the target, a tick on its up side) with the user's name, each pointer
-// as a dot on the surface, and "NAME is dragging" labels in the top-left corner, all in the user's colour. Drawn
-// with QPainter after the GL passes (like ViewportInput's overlay): lines projected by the view's camera, clipped
-// at the near plane, not depth-tested. Markers are in the viewport's coordinates (the mesh's, less its origin).
-// Cost: O(markers) per paint; nothing when there are none.
+// as a dot on the surface, each painted handle as a ring ("NAME's handle"), and "NAME is dragging" labels in the
+// top-left corner, all in the user's colour. Drawn with QPainter after the GL passes (like ViewportInput's overlay):
+// lines projected by the view's camera, clipped at the near plane, not depth-tested. Markers are in the viewport's
+// coordinates (the mesh's, less its origin). Cost: O(markers) per paint; nothing when there are none.
 
 #include <QColor>
 #include <QMatrix4x4>
@@ -32,6 +32,7 @@ struct PresenceMarker {
   QVector3D up{0.0f, 1.0f, 0.0f};
   std::optional<QVector3D> pointer;  ///< on the surface
   bool dragging = false;
+  std::optional<QVector3D> handle;  ///< the centroid of the user's painted handle
 };
 
 using Segment = std::pair<QVector3D, QVector3D>;
