@@ -31,6 +31,9 @@
 #include <QToolBar>
 #include <QToolButton>
 
+#include <optional>
+#include <utility>
+
 namespace sc::app {
 
 // Session menu, tools, lock toolbar, resolution selector.
@@ -60,7 +63,7 @@ void MainWindow::setUpSessionControls() {
   ui->sessionToolBar->addWidget(m_levelCombo);
   // The host's certificate fingerprint (docs/security.md): a toolbar button and Session ▸ Session info….
   const auto showSessionInfo = [this] {
-    auto* dialog = new SessionInfoDialog(m_session, this);
+    auto* dialog = new SessionInfoDialog(sessionActive() ? m_session : nullptr, this);
     dialog->setAttribute(Qt::WA_DeleteOnClose);
     dialog->show();
   };
@@ -70,6 +73,7 @@ void MainWindow::setUpSessionControls() {
   connect(identity, &HostIdentityButton::shownChanged, identityAction, &QAction::setVisible);
   connect(identity, &QToolButton::clicked, this, showSessionInfo);
   connect(this, &MainWindow::sessionStarted, identity, &HostIdentityButton::bind);
+  connect(this, &MainWindow::sessionEnded, identity, [identity] { identity->bind(nullptr); });
   QAction* infoAction = ui->menuSession->addAction(tr("Session &Info…"));
   infoAction->setObjectName(QStringLiteral("actionSessionInfo"));
   connect(infoAction, &QAction::triggered, this, showSessionInfo);
@@ -103,7 +107,13 @@ void MainWindow::setUpSessionStatusBar() {
   m_cancelButton->hide();
   statusBar()->addPermanentWidget(m_cancelButton);
   connect(m_cancelButton, &QToolButton::clicked, this, [this] {
-    if (m_session != nullptr) m_session->cancel();
+    if (meshLoadRunning()) {
+      cancelMeshLoading();  // a mesh being read (main_window_files.cpp): the session is not the one to stop
+    } else if (m_pendingJoin != nullptr) {
+      m_pendingJoin->cancel();  // the session we are in goes on
+    } else if (m_session != nullptr) {
+      m_session->cancel();
+    }
   });
 }
 
@@ -202,6 +212,8 @@ void MainWindow::adoptSession(SessionController* controller) {
   connect(m_session, &SessionController::stateChanged, this, [this] {
     updateSessionActions();
     updateLockControls();
+    const SessionController::State state = m_session->state();
+    if (state == SessionController::State::Left || state == SessionController::State::Failed) onSessionEnded();
   });
   connect(m_session, &SessionController::failed, this, &MainWindow::onSessionFailed);
   connect(m_session, &SessionController::progress, this, &MainWindow::onProgress);
@@ -213,23 +225,93 @@ void MainWindow::adoptSession(SessionController* controller) {
   emit sessionStarted(m_session);
 }
 
-void MainWindow::hostSession(const HostSettings& settings) {
+bool MainWindow::hostSession(const HostSettings& settings, PortReservation port) {
+  dropPendingJoin();
+  // The port first, while the current session goes on: a busy port ends nothing. A current host on that very port
+  // frees it when it leaves (adoptSession()); the new controller takes it then.
+  const auto* current = qobject_cast<const HostController*>(m_session);
+  const bool portOfCurrentHost = current != nullptr && sessionActive() && settings.port != 0 &&
+                                 (current->settings().port == settings.port || current->tcpPort() == settings.port);
+  if (!port.holds() && !portOfCurrentHost) {
+    QString error;
+    std::optional<PortReservation> taken = PortReservation::take(settings.port, &error);
+    if (!taken) {
+      reportSessionFailure(nullptr, error);
+      return false;
+    }
+    port = std::move(*taken);
+  }
   auto* session = new HostController(this);
   adoptSession(session);
   setWindowTitle(QFileInfo(settings.meshPath).fileName() + tr(" (hosting) — ShapeCast"));
-  session->host(settings);
+  const bool started = session->host(settings, std::move(port));
   updateSessionActions();
+  return started;
 }
 
 void MainWindow::joinSession(const JoinSettings& settings) {
+  dropPendingJoin();
+  const QString title = tr("%1:%2 — ShapeCast").arg(settings.host).arg(settings.port);
   auto* session = new ClientController(this);
-  adoptSession(session);
-  setWindowTitle(tr("%1:%2 — ShapeCast").arg(settings.host).arg(settings.port));
+  if (!sessionActive()) {
+    adoptSession(session);
+    setWindowTitle(title);
+    session->join(settings);
+    updateSessionActions();
+    return;
+  }
+  // In a session: the new one connects beside it and replaces it once live; a failed join keeps it.
+  m_pendingJoin = session;
+  connect(session, &SessionController::progress, this, &MainWindow::onProgress);
+  connect(session, &SessionController::stateChanged, this, [this, session, title] {
+    if (session == m_pendingJoin && session->state() == SessionController::State::Live) adoptPendingJoin(title);
+  });
+  connect(session, &SessionController::failed, this, [this, session](const QString& message) {
+    if (session != m_pendingJoin) return;
+    dropPendingJoin();
+    updateSessionActions();
+    reportSessionFailure(session, message + QLatin1Char(' ') + tr("You are still in the session you were in."));
+  });
   session->join(settings);
   updateSessionActions();
 }
 
+void MainWindow::adoptPendingJoin(const QString& title) {
+  SessionController* joined = m_pendingJoin;
+  m_pendingJoin = nullptr;
+  joined->disconnect(this);
+  adoptSession(joined);  // the session we were in leaves now
+  setWindowTitle(title);
+  // What arrived while it connected beside the old session: its level and latest frame.
+  onSessionLevel(joined->displayLevel());
+  if (joined->displayFrame().Z.size() > 0) onSessionFrame(joined->displayFrame());
+  onSessionMesh();
+  updateSessionActions();
+  updateLockControls();
+}
+
+void MainWindow::dropPendingJoin() {
+  if (m_pendingJoin == nullptr) return;
+  SessionController* pending = m_pendingJoin;
+  m_pendingJoin = nullptr;
+  pending->disconnect(this);
+  pending->leave();
+  pending->deleteLater();
+}
+
+void MainWindow::onSessionEnded() {
+  // The last shape stays; nothing else of the session: title, host identity, peers, figures, others' pointers.
+  const auto* host = qobject_cast<const HostController*>(m_session);
+  setWindowTitle(host != nullptr ? QFileInfo(host->settings().meshPath).fileName() + tr(" — ShapeCast")
+                                 : tr("ShapeCast"));
+  m_docks->bind(nullptr);
+  m_presence->bind(nullptr);
+  updateTimingLabel();
+  emit sessionEnded();
+}
+
 void MainWindow::leaveSession() {
+  dropPendingJoin();
   if (m_session == nullptr) return;
   m_session->leave();
   statusBar()->showMessage(tr("Left the session."), kStatusMessageMs);
@@ -300,7 +382,8 @@ void MainWindow::updateSessionActions() {
   const bool active = state == SessionController::State::Preparing || state == SessionController::State::Connecting ||
                       state == SessionController::State::Live;
   ui->actionLeaveSession->setEnabled(active);
-  const bool busy = state == SessionController::State::Preparing || state == SessionController::State::Connecting;
+  const bool busy = meshLoadRunning() || m_pendingJoin != nullptr || state == SessionController::State::Preparing ||
+                    state == SessionController::State::Connecting;
   m_progressBar->setVisible(busy);
   m_cancelButton->setVisible(busy);
   if (!active) m_levelCombo->setEnabled(false);
@@ -329,11 +412,15 @@ void MainWindow::updateTimingLabel() {
 void MainWindow::onSessionFailed(const QString& message) {
   updateSessionActions();
   updateLockControls();
+  reportSessionFailure(m_session, message);
+}
+
+void MainWindow::reportSessionFailure(const SessionController* controller, const QString& message) {
   statusBar()->showMessage(message, kStatusMessageMs);
   emit sessionFailed(message);
   // The user's own Cancel is no error: the status bar says "Cancelled.", no dialog.
-  if (!m_errorDialogsEnabled || (m_session != nullptr && m_session->cancelledByUser())) return;
-  if (m_session != nullptr && m_session->fingerprintRefused()) {
+  if (!m_errorDialogsEnabled || (controller != nullptr && controller->cancelledByUser())) return;
+  if (controller != nullptr && controller->fingerprintRefused()) {
     QMessageBox box(QMessageBox::Critical, tr("Host fingerprint does not match"), message, QMessageBox::Ok, this);
     box.setTextFormat(Qt::PlainText);  // the reason may quote the host: never rich text
     box.setObjectName(QStringLiteral("fingerprintRefusedBox"));
@@ -350,6 +437,7 @@ void MainWindow::onSessionFailed(const QString& message) {
 }
 
 void MainWindow::onProgress(int percent, const QString& what) {
+  m_progressBar->setRange(0, 100);
   m_progressBar->setValue(percent);
   m_progressBar->setFormat(what + QStringLiteral(" %p%"));
   statusBar()->showMessage(what);
