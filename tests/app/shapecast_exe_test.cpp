@@ -217,3 +217,29 @@ TEST_F(ShapecastExe, HostOnABusyPortExitsAtOnceNamingThePort) {
   // Nothing was computed: no basis reached the (test's own) cache.
   EXPECT_FALSE(QDir(m_dir.filePath(QStringLiteral("cache"))).exists(QStringLiteral("shapecast")));
 }
+
+TEST_F(ShapecastExe, FirstStartOnABusyDefaultPortSaysWhichItTakes) {
+  // Nobody chose the port: the first start still hosts (on a free port), but no longer silently.
+  QTcpServer occupier;
+  if (!occupier.listen(QHostAddress::Any, 47100)) {
+    GTEST_SKIP() << "port 47100 is taken by another program: " << occupier.errorString().toStdString();
+  }
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  QProcess process;
+  process.setProcessEnvironment(environment);
+  process.start(QStringLiteral(SHAPECAST_EXE), QStringList{});
+  QString standardError;
+  QElapsedTimer waited;
+  waited.start();
+  while (!standardError.contains(QStringLiteral("47100")) && waited.elapsed() < 30000 &&
+         process.state() != QProcess::NotRunning) {
+    process.waitForReadyRead(200);
+    standardError += QString::fromLocal8Bit(process.readAllStandardError());
+  }
+  process.kill();
+  process.waitForFinished();
+  EXPECT_TRUE(standardError.contains(QStringLiteral("TCP port 47100 is in use: hosting on a free port")))
+      << standardError.toStdString();
+}
