@@ -2,6 +2,7 @@
 
 #include "app_test_support.h"
 
+#include <QPointer>
 #include <QTest>
 
 namespace sc::testing {
@@ -43,12 +44,14 @@ app::HostController* hostAndWait(app::MainWindow& window, const app::HostSetting
 
 app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings) {
   window.joinSession(settings);
-  auto* session = qobject_cast<app::ClientController*>(window.session());
+  // In a session the join connects beside it (MainWindow::pendingJoin()) and is deleted if it fails.
+  const QPointer<app::ClientController> session =
+      qobject_cast<app::ClientController*>(window.pendingJoin() != nullptr ? window.pendingJoin() : window.session());
   // The caller checks the state reached: a timeout leaves it Connecting (or Transferring).
-  static_cast<void>(
-      QTest::qWaitFor([session] { return session->state() == State::Live || session->state() == State::Failed; },
-                      kSessionLiveTimeoutMs));
-  return session;
+  static_cast<void>(QTest::qWaitFor(
+      [session] { return !session || session->state() == State::Live || session->state() == State::Failed; },
+      kSessionLiveTimeoutMs));
+  return session.data();
 }
 
 void TorusSessionTest::SetUp() {

@@ -37,7 +37,8 @@ app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFi
 app::HostController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings);
 
 /// Joins with `settings` in `window` and processes events until the session is Live or Failed, at most
-/// kSessionLiveTimeoutMs. Returns window.session() (never null), a client, in the state it reached. Asserts nothing.
+/// kSessionLiveTimeoutMs. Returns the joining client in the state it reached (window.session() unless the window
+/// was in a session: then its pendingJoin(), nullptr once a failed one was deleted). Asserts nothing.
 app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings);
 
 /// Fixture of the two-window session tests: a 48 × 24 torus (m_mesh) written to m_meshPath in a temporary folder

@@ -12,10 +12,12 @@
 #include <QDir>
 #include <QElapsedTimer>
 #include <QFileInfo>
+#include <QHostAddress>
 #include <QImage>
 #include <QProcess>
 #include <QProcessEnvironment>
 #include <QRegularExpression>
+#include <QTcpServer>
 #include <QTemporaryDir>
 
 #include <cstdlib>
@@ -240,4 +242,51 @@ TEST_F(ShapecastExe, MalformedFingerprintIsAUsageError) {
                                       QStringLiteral("--fingerprint"), QStringLiteral("ab:cd:not-hex")});
   EXPECT_EQ(run.exitCode, 64);
   EXPECT_TRUE(run.standardError.contains(QStringLiteral("--fingerprint"))) << run.standardError.toStdString();
+}
+
+TEST_F(ShapecastExe, HostOnABusyPortExitsAtOnceNamingThePort) {
+  // It used to compute the whole basis first (6 s at 100k vertices) and only then fail.
+  const QString mesh = m_dir.filePath(QStringLiteral("torus.off"));
+  const auto torus = sc::testing::torus(30, 15);
+  ASSERT_TRUE(sc::testing::writeOff(mesh, torus.V, torus.F));
+  QTcpServer occupier;
+  ASSERT_TRUE(occupier.listen(QHostAddress::Any, 0));
+  const QString port = QString::number(occupier.serverPort());
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  const RunResult result = runShapecast(
+      {QStringLiteral("--host"), mesh, QStringLiteral("--port"), port, QStringLiteral("--m"), QStringLiteral("20")},
+      environment);
+  EXPECT_EQ(result.exitCode, 4) << result.standardError.toStdString();
+  EXPECT_TRUE(result.standardError.contains(QStringLiteral("TCP port ") + port + QStringLiteral(" is in use")))
+      << result.standardError.toStdString();
+  // Nothing was computed: no basis reached the (test's own) cache.
+  EXPECT_FALSE(QDir(m_dir.filePath(QStringLiteral("cache"))).exists(QStringLiteral("shapecast")));
+}
+
+TEST_F(ShapecastExe, FirstStartOnABusyDefaultPortSaysWhichItTakes) {
+  // Nobody chose the port: the first start still hosts (on a free port), but no longer silently.
+  QTcpServer occupier;
+  if (!occupier.listen(QHostAddress::Any, 47100)) {
+    GTEST_SKIP() << "port 47100 is taken by another program: " << occupier.errorString().toStdString();
+  }
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert(QStringLiteral("XDG_CACHE_HOME"), m_dir.filePath(QStringLiteral("cache")));
+  environment.insert(QStringLiteral("XDG_CONFIG_HOME"), m_dir.filePath(QStringLiteral("config")));
+  QProcess process;
+  process.setProcessEnvironment(environment);
+  process.start(QStringLiteral(SHAPECAST_EXE), QStringList{});
+  QString standardError;
+  QElapsedTimer waited;
+  waited.start();
+  while (!standardError.contains(QStringLiteral("47100")) && waited.elapsed() < 30000 &&
+         process.state() != QProcess::NotRunning) {
+    process.waitForReadyRead(200);
+    standardError += QString::fromLocal8Bit(process.readAllStandardError());
+  }
+  process.kill();
+  process.waitForFinished();
+  EXPECT_TRUE(standardError.contains(QStringLiteral("TCP port 47100 is in use: hosting on a free port")))
+      << standardError.toStdString();
 }

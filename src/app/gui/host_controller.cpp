@@ -16,6 +16,7 @@
 #include <QLocale>
 
 #include <algorithm>
+#include <optional>
 #include <span>
 #include <utility>
 
@@ -55,10 +56,22 @@ HostController::~HostController() {
 
 // ---------------------------------------------------------------------------------------------------- starting
 
-bool HostController::host(const HostSettings& settings) {
+bool HostController::host(const HostSettings& settings, PortReservation port) {
   if (state() != State::Idle) return false;
   m_settings = settings;
   changeState(State::Preparing);
+  // The port first: a busy one is an error now, not after seconds of basis computation.
+  if (!port.holds()) {
+    QString error;
+    std::optional<PortReservation> taken = PortReservation::take(settings.port, &error);
+    if (!taken) {
+      forgetPassword(m_settings.password);  // nothing will derive a key from it
+      fail(error);
+      return false;
+    }
+    port = std::move(*taken);
+  }
+  m_port = std::move(port);
   emit progress(0, tr("Loading %1").arg(settings.meshPath));
   m_preparation = std::make_unique<HostPreparation>();
   m_preparation->start(
@@ -88,6 +101,7 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   options.maxEditors = m_settings.editors;
   if (m_saved) options.deformer.mode = m_saved->mode;
   m_host = new session::SessionHost(m_model, options, this);
+  m_port.release();  // SessionHost::start() listens on it now
   QString error;
   const bool started = m_host->start(&error);  // derives the password's key
   forgetPassword(options.password);
@@ -177,6 +191,7 @@ void HostController::cancel() {
 }
 
 void HostController::stop() {
+  m_port.release();
   if (m_preparation) m_preparation->cancel();
   if (m_host != nullptr) m_host->shutdown();
 }

@@ -5,11 +5,12 @@
 // double H its deformer needs), pushed down once, and one DisplayFrame{frame, float(Z)} per new frame.
 // A host started from a session file restores the file's shape once live (savedSessionRestored()).
 //
-// Lifecycle: Idle --host()--> Preparing --> Live --leave()--> Left; failures (unreadable mesh, basis, port in
-// use, cancel()) --> Failed. The destructor cancels and joins a running preparation (it waits for a running mesh
-// load; the eigensolve stops at its next progress callback) and shuts a live host down (Leave to every peer is
-// queued, not guaranteed to be written).
+// Lifecycle: Idle --host()--> Preparing --> Live --leave()--> Left; failures (unreadable mesh, basis, cancel())
+// --> Failed; a busy TCP port --> Failed inside host(), before any preparation (port_reservation.h). The destructor
+// cancels and joins a running preparation (it waits for a running mesh load; the eigensolve stops at its next progress
+// callback) and shuts a live host down (Leave to every peer is queued, not guaranteed to be written).
 
+#include "app/gui/port_reservation.h"
 #include "app/gui/session_controller.h"
 #include "session/engine/edit_history.h"
 
@@ -34,9 +35,13 @@ class HostController final : public SessionController {
   explicit HostController(QObject* parent = nullptr);
   ~HostController() override;
 
-  /// Starts hosting: loads the mesh and computes its basis on a worker thread (progress() with percent 0..100),
-  /// then starts a SessionHost (hostingStarted(port)). False (nothing started) unless state() is Idle.
-  bool host(const HostSettings& settings);
+  /// Starts hosting: holds settings.port (`port` when it holds it, else a PortReservation taken here), loads the
+  /// mesh and computes its basis on a worker thread (progress() with percent 0..100), then starts a SessionHost on
+  /// that port (hostingStarted(port)). False (nothing started) unless state() is Idle; false too when the port is
+  /// busy: state Failed and failed() naming the port, emitted inside host(), no preparation started.
+  bool host(const HostSettings& settings, PortReservation port = {});
+  /// Whether host() started the preparation on its worker (false before host() and after a busy port).
+  [[nodiscard]] bool preparationStarted() const { return m_preparation != nullptr; }
 
   [[nodiscard]] Role role() const override { return Role::Host; }
   void cancel() override;
@@ -90,6 +95,7 @@ class HostController final : public SessionController {
 
   HostSettings m_settings;
   std::unique_ptr<HostPreparation> m_preparation;
+  PortReservation m_port;  ///< settings.port, held while preparing
   std::shared_ptr<const session::HostModel> m_model;
   std::shared_ptr<const model::SessionFile> m_saved;  ///< the session file it was started from
   session::SessionHost* m_host = nullptr;

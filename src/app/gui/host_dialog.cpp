@@ -2,6 +2,7 @@
 
 #include "ui_host_dialog.h"
 
+#include "app/gui/recent_files.h"
 #include "app/gui/recent_sessions.h"
 #include "session/wire/wire_format.h"
 
@@ -80,8 +81,10 @@ void HostDialog::accept() {
 
 void HostDialog::browse() {
   const QString current = ui->meshPathCombo->currentText();
+  QSettings store;  // no mesh chosen yet: the folder the window's file dialogs used last
+  const QString folder = current.isEmpty() ? RecentFiles::load(store).folder : QFileInfo(current).absolutePath();
   const QString path = QFileDialog::getOpenFileName(
-      this, tr("Mesh to Host"), current.isEmpty() ? QString() : QFileInfo(current).absolutePath(),
+      this, tr("Mesh to Host"), folder,
       tr("Meshes and sessions (*.off *.obj *.ply *.stl *.shapecast *.OFF *.OBJ *.PLY *.STL);;"
          "ShapeCast sessions (*.shapecast);;All files (*)"));
   if (!path.isEmpty()) ui->meshPathCombo->setEditText(path);

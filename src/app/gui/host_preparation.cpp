@@ -9,7 +9,6 @@
 #include "spectral/resolution_level.h"
 
 #include <QFile>
-#include <QMetaObject>
 #include <QObject>
 
 #include <algorithm>
@@ -135,26 +134,13 @@ std::shared_ptr<PreparedHost> prepare(const HostSettings& settings, const std::a
 PreparedHost::PreparedHost() = default;
 PreparedHost::~PreparedHost() = default;
 
-HostPreparation::~HostPreparation() {
-  cancel();
-  join();
-}
-
 void HostPreparation::start(const HostSettings& settings, QObject* context, ProgressFn progress, DoneFn done) {
-  m_cancelled.store(false);
-  m_worker = std::thread([this, settings, context, progress = std::move(progress), done = std::move(done)] {
-    const Report report = [context, &progress](int percent, const QString& what) {
-      QMetaObject::invokeMethod(
-          context, [progress, percent, what] { progress(percent, what); }, Qt::QueuedConnection);
-    };
-    std::shared_ptr<PreparedHost> prepared = prepare(settings, m_cancelled, report);
-    QMetaObject::invokeMethod(
-        context, [done, prepared] { done(prepared); }, Qt::QueuedConnection);
-  });
-}
-
-void HostPreparation::join() {
-  if (m_worker.joinable() && m_worker.get_id() != std::this_thread::get_id()) m_worker.join();
+  m_work.start<std::shared_ptr<PreparedHost>>(
+      context,
+      [settings](const std::atomic<bool>& cancelled, const BackgroundWork::Report& report) {
+        return prepare(settings, cancelled, report);
+      },
+      std::move(progress), std::move(done));
 }
 
 }  // namespace sc::app

@@ -1,21 +1,20 @@
 #pragma once
 // HostPreparation: the host's long start-up work on a worker thread, for HostController::host(): load the
 // mesh (or a saved session, model/session_file.h: its mesh and m), compute (or read from the cache) the harmonic
-// basis, and build the full-resolution display level (once: the host shows it, shared with its view). It
-// reports progress and its result back to a context object's thread through queued calls, so the GUI thread
-// never waits for it; cancel() stops it at the next check (after the mesh load, or at the eigensolve's next
-// progress callback), join() and the destructor wait for the thread.
+// basis, and build the full-resolution display level (once: the host shows it, shared with its view). It runs
+// as a BackgroundWork (background_work.h): progress and result come back to a context object's thread through
+// queued calls, so the GUI thread never waits for it; cancel() stops it at the next check (after the mesh load,
+// or at the eigensolve's next progress callback), join() and the destructor wait for the thread.
 
+#include "app/gui/background_work.h"
 #include "app/gui/session_settings.h"
 #include "spectral/display_level.h"
 
 #include <QCoreApplication>
 #include <QString>
 
-#include <atomic>
 #include <functional>
 #include <memory>
-#include <thread>
 
 class QObject;
 
@@ -52,8 +51,8 @@ class HostPreparation final {
   using DoneFn = std::function<void(const std::shared_ptr<PreparedHost>& prepared)>;
 
   HostPreparation() = default;
-  /// cancel() and join().
-  ~HostPreparation();
+  /// cancel() and join() (the BackgroundWork's destructor).
+  ~HostPreparation() = default;
   HostPreparation(const HostPreparation&) = delete;
   HostPreparation& operator=(const HostPreparation&) = delete;
 
@@ -65,13 +64,12 @@ class HostPreparation final {
   /// a broken file is an error naming the problem.
   void start(const HostSettings& settings, QObject* context, ProgressFn progress, DoneFn done);
   /// Asks the worker to stop; `done` then reports cancelled (unless it had already finished).
-  void cancel() { m_cancelled.store(true); }
+  void cancel() { m_work.cancel(); }
   /// Waits for the worker thread (no-op when none is running or it was joined).
-  void join();
+  void join() { m_work.join(); }
 
  private:
-  std::thread m_worker;
-  std::atomic<bool> m_cancelled{false};
+  BackgroundWork m_work;
 };
 
 }  // namespace sc::app

@@ -35,6 +35,7 @@ namespace sc::app {
 inline constexpr int kLaunchExitLoadFailed = 1;
 inline constexpr int kLaunchExitImageFailed = 2;
 inline constexpr int kLaunchExitNoOpenGl = 3;  ///< the display offers no OpenGL 3.3 core context
+inline constexpr int kLaunchExitPortBusy = 4;  ///< --host's TCP port is in use (said before any work, naming it)
 inline constexpr int kLaunchExitUsage = 64;
 
 /// What shapecast was asked to do, checked (every field consistent with the others).

@@ -3,11 +3,13 @@
 // --host starts hosting MESH at once (the basis is computed in the background), or a saved session file (its mesh,
 // m, shape and undo history; --m is then the file's), --join joins a session at once.
 // With no arguments at all, the window hosts the default mesh (first_start.h: the fetched dragon, else another
-// fetched mesh, else a generated torus) on port 47100 (any free port if taken) with a default handle and anchors,
+// fetched mesh, else a generated torus) on port 47100 (any free port if taken, said on stderr and in the status
+// bar) with a default handle and anchors,
 // the lock requested and the Drag tool active. --demo is demo.h. With MESH, the mesh is loaded (viewed) at start-up.
 // With --screenshot, the first rendered frame of the viewport is saved to FILE and the program exits: 0 on success, 1
 // when MESH could not be loaded, 2 when the image could not be written, 3 when the display offers no OpenGL 3.3 (said
-// on stderr, in any mode), 64 for bad arguments. Load errors then go to
+// on stderr, in any mode), 64 for bad arguments. --host on a TCP port in use exits 4 at once, naming the port on
+// stderr (the port is held from then on, before the window and the basis: port_reservation.h). Load errors then go to
 // stderr instead of a dialog. --demo --screenshot-dir runs the sibling executable shapecast-screenshots with the
 // same arguments (tools/screenshots/: README-screenshot automation is no part of the application): exit 0 when every
 // PNG was written, 2 otherwise (the reason on stderr), 2 also when shapecast-screenshots cannot be run.
@@ -30,9 +32,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -40,6 +44,7 @@ namespace {
 using sc::app::kLaunchExitImageFailed;
 using sc::app::kLaunchExitLoadFailed;
 using sc::app::kLaunchExitNoOpenGl;
+using sc::app::kLaunchExitPortBusy;
 using sc::app::kLaunchExitUsage;
 constexpr int kFirstFrameTimeoutMs = 10000;
 
@@ -75,6 +80,16 @@ int runDemo(const sc::app::LaunchOptions& options) {
 
 // The main window: first start, MESH viewed, --host, --join, or --screenshot.
 int runWindow(const sc::app::LaunchOptions& options) {
+  // --host's port first: a busy one is an error now, not after the basis (the window path does the same).
+  std::optional<sc::app::PortReservation> hostPort;
+  if (options.host) {
+    QString error;
+    hostPort = sc::app::PortReservation::take(options.host->port, &error);
+    if (!hostPort) {
+      printError(error);
+      return kLaunchExitPortBusy;
+    }
+  }
   sc::app::MainWindow window;
   window.setErrorDialogsEnabled(!options.screenshotFile);
   window.viewActions()->rememberUpAxes();
@@ -86,7 +101,12 @@ int runWindow(const sc::app::LaunchOptions& options) {
     QString error;
     sc::app::HostSettings settings;
     settings.meshPath = sc::app::defaultMeshOrGenerated(sc::app::defaultMeshFolders(), &error);
-    settings.port = sc::app::availablePort(settings.port);
+    const quint16 preferred = settings.port;
+    settings.port = sc::app::availablePort(preferred);
+    if (settings.port != preferred) {  // nobody chose the port: take a free one, and say so
+      printError(
+          QStringLiteral("TCP port %1 is in use: hosting on a free port (the status bar says which).").arg(preferred));
+    }
     QSettings store;
     settings.name = sc::app::firstStartName(options.name, sc::app::RecentSessions::load(store));
     if (settings.meshPath.isEmpty()) {
@@ -95,7 +115,7 @@ int runWindow(const sc::app::LaunchOptions& options) {
       sc::app::hostReadyToDrag(window, settings);
     }
   }
-  if (options.host) window.hostSession(*options.host);
+  if (options.host) window.hostSession(*options.host, std::move(*hostPort));
   if (options.join) window.joinSession(*options.join);
   if (!options.screenshotFile) {
     window.show();

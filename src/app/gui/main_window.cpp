@@ -19,9 +19,9 @@
 
 #include <QDir>
 #include <QFile>
-#include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
+#include <QKeySequence>
 #include <QLabel>
 #include <QMenu>
 #include <QMenuBar>
@@ -52,6 +52,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), ui(new Ui::MainWi
   setUpEditAndExport();
   setUpSessionFileActions();
   setUpSessionLife();
+  setUpFiles();
   updateLockControls();
   setUpViewActions();
 }
@@ -85,6 +86,7 @@ void MainWindow::setUpSessionFileActions() {
   auto* saveAction = new QAction(tr("Sa&ve Session…"), this);
   saveAction->setObjectName(QStringLiteral("actionSaveSession"));
   saveAction->setStatusTip(tr("Save the hosted session (mesh, shape and undo history) to host it again later"));
+  saveAction->setShortcut(QKeySequence::Save);
   const QList<QAction*> fileActions = ui->menuFile->actions();
   const qsizetype openAt = fileActions.indexOf(ui->actionOpen);
   QAction* before = openAt >= 0 && openAt + 1 < fileActions.size() ? fileActions[openAt + 1] : nullptr;
@@ -112,13 +114,15 @@ bool MainWindow::saveSession(const QString& path, QString* error) {
 }
 
 void MainWindow::chooseAndSaveSession() {
-  QString path =
-      QFileDialog::getSaveFileName(this, tr("Save Session"), m_lastDirectory, tr("ShapeCast session (*.shapecast)"));
+  const QString path =
+      withSuffix(chooseFile({FileRequest::Kind::Save, tr("Save Session"), m_lastDirectory,
+                             suggestedBaseName() + QStringLiteral(".") + QLatin1StringView(model::kSessionFileSuffix),
+                             tr("ShapeCast session (*.shapecast)")}),
+                 QLatin1StringView(model::kSessionFileSuffix));
   if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".") + QLatin1StringView(model::kSessionFileSuffix);
   QString error;
   if (saveSession(path, &error)) {
-    m_lastDirectory = QFileInfo(path).absolutePath();
+    rememberFile(path);
     statusBar()->showMessage(tr("Saved the session to %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
   } else {
     statusBar()->showMessage(error, kStatusMessageMs);
@@ -127,16 +131,12 @@ void MainWindow::chooseAndSaveSession() {
 }
 
 void MainWindow::chooseAndOpenSession() {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Open Session"), m_lastDirectory,
-                                                    tr("ShapeCast sessions (*.shapecast);;All files (*)"));
-  if (path.isEmpty()) return;
-  m_lastDirectory = QFileInfo(path).absolutePath();
-  // The Host dialog with this file: port, password and name are still the user's to choose.
-  HostDialog dialog(this);
-  HostSettings settings = dialog.settings();
-  settings.meshPath = path;
-  dialog.setSettings(settings);
-  if (dialog.exec() == QDialog::Accepted) hostSession(dialog.settings());
+  const QString path = chooseFile({FileRequest::Kind::Open,
+                                   tr("Open Session"),
+                                   m_lastDirectory,
+                                   {},
+                                   tr("ShapeCast sessions (*.shapecast);;All files (*)")});
+  if (!path.isEmpty()) openSessionFile(path);
 }
 
 void MainWindow::setUpEditAndExport() {
@@ -214,12 +214,13 @@ bool MainWindow::saveScreenshot(const QString& path, QString* error) {
 
 void MainWindow::chooseAndExportMesh() {
   QString selectedFilter;
-  QString path = QFileDialog::getSaveFileName(this, tr("Export Deformed Mesh"), m_lastDirectory,
-                                              tr("Wavefront OBJ (*.obj);;Stanford PLY (*.ply)"), &selectedFilter);
+  QString path = chooseFile(
+      {FileRequest::Kind::Save, tr("Export Deformed Mesh"), m_lastDirectory,
+       suggestedBaseName() + QStringLiteral("-deformed.obj"), tr("Wavefront OBJ (*.obj);;Stanford PLY (*.ply)")},
+      &selectedFilter);
   if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) {
-    path += selectedFilter.contains(QStringLiteral("ply")) ? QStringLiteral(".ply") : QStringLiteral(".obj");
-  }
+  path =
+      withSuffix(path, selectedFilter.contains(QStringLiteral("ply")) ? QStringLiteral("ply") : QStringLiteral("obj"));
   QString error;
   if (exportDeformedMesh(path, &error)) {
     statusBar()->showMessage(tr("Exported %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
@@ -230,9 +231,10 @@ void MainWindow::chooseAndExportMesh() {
 }
 
 void MainWindow::chooseAndSaveScreenshot() {
-  QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), m_lastDirectory, tr("PNG image (*.png)"));
+  const QString path = withSuffix(chooseFile({FileRequest::Kind::Save, tr("Save Screenshot"), m_lastDirectory,
+                                              suggestedBaseName() + QStringLiteral(".png"), tr("PNG image (*.png)")}),
+                                  QStringLiteral("png"));
   if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
   QString error;
   if (saveScreenshot(path, &error)) {
     statusBar()->showMessage(tr("Saved %1").arg(QDir::toNativeSeparators(path)), kStatusMessageMs);
@@ -245,6 +247,7 @@ void MainWindow::chooseAndSaveScreenshot() {
 MainWindow::~MainWindow() {
   // The session (a child) outlives ui: its leave() on destruction emits signals that would reach this half-destroyed
   // window (a joined client's window closing used to crash here).
+  if (m_pendingJoin != nullptr) m_pendingJoin->disconnect(this);
   if (m_session != nullptr) {
     m_session->disconnect(this);
     m_session->leave();
@@ -266,11 +269,14 @@ bool MainWindow::openMesh(const QString& path) {
     }
     return false;
   }
+  showMesh(path, std::get<model::LoadedMesh>(result));
+  return true;
+}
 
+void MainWindow::showMesh(const QString& path, const model::LoadedMesh& mesh) {
   // Never show another mesh in a live session (its handles, anchors and drags would go to the hosted model): the
   // session ends first (File → Open… asks before: openMeshAsking()).
   if (sessionActive()) leaveSession();
-  const auto& mesh = std::get<model::LoadedMesh>(result);
   ui->viewport->setMesh(mesh.V, mesh.F);
   m_proxyBuilder->build(mesh.V, mesh.F);
   m_openedV = mesh.V;
@@ -279,20 +285,20 @@ bool MainWindow::openMesh(const QString& path) {
   const int triangleCount = static_cast<int>(mesh.F.rows());
   m_meshSizeLabel->setText(meshSizeText(vertexCount, triangleCount));
   statusBar()->showMessage(cleaningSummary(mesh.cleaning), kStatusMessageMs);
-  const QFileInfo info(path);
-  m_lastDirectory = info.absolutePath();
-  setWindowTitle(info.fileName() + QStringLiteral(" — ShapeCast"));
+  m_openedPath = path;
+  rememberFile(path);
+  setWindowTitle(QFileInfo(path).fileName() + QStringLiteral(" — ShapeCast"));
   emit meshLoaded(path, vertexCount, triangleCount);
-  return true;
 }
 
 void MainWindow::chooseAndOpenMesh() {
-  const QString path =
-      QFileDialog::getOpenFileName(this, tr("Open Mesh"), m_lastDirectory,
-                                   tr("Meshes (*.off *.obj *.ply *.stl *.OFF *.OBJ *.PLY *.STL);;All files (*)"));
-  if (!path.isEmpty()) {
-    openMeshAsking(path);
-  }
+  const QString path = chooseFile({FileRequest::Kind::Open,
+                                   tr("Open Mesh"),
+                                   m_lastDirectory,
+                                   {},
+                                   tr("Meshes (*.off *.obj *.ply *.stl *.OFF *.OBJ *.PLY *.STL);;ShapeCast sessions "
+                                      "(*.shapecast);;All files (*)")});
+  if (!path.isEmpty()) openFileFromUser(path);
 }
 
 }  // namespace sc::app

@@ -4,16 +4,22 @@
 // ClientController, which owns the session). The frame path goes one way: the controller's displayLevelChanged and
 // frameChanged go to the viewport's setDisplayLevel() and showFrame(); nothing is pulled back.
 
+#include "app/gui/file_dialogs.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/port_reservation.h"
 #include "app/gui/session_life.h"
 #include "app/gui/session_settings.h"
 
 #include <QMainWindow>
+#include <QPointer>
 #include <QString>
+#include <QStringList>
 
 #include <utility>
 
 class QCloseEvent;
+class QDragEnterEvent;
+class QDropEvent;
 class QComboBox;
 class QMenu;
 class QLabel;
@@ -22,6 +28,10 @@ class QToolButton;
 
 namespace Ui {
 class MainWindow;
+}
+
+namespace sc::model {
+struct LoadedMesh;
 }
 
 namespace sc::app {
@@ -34,6 +44,10 @@ class SessionDocks;
 class SessionPresence;
 class NetworkConditionsDock;
 class ViewActions;
+class MeshLoading;
+
+/// How openMeshAsking() reads the mesh: at once on the GUI thread, or on a worker (loadMeshInBackground()).
+enum class MeshLoad { Now, Background };
 
 /// The ShapeCast main window: File → Open…/Quit, View → Reset View, a MeshViewport as central widget and a status
 /// bar with the mesh size (permanent, objectName "meshSizeLabel") and, briefly, the cleaning report.
@@ -45,10 +59,28 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
-  /// Loads a mesh file with sc::model::loadMesh() and shows it. Never throws.
-  /// On success emits meshLoaded() and returns true. On failure keeps the current mesh, emits loadFailed() with
-  /// the loader's message, shows it in a modal QMessageBox if error dialogs are enabled, and returns false.
+  /// Loads a mesh file with sc::model::loadMesh() on the GUI thread and shows it (ending a session first). Never
+  /// throws. On success emits meshLoaded(), adds it to File → Open Recent and returns true. On failure keeps the
+  /// current mesh and session, emits loadFailed() with the loader's message, shows it in a modal QMessageBox if
+  /// error dialogs are enabled, and returns false. The menus and drops use loadMeshInBackground().
   bool openMesh(const QString& path);
+
+  // --- files (main_window_files.cpp): File → Open…, Open Recent, drops, background loading, file questions
+  /// A file the user gave (File → Open…, Open Recent, a drop on the window): a session file (.shapecast) opens
+  /// the Host dialog with it, a mesh goes to openMeshAsking(path, MeshLoad::Background). False when nothing
+  /// started (cancelled, or a file that is gone: then dropped from Open Recent with a message).
+  bool openFileFromUser(const QString& path);
+  /// Reads `path` on a worker thread (MeshLoading), progress and Cancel in the status bar; a load already running
+  /// is cancelled. Once read, the session (if any) ends and the mesh is shown as by openMesh(); a broken file
+  /// (loadFailed()) or Cancel (loadCancelled()) keeps the current mesh and session.
+  void loadMeshInBackground(const QString& path);
+  /// The Cancel button of a background load (no-op without one).
+  void cancelMeshLoading();
+  [[nodiscard]] bool meshLoadRunning() const;
+  /// File → Open Recent's files, most recent first (QSettings, recent_files.h).
+  [[nodiscard]] QStringList recentFiles() const;
+  /// Who answers the file questions (default: chooseInFileDialog(), a QFileDialog in the folder last used).
+  void setFileChooser(FileChooser chooser) { m_fileChooser = std::move(chooser); }
 
   /// Whether load errors also open a modal message box (default true). Off for tests and --screenshot runs,
   /// which observe loadFailed() instead.
@@ -59,11 +91,17 @@ class MainWindow : public QMainWindow {
 
   // --- sessions (Session menu; also used by main.cpp's --host/--join and by tests)
   /// Leaves any current session, then hosts `settings` (mesh load and basis run off the GUI thread; progress in
-  /// the status bar with a Cancel button). Failures arrive as sessionFailed() (and a dialog if enabled).
-  void hostSession(const HostSettings& settings);
-  /// Leaves any current session, then joins `settings`.
+  /// the status bar with a Cancel button). Failures arrive as sessionFailed() (and a dialog if enabled). The TCP
+  /// port is held first (`port` when it holds it, else taken here; port_reservation.h): a busy port is a
+  /// sessionFailed() naming it before anything is computed, and the current session goes on. False then.
+  bool hostSession(const HostSettings& settings, PortReservation port = {});
+  /// Joins `settings`. Without a live session it becomes the current one at once. In a session, the new one
+  /// connects beside it (pendingJoin(); its progress and Cancel in the status bar) and replaces it only once live:
+  /// a join that fails or is cancelled leaves the session you were in as it was (sessionFailed() says both).
   void joinSession(const JoinSettings& settings);
-  /// Leaves the current session (the last shape stays displayed).
+  /// A join still connecting beside the current session (nullptr when none).
+  [[nodiscard]] SessionController* pendingJoin() const { return m_pendingJoin; }
+  /// Leaves the current session, and drops a pending join (the last shape stays displayed).
   void leaveSession();
   /// The current session's controller (nullptr before the first Host/Join). Replaced by each host/join:
   /// sessionStarted() announces the new one (docks re-bind to it).
@@ -91,8 +129,8 @@ class MainWindow : public QMainWindow {
   void setSessionAsker(SessionAsker asker) { m_sessionAsker = std::move(asker); }
   /// File → Open… with a chosen `path`: while a session is active asks first (End the session and open / Host it
   /// instead / Cancel); never shows the mesh while still hosting or joined. True when the mesh was opened (or
-  /// hosting it started).
-  bool openMeshAsking(const QString& path);
+  /// hosting it started; MeshLoad::Background: when its read started, the session ending once it is read).
+  bool openMeshAsking(const QString& path, MeshLoad how = MeshLoad::Now);
   /// Session → Leave Session: a host with others in its session asks first. False when the user cancelled.
   bool leaveSessionAsking();
   /// The members of the hosted session other than this user (0 unless a live host).
@@ -125,10 +163,15 @@ class MainWindow : public QMainWindow {
   void sessionStarted(sc::app::SessionController* controller);
   /// A session failed (readable text: unreachable, wrong password, version mismatch, host gone, …).
   void sessionFailed(const QString& message);
+  /// The current session ended (Left or Failed): the title, the host identity, the docks and the figures were
+  /// reset to no session (the last shape stays displayed).
+  void sessionEnded();
   /// A mesh was loaded from path and is shown.
   void meshLoaded(const QString& path, int vertexCount, int triangleCount);
   /// Loading path failed; message names the file and the problem.
   void loadFailed(const QString& path, const QString& message);
+  /// A background load of path was cancelled (the current mesh stays).
+  void loadCancelled(const QString& path);
 
  private slots:
   void chooseAndOpenMesh();
@@ -141,6 +184,9 @@ class MainWindow : public QMainWindow {
   /// A live host with others in its session asks first; ending it sends Leave{HostEnded} and closes the window
   /// once the Leaves are written (kLeaveFlushMs later).
   void closeEvent(QCloseEvent* event) override;
+  /// Drops of local files (meshes, session files): the first one goes to openFileFromUser().
+  void dragEnterEvent(QDragEnterEvent* event) override;
+  void dropEvent(QDropEvent* event) override;
 
  private:
   static constexpr int kStatusMessageMs = 10000;  ///< how long transient status bar messages stay
@@ -156,6 +202,18 @@ class MainWindow : public QMainWindow {
   void setUpSessionDocks();
   void setUpSessionLife();
   void setUpViewActions();
+  void setUpFiles();
+  void rebuildRecentMenu();
+  /// Adds `path` to Open Recent and its folder as the dialogs' start.
+  void rememberFile(const QString& path);
+  /// Shows a mesh read from `path` (ends the session first): viewport, proxy, labels, title, meshLoaded().
+  void showMesh(const QString& path, const model::LoadedMesh& mesh);
+  /// Opens the Host dialog with the session file `path`; true when hosting started.
+  bool openSessionFile(const QString& path);
+  /// Asks m_fileChooser (or a QFileDialog); remembers the folder of a chosen file.
+  QString chooseFile(const FileRequest& request, QString* selectedFilter = nullptr);
+  /// The name files of this window are suggested from: the hosted mesh's, else the opened mesh's base name.
+  [[nodiscard]] QString suggestedBaseName() const;
   SessionAnswer ask(const SessionQuestion& question);
   /// A session is preparing, connecting or live.
   [[nodiscard]] bool sessionActive() const;
@@ -170,6 +228,15 @@ class MainWindow : public QMainWindow {
   void updateSessionActions();
   void updateTimingLabel();
   void onSessionFailed(const QString& message);
+  /// The current session reached Left or Failed: nothing of it stays on show but its last shape.
+  void onSessionEnded();
+  /// Makes a pending join that went live the current session and shows what it already received.
+  void adoptPendingJoin(const QString& title);
+  /// Leaves and deletes a pending join (no-op without one).
+  void dropPendingJoin();
+  /// The status bar, sessionFailed() and (if enabled) a plain-text dialog for a failure of `controller`
+  /// (nullptr: a failure before any controller, e.g. a busy port).
+  void reportSessionFailure(const SessionController* controller, const QString& message);
   void onProgress(int percent, const QString& what);
 
   Ui::MainWindow* ui;
@@ -180,6 +247,7 @@ class MainWindow : public QMainWindow {
   QProgressBar* m_progressBar = nullptr;
   QToolButton* m_cancelButton = nullptr;
   SessionController* m_session = nullptr;
+  SessionController* m_pendingJoin = nullptr;  ///< a join connecting beside m_session (joinSession())
   SessionDocks* m_docks = nullptr;
   NetworkConditionsDock* m_networkDock = nullptr;
   bool m_redrawPending = false;
@@ -187,6 +255,10 @@ class MainWindow : public QMainWindow {
   double m_redrawMs = 0.0;
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes
   QString m_lastDirectory;
+  QString m_openedPath;  ///< the mesh file last shown by openMesh()/loadMeshInBackground()
+  FileChooser m_fileChooser;
+  QPointer<MeshLoading> m_meshLoading;
+  QMenu* m_recentMenu = nullptr;
   bool m_errorDialogsEnabled = true;
   EditActions* m_editActions = nullptr;
   ViewActions* m_viewActions = nullptr;

@@ -144,8 +144,13 @@ bool MainWindow::leaveSessionAsking() {
   return true;
 }
 
-bool MainWindow::openMeshAsking(const QString& path) {
-  if (!sessionActive()) return openMesh(path);
+bool MainWindow::openMeshAsking(const QString& path, MeshLoad how) {
+  const auto open = [this, &path, how] {
+    if (how == MeshLoad::Now) return openMesh(path);
+    loadMeshInBackground(path);  // the session ends once the mesh is read; a broken file keeps it
+    return true;
+  };
+  if (!sessionActive()) return open();
   const QString opening = QFileInfo(path).fileName();
   const auto* host = qobject_cast<const HostController*>(m_session);
   const SessionAnswer answer =
@@ -155,7 +160,7 @@ bool MainWindow::openMeshAsking(const QString& path) {
     case SessionAnswer::Cancel:
       return false;
     case SessionAnswer::End:
-      return openMesh(path);  // ends the session first, once the mesh is read
+      return open();  // ends the session first, once the mesh is read
     case SessionAnswer::Rehost:
       break;
   }

@@ -6,7 +6,6 @@
 
 #include "ui_main_window.h"
 
-#include "app/gui/client_controller.h"
 #include "app/gui/edit_actions.h"
 #include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
@@ -30,6 +29,9 @@
 #include <QStatusBar>
 #include <QToolBar>
 #include <QToolButton>
+
+#include <optional>
+#include <utility>
 
 namespace sc::app {
 
@@ -60,7 +62,7 @@ void MainWindow::setUpSessionControls() {
   ui->sessionToolBar->addWidget(m_levelCombo);
   // The host's certificate fingerprint (docs/security.md): a toolbar button and Session ▸ Session info….
   const auto showSessionInfo = [this] {
-    auto* dialog = new SessionInfoDialog(m_session, this);
+    auto* dialog = new SessionInfoDialog(sessionActive() ? m_session : nullptr, this);
     dialog->setAttribute(Qt::WA_DeleteOnClose);
     dialog->show();
   };
@@ -70,6 +72,7 @@ void MainWindow::setUpSessionControls() {
   connect(identity, &HostIdentityButton::shownChanged, identityAction, &QAction::setVisible);
   connect(identity, &QToolButton::clicked, this, showSessionInfo);
   connect(this, &MainWindow::sessionStarted, identity, &HostIdentityButton::bind);
+  connect(this, &MainWindow::sessionEnded, identity, [identity] { identity->bind(nullptr); });
   QAction* infoAction = ui->menuSession->addAction(tr("Session &Info…"));
   infoAction->setObjectName(QStringLiteral("actionSessionInfo"));
   connect(infoAction, &QAction::triggered, this, showSessionInfo);
@@ -103,7 +106,13 @@ void MainWindow::setUpSessionStatusBar() {
   m_cancelButton->hide();
   statusBar()->addPermanentWidget(m_cancelButton);
   connect(m_cancelButton, &QToolButton::clicked, this, [this] {
-    if (m_session != nullptr) m_session->cancel();
+    if (meshLoadRunning()) {
+      cancelMeshLoading();  // a mesh being read (main_window_files.cpp): the session is not the one to stop
+    } else if (m_pendingJoin != nullptr) {
+      m_pendingJoin->cancel();  // the session we are in goes on
+    } else if (m_session != nullptr) {
+      m_session->cancel();
+    }
   });
 }
 
@@ -205,6 +214,8 @@ void MainWindow::adoptSession(SessionController* controller) {
   connect(m_session, &SessionController::stateChanged, this, [this] {
     updateSessionActions();
     updateLockControls();
+    const SessionController::State state = m_session->state();
+    if (state == SessionController::State::Left || state == SessionController::State::Failed) onSessionEnded();
   });
   connect(m_session, &SessionController::failed, this, &MainWindow::onSessionFailed);
   connect(m_session, &SessionController::progress, this, &MainWindow::onProgress);
@@ -216,23 +227,32 @@ void MainWindow::adoptSession(SessionController* controller) {
   emit sessionStarted(m_session);
 }
 
-void MainWindow::hostSession(const HostSettings& settings) {
+bool MainWindow::hostSession(const HostSettings& settings, PortReservation port) {
+  dropPendingJoin();
+  // The port first, while the current session goes on: a busy port ends nothing. A current host on that very port
+  // frees it when it leaves (adoptSession()); the new controller takes it then.
+  const auto* current = qobject_cast<const HostController*>(m_session);
+  const bool portOfCurrentHost = current != nullptr && sessionActive() && settings.port != 0 &&
+                                 (current->settings().port == settings.port || current->tcpPort() == settings.port);
+  if (!port.holds() && !portOfCurrentHost) {
+    QString error;
+    std::optional<PortReservation> taken = PortReservation::take(settings.port, &error);
+    if (!taken) {
+      reportSessionFailure(nullptr, error);
+      return false;
+    }
+    port = std::move(*taken);
+  }
   auto* session = new HostController(this);
   adoptSession(session);
   setWindowTitle(QFileInfo(settings.meshPath).fileName() + tr(" (hosting) — ShapeCast"));
-  session->host(settings);
+  const bool started = session->host(settings, std::move(port));
   updateSessionActions();
-}
-
-void MainWindow::joinSession(const JoinSettings& settings) {
-  auto* session = new ClientController(this);
-  adoptSession(session);
-  setWindowTitle(tr("%1:%2 — ShapeCast").arg(settings.host).arg(settings.port));
-  session->join(settings);
-  updateSessionActions();
+  return started;
 }
 
 void MainWindow::leaveSession() {
+  dropPendingJoin();
   if (m_session == nullptr) return;
   m_session->leave();
   statusBar()->showMessage(tr("Left the session."), kStatusMessageMs);
@@ -303,7 +323,8 @@ void MainWindow::updateSessionActions() {
   const bool active = state == SessionController::State::Preparing || state == SessionController::State::Connecting ||
                       state == SessionController::State::Live;
   ui->actionLeaveSession->setEnabled(active);
-  const bool busy = state == SessionController::State::Preparing || state == SessionController::State::Connecting;
+  const bool busy = meshLoadRunning() || m_pendingJoin != nullptr || state == SessionController::State::Preparing ||
+                    state == SessionController::State::Connecting;
   m_progressBar->setVisible(busy);
   m_cancelButton->setVisible(busy);
   if (!active) m_levelCombo->setEnabled(false);
@@ -332,11 +353,15 @@ void MainWindow::updateTimingLabel() {
 void MainWindow::onSessionFailed(const QString& message) {
   updateSessionActions();
   updateLockControls();
+  reportSessionFailure(m_session, message);
+}
+
+void MainWindow::reportSessionFailure(const SessionController* controller, const QString& message) {
   statusBar()->showMessage(message, kStatusMessageMs);
   emit sessionFailed(message);
   // The user's own Cancel is no error: the status bar says "Cancelled.", no dialog.
-  if (!m_errorDialogsEnabled || (m_session != nullptr && m_session->cancelledByUser())) return;
-  if (m_session != nullptr && m_session->fingerprintRefused()) {
+  if (!m_errorDialogsEnabled || (controller != nullptr && controller->cancelledByUser())) return;
+  if (controller != nullptr && controller->fingerprintRefused()) {
     QMessageBox box(QMessageBox::Critical, tr("Host fingerprint does not match"), message, QMessageBox::Ok, this);
     box.setTextFormat(Qt::PlainText);  // the reason may quote the host: never rich text
     box.setObjectName(QStringLiteral("fingerprintRefusedBox"));
@@ -353,6 +378,7 @@ void MainWindow::onSessionFailed(const QString& message) {
 }
 
 void MainWindow::onProgress(int percent, const QString& what) {
+  m_progressBar->setRange(0, 100);
   m_progressBar->setValue(percent);
   m_progressBar->setFormat(what + QStringLiteral(" %p%"));
   statusBar()->showMessage(what);
