@@ -70,6 +70,20 @@ class SessionSaveTest : public sc::testing::TorusSessionTest {
     emit view->dragFinished();
   }
 
+  /// Takes the lock in `window` and paints the default handle (and anchors farther than 40 %), as the Handle and
+  /// Anchors tools would.
+  static void holdAndPaintDefaultHandle(MainWindow& window) {
+    SessionController* session = window.session();
+    ASSERT_TRUE(session->requestLock());
+    ASSERT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
+    const Eigen::MatrixXd& V = session->displayRestPositions();
+    std::vector<int> handle = defaultHandle(V);
+    std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
+    window.viewport()->setSelection(handle, anchors);
+    ASSERT_TRUE(session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
+                                      typedIds<spectral::DisplayVertexId>(anchors)));
+  }
+
   /// Waits until the window's displayed positions are within 1e-6 of the diagonal of `expected`.
   bool shows(MainWindow& window, const std::vector<float>& expected) const {
     const double tolerance = 1e-6 * m_diagonal;
@@ -94,14 +108,7 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     ASSERT_NE(window->findChild<QAction*>(QStringLiteral("actionOpenSession")), nullptr);
     rest = copyOf(session->positions());
 
-    ASSERT_TRUE(session->requestLock());
-    ASSERT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
-    const Eigen::MatrixXd& V = session->displayRestPositions();
-    std::vector<int> handle = defaultHandle(V);
-    std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
-    window->viewport()->setSelection(handle, anchors);
-    ASSERT_TRUE(session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
-                                      typedIds<spectral::DisplayVertexId>(anchors)));
+    ASSERT_NO_FATAL_FAILURE(holdAndPaintDefaultHandle(*window));
     drag(*window, Eigen::Vector3d(0.0, 0.25, 0.0), 0.0);
     drag(*window, Eigen::Vector3d(0.1, 0.1, 0.05), 15.0);
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), rest) > 0.05f; }, 10000));
@@ -123,7 +130,7 @@ TEST_F(SessionSaveTest, SaveTearDownHostAgainKeepsTheShapeAndTheUndoHistory) {
     ASSERT_TRUE(std::holds_alternative<model::SessionFile>(read))
         << std::get<model::SessionFileError>(read).message.toStdString();
     const auto& file = std::get<model::SessionFile>(read);
-    EXPECT_EQ(file.V.rows(), V.rows());
+    EXPECT_EQ(file.V.rows(), session->displayRestPositions().rows());
     EXPECT_EQ(file.m, 20);
     ASSERT_EQ(file.steps.size(), 3u);
     EXPECT_FALSE(file.steps[0].undone);
@@ -194,14 +201,7 @@ TEST_F(SessionSaveTest, ReHostingASavedMovedPoseFramesItsBounds) {
     std::unique_ptr<MainWindow> window = host(m_meshPath);
     SessionController* session = window->session();
     ASSERT_EQ(session->state(), State::Live) << session->errorText().toStdString();
-    ASSERT_TRUE(session->requestLock());
-    ASSERT_TRUE(QTest::qWaitFor([session] { return session->canDrag(); }, 5000));
-    const Eigen::MatrixXd& V = session->displayRestPositions();
-    std::vector<int> handle = defaultHandle(V);
-    std::vector<int> anchors = defaultAnchors(V, handle, 40.0);
-    window->viewport()->setSelection(handle, anchors);
-    ASSERT_TRUE(session->setSelection(typedIds<spectral::DisplayVertexId>(handle),
-                                      typedIds<spectral::DisplayVertexId>(anchors)));
+    ASSERT_NO_FATAL_FAILURE(holdAndPaintDefaultHandle(*window));
     const std::vector<float> rest = copyOf(session->positions());
     drag(*window, Eigen::Vector3d(0.0, 0.0, 1.5 * m_diagonal), 0.0);
     ASSERT_TRUE(QTest::qWaitFor([&] { return maxDifference(session->positions(), rest) > 0.3 * m_diagonal; }, 10000));

@@ -4,20 +4,11 @@
 // other drags go on. Socket-free: a fake clock, members driven by their messages.
 #include "host_engine_fixture.h"
 
-#include <functional>
-
 namespace sc::session::testing {
 namespace {
 
 class HostEngineCoediting : public HostEngineTest {
  protected:
-  static std::vector<std::uint32_t> where(const std::function<bool(const Eigen::Vector3d&)>& predicate) {
-    std::vector<std::uint32_t> ids;
-    for (Eigen::Index i = 0; i < s_model->V.rows(); ++i) {
-      if (predicate(s_model->V.row(i).transpose())) ids.push_back(static_cast<std::uint32_t>(i));
-    }
-    return ids;
-  }
   static std::vector<std::uint32_t> east() {
     return where([](const Eigen::Vector3d& x) { return x.x() > 0.8; });
   }
@@ -44,6 +35,21 @@ class HostEngineCoediting : public HostEngineTest {
     ASSERT_NE(m_carolEpoch, kNoEpoch) << "two leases at once";
   }
 
+  /// Bob's handle is the east cap, carol's the west cap, both over the south cap; both sets installed.
+  void bothSetTheirEnds() {
+    completeConstraints(engine().onMessage(m_bob, Constraints{m_bobEpoch, {east()}, south()}, now()));
+    completeConstraints(engine().onMessage(m_carol, Constraints{m_carolEpoch, {west()}, south()}, now()));
+  }
+
+  /// Bob drags his end by `bobY` along y, carol hers by `carolZ` along z, 10 ms apart; the frames go out.
+  void bothDrag(double bobY, double carolZ) {
+    advance(10ms);
+    drag(m_bob, m_bobEpoch, {0.0, bobY, 0.0});
+    advance(10ms);
+    drag(m_carol, m_carolEpoch, {0.0, 0.0, carolZ});
+    tickFor(20ms);
+  }
+
   HostActions drag(PeerId member, LockEpoch epoch, const Eigen::Vector3d& t) {
     spectral::HandleTransform pose;
     pose.translation = t;
@@ -67,8 +73,7 @@ class HostEngineCoediting : public HostEngineTest {
 
 TEST_F(HostEngineCoediting, TwoSimultaneousDragsGiveTheShapeOfOneSolveWithBothGroupsOnEveryScreen) {
   startWithTwoEditors();
-  completeConstraints(engine().onMessage(m_bob, Constraints{m_bobEpoch, {east()}, south()}, now()));
-  completeConstraints(engine().onMessage(m_carol, Constraints{m_carolEpoch, {west()}, south()}, now()));
+  bothSetTheirEnds();
   ASSERT_EQ(engine().deformer().constraints().handles.size(), 2u) << "both groups in one union";
   // both drag, interleaved, several frames each
   HostActions frames;
@@ -125,13 +130,8 @@ TEST_F(HostEngineCoediting, ASetOverlappingAnotherHoldersIsRefusedWithTheHolderN
 
 TEST_F(HostEngineCoediting, EachDraggersStrokeIsItsOwnStepAndUndoingOneKeepsTheOther) {
   startWithTwoEditors();
-  completeConstraints(engine().onMessage(m_bob, Constraints{m_bobEpoch, {east()}, south()}, now()));
-  completeConstraints(engine().onMessage(m_carol, Constraints{m_carolEpoch, {west()}, south()}, now()));
-  advance(10ms);
-  drag(m_bob, m_bobEpoch, {0.0, 0.2, 0.0});
-  advance(10ms);
-  drag(m_carol, m_carolEpoch, {0.0, 0.0, 0.25});
-  tickFor(20ms);
+  bothSetTheirEnds();
+  bothDrag(0.2, 0.25);
   engine().onMessage(m_bob, StrokeEnd{m_bobEpoch}, now());  // bob lets go; carol still holds her pose
   advance(10ms);
   drag(m_carol, m_carolEpoch, {0.0, 0.0, 0.3});  // and carries on from where she was
@@ -160,13 +160,8 @@ TEST_F(HostEngineCoediting, EachDraggersStrokeIsItsOwnStepAndUndoingOneKeepsTheO
 
 TEST_F(HostEngineCoediting, ALeaseThatEndsTakesItsSetOutAndTheOtherDragGoesOnWithoutAJump) {
   startWithTwoEditors();
-  completeConstraints(engine().onMessage(m_bob, Constraints{m_bobEpoch, {east()}, south()}, now()));
-  completeConstraints(engine().onMessage(m_carol, Constraints{m_carolEpoch, {west()}, south()}, now()));
-  advance(10ms);
-  drag(m_bob, m_bobEpoch, {0.0, 0.2, 0.0});
-  advance(10ms);
-  drag(m_carol, m_carolEpoch, {0.0, 0.0, 0.2});
-  tickFor(20ms);
+  bothSetTheirEnds();
+  bothDrag(0.2, 0.2);
   const Eigen::MatrixXd before = engine().coefficients();
   // bob vanishes mid-drag: his stroke is a step, his lease and set go
   const HostActions gone = engine().onClosed(m_bob, now());

@@ -8,15 +8,6 @@ namespace {
 
 class HostEngineEdits : public HostEngineTest {
  protected:
-  /// Vertex ids of the model with z above / below a height.
-  static std::vector<std::uint32_t> where(const std::function<bool(const Eigen::Vector3d&)>& predicate) {
-    std::vector<std::uint32_t> ids;
-    for (Eigen::Index i = 0; i < s_model->V.rows(); ++i) {
-      if (predicate(s_model->V.row(i).transpose())) ids.push_back(static_cast<std::uint32_t>(i));
-    }
-    return ids;
-  }
-
   /// The host's user lifts its cap by `dz` in one stroke and releases the lock.
   void hostLiftsCapAndReleases(double dz) {
     holdLockWithCap();

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <type_traits>
@@ -98,6 +99,15 @@ class HostEngineTest : public ::testing::Test {
       all.list.insert(all.list.end(), step.list.begin(), step.list.end());
     }
     return all;
+  }
+
+  /// Vertex ids of the model whose rest position satisfies `predicate`.
+  static std::vector<std::uint32_t> where(const std::function<bool(const Eigen::Vector3d&)>& predicate) {
+    std::vector<std::uint32_t> ids;
+    for (Eigen::Index i = 0; i < s_model->V.rows(); ++i) {
+      if (predicate(s_model->V.row(i).transpose())) ids.push_back(static_cast<std::uint32_t>(i));
+    }
+    return ids;
   }
 
   /// The host's own user takes the lock and sets a cap handle (z > 0.8) over anchors (z < −0.5).
