@@ -21,6 +21,7 @@
 #include <QJsonObject>
 #include <QPainter>
 #include <QProcess>
+#include <QStatusBar>
 #include <QTest>
 
 #include <algorithm>
@@ -189,6 +190,13 @@ TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople)
                              typedIds<spectral::DisplayVertexId>(torus.anchors));
   };
   ASSERT_TRUE(paint(bobWindow, bob, torus.east));
+  // carol first paints over bob's handle: refused, and her status bar says whose it is
+  ASSERT_TRUE(QTest::qWaitFor([&] { return live.host->counters().constraintsAccepted >= 1; }, 5000));
+  ASSERT_TRUE(paint(carolWindow, carol, torus.east));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return carolWindow.statusBar()->currentMessage().contains(QStringLiteral("overlap bob's")); }, 5000))
+      << carolWindow.statusBar()->currentMessage().toStdString();
+  EXPECT_EQ(live.host->counters().constraintsOverlapping, 1u);
   ASSERT_TRUE(paint(carolWindow, carol, torus.west));
   bobWindow.viewport()->lookFrom(QVector3D(3.0f, -1.5f, 2.0f), QVector3D(1.2f, 0.0f, 0.0f));
   carolWindow.viewport()->lookFrom(QVector3D(-3.0f, -1.5f, 2.0f), QVector3D(-1.2f, 0.0f, 0.0f));
