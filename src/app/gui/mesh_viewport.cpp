@@ -155,6 +155,9 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
 }
 
 void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
+  if (m_frames.shown().shows(frame.Z)) {
+    return;  // a still frame (the host repeats the shape about once a second): nothing to reconstruct or repaint
+  }
   if (m_frames.show(frame.Z)) {
     applyFrame();
   }
@@ -294,6 +297,9 @@ void MeshViewport::setPresenceMarkers(std::vector<PresenceMarker> markers) {
     marker.eye -= origin;
     marker.target -= origin;
     if (marker.pointer) *marker.pointer -= origin;
+  }
+  if (markers == m_presence.markers()) {
+    return;  // a presence heartbeat that moved nobody: no repaint
   }
   m_presence.setMarkers(std::move(markers));
   update();

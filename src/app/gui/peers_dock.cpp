@@ -8,11 +8,15 @@
 #include <QSortFilterProxyModel>
 #include <QTableView>
 
+#include <algorithm>
+
 namespace sc::app {
 
 using sc::model::PeerTableModel;
 
 namespace {
+
+constexpr int kCellMargin = 8;  ///< px each side of a figure: the style's cell padding and some air
 
 /// The sorting proxy, plus each peer's colour (peerColor()) as the Name column's decoration: a swatch per row.
 class ColouredPeerProxy final : public QSortFilterProxyModel {
@@ -46,7 +50,10 @@ PeersDock::PeersDock(PeerTableModel* model, QWidget* parent) : QDockWidget(tr("P
   m_view->setWordWrap(false);
   m_view->verticalHeader()->hide();
   m_view->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  m_view->horizontalHeader()->setStretchLastSection(true);
+  // The dock asks for the width of every column (issue 16: loss, latency, kbit/s and error hid behind a scroll bar).
+  // No stretched last section: its width would feed back into the size hint and widen the dock without end.
+  m_view->horizontalHeader()->setStretchLastSection(false);
+  m_view->setSizeAdjustPolicy(QAbstractScrollArea::AdjustToContents);
   m_view->setSortingEnabled(true);
   m_view->sortByColumn(PeerTableModel::Role, Qt::AscendingOrder);
   setWidget(m_view);
@@ -66,6 +73,22 @@ void PeersDock::setModel(PeerTableModel* model) {
   m_view->clearSelection();
   m_model = model;
   m_proxy->setSourceModel(model);  // QSortFilterProxyModel drops a destroyed source itself.
+  fixFigureWidths();
+}
+
+void PeersDock::fixFigureWidths() {
+  // Figures get fixed widths that hold any value ("12,345.6"): columns that followed each second's digits changed
+  // the table's size hint, re-laid out the window and repainted it once more a second (issue 16, idle CPU).
+  const QFontMetrics metrics = m_view->fontMetrics();
+  for (const int column :
+       {PeerTableModel::LossPct, PeerTableModel::LatencyMs, PeerTableModel::KbpsIn, PeerTableModel::HdMaxPct}) {
+    const int text = std::max(metrics.horizontalAdvance(QStringLiteral("12,345.6")),
+                              m_view->horizontalHeader()->fontMetrics().horizontalAdvance(
+                                  PeerTableModel::columnTitle(column) + QStringLiteral(" \u25BE")));
+    if (column >= m_view->horizontalHeader()->count()) continue;  // no model (yet)
+    m_view->horizontalHeader()->setSectionResizeMode(column, QHeaderView::Fixed);
+    m_view->horizontalHeader()->resizeSection(column, text + 2 * kCellMargin);
+  }
 }
 
 PeerTableModel* PeersDock::model() const { return m_model; }

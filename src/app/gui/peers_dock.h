@@ -52,6 +52,8 @@ class PeersDock : public QDockWidget {
   void currentPeerCleared();
 
  private:
+  /// The figure columns' fixed widths (any value fits; see the constructor). Needs the model's columns.
+  void fixFigureWidths();
   void onCurrentRowChanged(const QModelIndex& current);
 
   QTableView* m_view = nullptr;

@@ -71,11 +71,13 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
   for (int column = StatisticsModel::HdPct; column < StatisticsModel::ColumnCount; ++column) {
     const int index = column - StatisticsModel::HdPct;
     auto* name = new QLabel(StatisticsModel::columnName(column) + QLatin1Char(':'), content);
+    name->setToolTip(StatisticsModel::columnToolTip(column));
     auto* value = new QLabel(unknownFigure(), content);
+    value->setToolTip(StatisticsModel::columnToolTip(column));
     value->setObjectName(valueLabelName(column));
     value->setAlignment(Qt::AlignRight | Qt::AlignVCenter);
-    value->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("0,000.000 kbit/s")));
+    // Not selectable: a selectable label lays its text out again (and repaints) at every layout pass of the dock.
+    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("0,000.0 kbit/s")));
     figures->addWidget(name, index / 2, (index % 2) * 2);
     figures->addWidget(value, index / 2, (index % 2) * 2 + 1);
     m_valueLabels[static_cast<std::size_t>(column)] = value;
@@ -87,9 +89,9 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
            QLatin1Char(')');
   };
   addChart(chartTitle(StatisticsModel::HdPct), {StatisticsModel::HdPct});
-  addChart(chartTitle(StatisticsModel::LossPct), {StatisticsModel::LossPct});
+  addChart(tr("Loss in the last 10 s (%)"), {StatisticsModel::LossPct});
   addChart(tr("Bandwidth (kbit/s)"), {StatisticsModel::KbpsIn, StatisticsModel::KbpsOut});
-  addChart(chartTitle(StatisticsModel::LatencyMs), {StatisticsModel::LatencyMs});
+  addChart(tr("Latency, 99th percentile of 10 s (ms)"), {StatisticsModel::LatencyMs});
   for (const Chart& chart : m_charts) {
     layout->addWidget(chart.view);
   }

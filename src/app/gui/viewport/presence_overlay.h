@@ -32,6 +32,7 @@ struct PresenceMarker {
   QVector3D up{0.0f, 1.0f, 0.0f};
   std::optional<QVector3D> pointer;  ///< on the surface
   bool dragging = false;
+  friend bool operator==(const PresenceMarker&, const PresenceMarker&) = default;
 };
 
 using Segment = std::pair<QVector3D, QVector3D>;
