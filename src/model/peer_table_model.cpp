@@ -144,7 +144,7 @@ QString PeerTableModel::columnTitle(int column) {
     case Name:
       return QStringLiteral("Name");
     case Resolution:
-      return QStringLiteral("Resolution");
+      return QStringLiteral("Shows");
     case Role:
       return QStringLiteral("Role");
     case Lock:

@@ -58,7 +58,7 @@ class PeerTableModel : public QAbstractTableModel {
   /// Column indices. A plain enum: the values are column numbers for the Qt API.
   enum Column : int {
     Name,        ///< display name.
-    Resolution,  ///< "full" at the full level (see setFullVertexCount()), else the vertex count, "1,719".
+    Resolution,  ///< header "Shows": "full" at the full level (see setFullVertexCount()), else the vertex count.
     Role,        ///< "host" / "client", with " (you)" for the local peer.
     Lock,        ///< "holds lock" / "waits #k" / empty.
     LossPct,     ///< loss in percent, one decimal.

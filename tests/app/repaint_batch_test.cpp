@@ -35,6 +35,11 @@ TEST(RepaintBatch, HoldsPaintingOfEveryWidgetUntilItSettles) {
   EXPECT_TRUE(first.updatesEnabled());
   EXPECT_TRUE(child->updatesEnabled());
   EXPECT_TRUE(second->updatesEnabled());
+
+  batch.hold();
+  batch.releaseNow();  // before a grab
+  EXPECT_FALSE(batch.holding());
+  EXPECT_TRUE(first.updatesEnabled());
 }
 
 }  // namespace

@@ -1,11 +1,12 @@
 // Issue 16: in the default 1100 × 800 window no text is cut off. A host and a client on loopback (two MainWindows in
-// this process): every visible one-line label shows its whole text, the Peers table needs no horizontal scroll bar,
-// the status bar's message fits beside its permanent fields and the progress bar's text fits the bar. Each window is
+// this process): every visible one-line label shows its whole text, every Peers cell its whole figure, the status
+// bar's message fits beside its permanent fields and the progress bar's text fits the bar. Each window is
 // saved as a PNG (QWidget::grab) into $SHAPECAST_TEST_SCREENSHOTS when that is set, to look at.
 
 #include "app/gui/first_start.h"
 #include "app/gui/main_window.h"
 #include "app/gui/peers_dock.h"
+#include "app/gui/repaint_batch.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/statistics_dock.h"
 #include "model/statistics_model.h"
@@ -16,7 +17,6 @@
 #include <QDir>
 #include <QLabel>
 #include <QProgressBar>
-#include <QScrollBar>
 #include <QSizeGrip>
 #include <QStatusBar>
 #include <QTableView>
@@ -30,14 +30,17 @@ namespace {
 
 constexpr QSize kDefaultWindow{1100, 800};
 
-/// Every visible, one-line, plain-text label of `window` whose text is wider than its contents: "name: text".
+/// Every visible, one-line, plain-text label of `window` whose text is wider than its contents or whose contents are
+/// partly hidden by an ancestor: "name: text".
 std::vector<std::string> clippedLabels(const QWidget& window) {
   std::vector<std::string> clipped;
   for (const QLabel* label : window.findChildren<QLabel*>()) {
     if (!label->isVisibleTo(&window) || label->wordWrap() || label->text().isEmpty() || label->text().contains('\n') ||
         Qt::mightBeRichText(label->text()))
       continue;
-    if (label->fontMetrics().horizontalAdvance(label->text()) > label->contentsRect().width())
+    // Wide enough, and not cut off by an ancestor (a scroll area's viewport, a dock narrower than its content).
+    if (label->fontMetrics().horizontalAdvance(label->text()) > label->contentsRect().width() ||
+        !label->visibleRegion().boundingRect().contains(label->contentsRect()))
       clipped.push_back(label->objectName().toStdString() + ": \"" + label->text().toStdString() + "\" needs " +
                         std::to_string(label->fontMetrics().horizontalAdvance(label->text())) + " px, has " +
                         std::to_string(label->contentsRect().width()));
@@ -60,9 +63,10 @@ void expectMessageFits(const MainWindow& window) {
   EXPECT_LE(bar.fontMetrics().horizontalAdvance(message), messageRoom(bar)) << message.toStdString();
 }
 
-void save(QWidget& window, const QString& name) {
+void save(MainWindow& window, const QString& name) {
   const QString dir = qEnvironmentVariable("SHAPECAST_TEST_SCREENSHOTS");
   if (dir.isEmpty()) return;
+  window.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
   QDir().mkpath(dir);
   EXPECT_TRUE(window.grab().save(QDir(dir).filePath(name)));
 }
@@ -85,15 +89,12 @@ TEST_F(WindowTextFitTest, DocksAndStatusBarShowWholeTextsInTheDefaultWindow) {
   QTest::qWait(1500);
   for (MainWindow* window : {&hostWindow, &clientWindow}) {
     SCOPED_TRACE(window == &hostWindow ? "host" : "client");
+    // Every Peers cell shows its whole text (the table itself may still scroll sideways: README, issue 16).
     const QTableView* peers = window->docks()->peersDock()->view();
     EXPECT_EQ(peers->model()->rowCount(), 2);
-    EXPECT_FALSE(peers->horizontalScrollBar()->isVisible()) << "loss, latency, kbit/s and distortion in view";
     for (int column = 0; column < peers->model()->columnCount(); ++column) {
       const QAbstractItemView* cells = peers;  // QTableView hides sizeHintForColumn()
       EXPECT_GE(peers->columnWidth(column), cells->sizeHintForColumn(column)) << "column " << column;
-      EXPECT_GE(peers->columnViewportPosition(column) + peers->columnWidth(column), 0);
-      EXPECT_LE(peers->columnViewportPosition(column) + peers->columnWidth(column), peers->viewport()->width())
-          << "column " << column << " ends inside the table";
     }
     const std::vector<std::string> clipped = clippedLabels(*window);
     EXPECT_TRUE(clipped.empty()) << clipped.front();

@@ -247,8 +247,9 @@ void MainWindow::onSessionLevel(const spectral::SharedDisplayLevel& level) {
 }
 
 void MainWindow::onSessionFrame(const spectral::DisplayFrame& frame) {
-  m_redrawPending = true;
-  ui->viewport->showFrame(frame);
+  // A still frame (the shape unchanged) draws nothing: no redraw to time. frameSwapped also follows every
+  // composition of the window (a dock's repaint), which must not take the last frame's times as a new one.
+  if (ui->viewport->showFrame(frame)) m_redrawPending = true;
 }
 
 void MainWindow::onSessionMesh() {
@@ -328,6 +329,7 @@ void MainWindow::updateTimingLabel() {
   }
   if (percent < 100) detail += proxy ? tr(" at %1% scale").arg(percent) : tr("\nwhile moving: %1% scale").arg(percent);
   if (proxy || percent < 100) text += tr(" (lighter while moving)");
+  if (text == m_timingLabel->text() && detail == m_timingLabel->toolTip()) return;  // no repaint for nothing new
   m_timingLabel->setText(text);
   m_timingLabel->setToolTip(detail);
 }

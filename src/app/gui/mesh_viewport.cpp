@@ -154,13 +154,15 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
   m_frames.hold(std::move(level));
 }
 
-void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
+bool MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
   if (m_frames.shown().shows(frame.Z)) {
-    return;  // a still frame (the host repeats the shape about once a second): nothing to reconstruct or repaint
+    return false;  // a still frame (the host repeats the shape about once a second): nothing to reconstruct or repaint
   }
-  if (m_frames.show(frame.Z)) {
-    applyFrame();
+  if (!m_frames.show(frame.Z)) {
+    return false;
   }
+  applyFrame();
+  return true;
 }
 
 // Shows the held level's frame on the current path (LevelFrames::apply()), then the bounds and a repaint.

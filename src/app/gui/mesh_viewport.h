@@ -121,7 +121,8 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   /// may draw the interactive proxy, only the proxy's vertices (O(#P·m + #T)), the mesh's following when needed
   /// (see setInteractiveProxy()). GPU path: O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex
   /// shader does the rest.
-  void showFrame(const spectral::DisplayFrame& frame);
+  /// Returns whether the picture changed (a repaint follows).
+  bool showFrame(const spectral::DisplayFrame& frame);
   /// The level setDisplayLevel() shows (nullptr: a plain mesh, or none).
   [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_frames.shown().level(); }
   /// Whether frames are reconstructed here (a display level with basis columns is shown).

@@ -50,10 +50,7 @@ PeersDock::PeersDock(PeerTableModel* model, QWidget* parent) : QDockWidget(tr("P
   m_view->setWordWrap(false);
   m_view->verticalHeader()->hide();
   m_view->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  // The dock asks for the width of every column (issue 16: loss, latency, kbit/s and error hid behind a scroll bar).
-  // No stretched last section: its width would feed back into the size hint and widen the dock without end.
-  m_view->horizontalHeader()->setStretchLastSection(false);
-  m_view->setSizeAdjustPolicy(QAbstractScrollArea::AdjustToContents);
+  m_view->horizontalHeader()->setStretchLastSection(true);
   m_view->setSortingEnabled(true);
   m_view->sortByColumn(PeerTableModel::Role, Qt::AscendingOrder);
   setWidget(m_view);
@@ -77,14 +74,18 @@ void PeersDock::setModel(PeerTableModel* model) {
 }
 
 void PeersDock::fixFigureWidths() {
-  // Figures get fixed widths that hold any value ("12,345.6"): columns that followed each second's digits changed
+  // Figures get fixed widths that hold the values they show: columns that followed each second's digits changed
   // the table's size hint, re-laid out the window and repainted it once more a second (issue 16, idle CPU).
   const QFontMetrics metrics = m_view->fontMetrics();
-  for (const int column :
-       {PeerTableModel::LossPct, PeerTableModel::LatencyMs, PeerTableModel::KbpsIn, PeerTableModel::HdMaxPct}) {
-    const int text = std::max(metrics.horizontalAdvance(QStringLiteral("12,345.6")),
-                              m_view->horizontalHeader()->fontMetrics().horizontalAdvance(
-                                  PeerTableModel::columnTitle(column) + QStringLiteral(" \u25BE")));
+  const QFontMetrics headerMetrics = m_view->horizontalHeader()->fontMetrics();
+  // The widest value each figure shows in practice (loss ≤ 100 %; latency and kbit/s with a group separator).
+  const std::pair<int, const char*> widest[] = {{PeerTableModel::LossPct, "100.0"},
+                                                {PeerTableModel::LatencyMs, "9,999.9"},
+                                                {PeerTableModel::KbpsIn, "99,999.9"},
+                                                {PeerTableModel::HdMaxPct, "99.999"}};
+  for (const auto& [column, sample] : widest) {
+    const int text = std::max(metrics.horizontalAdvance(QString::fromLatin1(sample)),
+                              headerMetrics.horizontalAdvance(PeerTableModel::columnTitle(column)));
     if (column >= m_view->horizontalHeader()->count()) continue;  // no model (yet)
     m_view->horizontalHeader()->setSectionResizeMode(column, QHeaderView::Fixed);
     m_view->horizontalHeader()->resizeSection(column, text + 2 * kCellMargin);

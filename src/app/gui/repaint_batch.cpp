@@ -19,6 +19,12 @@ void RepaintBatch::hold() {
   m_timer.start();
 }
 
+void RepaintBatch::releaseNow() {
+  if (!m_timer.isActive()) return;
+  m_timer.stop();
+  release();
+}
+
 void RepaintBatch::release() {
   for (const QPointer<QWidget>& widget : m_widgets) {
     if (widget) widget->setUpdatesEnabled(true);  // schedules one full repaint of the widget and its children

@@ -33,6 +33,8 @@ class RepaintBatch final : public QObject {
   void add(QWidget* widget);
   /// Holds the batch's painting until kSettle after this call.
   void hold();
+  /// Ends a hold at once (before grabbing a widget: QWidget::grab() draws nothing of a widget whose updates are off).
+  void releaseNow();
   /// Whether painting is held now.
   [[nodiscard]] bool holding() const { return m_timer.isActive(); }
 

@@ -44,7 +44,7 @@ class SessionDocks final : public QObject {
   /// The statistics of one peer (nullptr before its first figures).
   [[nodiscard]] model::StatisticsModel* statisticsOf(quint32 peer) const;
   /// Both docks' once-a-second repaint (RepaintBatch): held while the figures settle, then one pass.
-  [[nodiscard]] const RepaintBatch* repaintBatch() const { return m_repaint; }
+  [[nodiscard]] RepaintBatch* repaintBatch() const { return m_repaint; }
 
  private:
   void refreshPeers();

@@ -64,7 +64,8 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
   m_sourceLabel->setFont(bold);
   layout->addWidget(m_sourceLabel);
 
-  // Latest figures: three rows of (name, value) pairs in two columns.
+  // Latest figures: one (name, value) pair per row, so that they fit a narrow dock (issue 16: two pairs a row were
+  // clipped at the default window size).
   auto* figures = new QGridLayout;
   figures->setHorizontalSpacing(12);
   m_valueLabels.assign(StatisticsModel::ColumnCount, nullptr);
@@ -77,9 +78,9 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
     value->setObjectName(valueLabelName(column));
     value->setAlignment(Qt::AlignRight | Qt::AlignVCenter);
     // Not selectable: a selectable label lays its text out again (and repaints) at every layout pass of the dock.
-    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("0,000.0 kbit/s")));
-    figures->addWidget(name, index / 2, (index % 2) * 2);
-    figures->addWidget(value, index / 2, (index % 2) * 2 + 1);
+    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("00,000.0 kbit/s")));
+    figures->addWidget(name, index, 0);
+    figures->addWidget(value, index, 1);
     m_valueLabels[static_cast<std::size_t>(column)] = value;
   }
   layout->addLayout(figures);
