@@ -144,7 +144,7 @@ QString PeerTableModel::columnTitle(int column) {
     case Name:
       return QStringLiteral("Name");
     case Resolution:
-      return QStringLiteral("Resolution");
+      return QStringLiteral("Shows");
     case Role:
       return QStringLiteral("Role");
     case Lock:
@@ -152,11 +152,32 @@ QString PeerTableModel::columnTitle(int column) {
     case LossPct:
       return QStringLiteral("Loss %");
     case LatencyMs:
-      return QStringLiteral("Latency (ms)");
+      return QStringLiteral("Delay ms");
     case KbpsIn:
       return QStringLiteral("kbit/s");
     case HdMaxPct:
-      return QStringLiteral("HD max %");
+      return QStringLiteral("Error %");
+    default:
+      return {};
+  }
+}
+
+QString PeerTableModel::columnToolTip(int column) {
+  switch (column) {
+    case Resolution:
+      return QStringLiteral("Vertices the peer displays (\"full\": the host's whole mesh)");
+    case LossPct:
+      return QStringLiteral("Loss: coefficient datagrams lost in the last 10 s, % of those expected");
+    case LatencyMs:
+      return QStringLiteral(
+          "Latency: 99th percentile of the one-way delay over the last 10 s, in ms, from the host sending a frame to "
+          "the peer's app reading it (includes time that app was busy drawing; one clock, so valid on one machine)");
+    case KbpsIn:
+      return QStringLiteral("Coefficient stream received, payload kbit/s over the last second");
+    case HdMaxPct:
+      return QStringLiteral(
+          "Shape error: largest Hausdorff distortion (HD max) between the shape shown and the exact one, % of the "
+          "bounding-box diagonal");
     default:
       return {};
   }
@@ -196,6 +217,10 @@ QVariant PeerTableModel::headerData(int section, Qt::Orientation orientation, in
   if (role == Qt::DisplayRole) {
     return columnTitle(section);
   }
+  if (role == Qt::ToolTipRole) {
+    const QString tip = columnToolTip(section);
+    return tip.isEmpty() ? QVariant() : QVariant(tip);
+  }
   if (role == Qt::TextAlignmentRole) {
     return static_cast<int>((isNumericColumn(section) ? Qt::AlignRight : Qt::AlignLeft) | Qt::AlignVCenter);
   }
@@ -209,10 +234,9 @@ QString PeerTableModel::displayText(const PeerRow& peer, int column) const {
       return peer.name;
     case Resolution:
       if (m_fullVertexCount != 0 && peer.vertexCount == m_fullVertexCount) {
-        return QStringLiteral("full (") + locale.toString(peer.vertexCount) + QLatin1Char(')');
+        return QStringLiteral("full");  // the counts are in the tooltip: the table fits a side dock (issue 16)
       }
-      return locale.toString(peer.vertexCount) +
-             (peer.vertexCount == 1 ? QStringLiteral(" vertex") : QStringLiteral(" vertices"));
+      return locale.toString(peer.vertexCount);
     case Role: {
       QString text = peer.isHost ? QStringLiteral("host") : QStringLiteral("client");
       return peer.isSelf ? text + QStringLiteral(" (you)") : text;
@@ -220,9 +244,9 @@ QString PeerTableModel::displayText(const PeerRow& peer, int column) const {
     case Lock:
       switch (peer.lock) {
         case PeerRow::Lock::Holder:
-          return QStringLiteral("holds the lock");
+          return QStringLiteral("holds lock");
         case PeerRow::Lock::Queued:
-          return QStringLiteral("waiting #") + QString::number(peer.queuePosition);
+          return QStringLiteral("waits #") + QString::number(peer.queuePosition);
         case PeerRow::Lock::None:
           return {};
       }
@@ -301,14 +325,15 @@ QString PeerTableModel::toolTip(const PeerRow& peer, int column) const {
   }
   switch (column) {
     case LossPct:
-      return QStringLiteral("Datagrams lost: ") + locale.toString(peer.lossPct, 'f', 2) + QStringLiteral(" %");
+      return QStringLiteral("Datagrams lost in the last 10 s: ") + locale.toString(peer.lossPct, 'f', 2) +
+             QStringLiteral(" %");
     case LatencyMs:
-      return QStringLiteral("99th-percentile latency: ") + locale.toString(peer.latencyP99Ms, 'f', 2) +
-             QStringLiteral(" ms");
+      return QStringLiteral("Latency, 99th percentile of the last 10 s: ") +
+             locale.toString(peer.latencyP99Ms, 'f', 2) + QStringLiteral(" ms");
     case KbpsIn:
       return QStringLiteral("Received: ") + locale.toString(peer.kbpsIn, 'f', 2) + QStringLiteral(" kbit/s");
     case HdMaxPct:
-      return QStringLiteral("Largest Hausdorff distortion: ") + locale.toString(peer.hdMaxPct, 'f', 4) +
+      return QStringLiteral("Shape error, largest Hausdorff distortion: ") + locale.toString(peer.hdMaxPct, 'f', 4) +
              QStringLiteral(" % of the bounding-box diagonal");
     default:
       return {};

@@ -45,11 +45,11 @@ struct PeerRow {
 /// views sort through a QSortFilterProxyModel on SortRole. Never resets, so selections and scroll positions survive
 /// the once-a-second refresh.
 ///
-/// Roles: Qt::DisplayRole (text, "–" for unknown figures), Qt::ToolTipRole, Qt::TextAlignmentRole (int: numeric
-/// columns right-aligned, others left, all vertically centred), SortRole (the raw value: QString for Name, a
-/// number otherwise, -1 for unknown figures so they sort first ascending) and PeerIdRole (quint32, any column).
-/// Numbers are formatted in English (group separator ",", decimal point "."), independent of the system locale.
-/// Read-only; not thread-safe (GUI thread).
+/// Roles: Qt::DisplayRole (text, "–" for unknown figures), Qt::ToolTipRole (also on the header: columnToolTip()),
+/// Qt::TextAlignmentRole (int: numeric columns right-aligned, others left, all vertically centred), SortRole (the raw
+/// value: QString for Name, a number otherwise, -1 for unknown figures so they sort first ascending) and PeerIdRole
+/// (quint32, any column). Numbers are formatted in English (group separator ",", decimal point "."), independent of the
+/// system locale. Read-only; not thread-safe (GUI thread).
 class PeerTableModel : public QAbstractTableModel {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(PeerTableModel)
@@ -58,13 +58,13 @@ class PeerTableModel : public QAbstractTableModel {
   /// Column indices. A plain enum: the values are column numbers for the Qt API.
   enum Column : int {
     Name,        ///< display name.
-    Resolution,  ///< "full (22,982)" at the full level (see setFullVertexCount()), else "1,719 vertices".
+    Resolution,  ///< header "Shows": "full" at the full level (see setFullVertexCount()), else the vertex count.
     Role,        ///< "host" / "client", with " (you)" for the local peer.
-    Lock,        ///< "holds the lock" / "waiting #k" / empty.
+    Lock,        ///< "holds lock" / "waits #k" / empty.
     LossPct,     ///< loss in percent, one decimal.
-    LatencyMs,   ///< p99 latency in ms, one decimal.
+    LatencyMs,   ///< p99 latency (the peer's last 10 s) in ms, one decimal; header "Delay ms".
     KbpsIn,      ///< received kbit/s, one decimal.
-    HdMaxPct,    ///< Hausdorff maximum in percent of the diagonal, three decimals.
+    HdMaxPct,    ///< Hausdorff maximum in percent of the diagonal, three decimals; header "Error %".
     ColumnCount
   };
 
@@ -91,8 +91,11 @@ class PeerTableModel : public QAbstractTableModel {
   /// The row of peerId, or -1 if no such peer is listed.
   [[nodiscard]] int rowOfPeer(std::uint32_t peerId) const;
 
-  /// The header text of column (English), e.g. "Loss %". Empty for an out-of-range column.
+  /// The header text of column (English, plain words), e.g. "Loss %". Empty for an out-of-range column.
   [[nodiscard]] static QString columnTitle(int column);
+  /// The header's tooltip: what the column's figure is precisely (window, percentile, term), e.g. HdMaxPct's names
+  /// the Hausdorff distortion. Empty for columns that need none (headerData() then gives no tooltip).
+  [[nodiscard]] static QString columnToolTip(int column);
 
   int rowCount(const QModelIndex& parent = QModelIndex()) const override;
   int columnCount(const QModelIndex& parent = QModelIndex()) const override;

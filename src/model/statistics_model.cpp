@@ -98,6 +98,29 @@ QString StatisticsModel::columnName(int column) {
   }
 }
 
+QString StatisticsModel::columnToolTip(int column) {
+  switch (column) {
+    case HdPct:
+      return QStringLiteral(
+          "Shape error: Hausdorff distortion between the shape shown and the exact one at the last check, % of the "
+          "bounding-box diagonal");
+    case LossPct:
+      return QStringLiteral("Coefficient datagrams lost in the last 10 s, % of those expected");
+    case KbpsIn:
+      return QStringLiteral("Coefficient stream received, payload kbit/s over the last second");
+    case KbpsOut:
+      return QStringLiteral("Coefficient stream sent to this peer, payload kbit/s over the last second");
+    case Fps:
+      return QStringLiteral("Frames shown per second (last second)");
+    case LatencyMs:
+      return QStringLiteral(
+          "99th percentile of the one-way delay over the last 10 s: from the host sending a frame to this peer's app "
+          "reading it, including time the app was busy drawing (one clock: valid on one machine)");
+    default:
+      return {};
+  }
+}
+
 QString StatisticsModel::columnUnit(int column) {
   switch (column) {
     case Time:

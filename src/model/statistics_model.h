@@ -75,6 +75,9 @@ class StatisticsModel : public QAbstractTableModel {
   /// unit ("%", "%", "kbit/s", "kbit/s", "fps", "ms", "s"). Empty strings for an out-of-range column.
   [[nodiscard]] static QString columnName(int column);
   [[nodiscard]] static QString columnUnit(int column);
+  /// What the column's figure is precisely (window, percentile, the term behind the plain name), for tooltips;
+  /// empty for Time or out of range.
+  [[nodiscard]] static QString columnToolTip(int column);
   /// Decimals used when the column's value is shown as text (e.g. 3 for distortion, 1 for bandwidth).
   [[nodiscard]] static int columnDecimals(int column);
   /// The field of sample that column holds (Time → t). @pre 0 <= column < ColumnCount.

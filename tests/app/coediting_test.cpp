@@ -6,6 +6,8 @@
 #include "app/gui/host_controller.h"
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
+#include "app/gui/repaint_batch.h"
+#include "app/gui/session_docks.h"
 #include "app/gui/session_presence.h"
 #include "app/gui/vertex_id_lists.h"
 #include "app_test_support.h"
@@ -244,6 +246,7 @@ TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople)
   if (const QByteArray path = qgetenv("SHAPECAST_COEDITING_SCREENSHOT"); !path.isEmpty()) {
     hostWindow.viewport()->lookFrom(QVector3D(0.0f, -5.5f, 3.2f), QVector3D(0.0f, 0.0f, 0.0f));
     QTest::qWait(300);
+    hostWindow.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
     QImage shot = hostWindow.grab().toImage();  // the overlay's QPainter, then the viewport's framebuffer under it
     {
       QPainter painter(&shot);

@@ -8,6 +8,7 @@
 #include "app/gui/orbit_camera.h"
 #include "app/gui/peer_colors.h"
 #include "app/gui/peers_dock.h"
+#include "app/gui/repaint_batch.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/session_presence.h"
 #include "app/gui/viewport/presence_overlay.h"
@@ -191,6 +192,7 @@ TEST_F(PresenceWindows, TheClientsCameraAndPointerShowOnTheHost) {
     hostWindow.viewport()->lookFrom(between + 9.0f * QVector3D(-0.35f, 0.5f, 0.8f).normalized(), between);
     QTest::qWait(200);
     // The window with the viewport's own framebuffer over it: QWidget::grab() redirects the overlay's QPainter.
+    hostWindow.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
     QImage shot = hostWindow.grab().toImage();
     {
       QPainter painter(&shot);

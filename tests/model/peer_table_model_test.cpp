@@ -88,12 +88,12 @@ TEST(PeerTableModel, FormatsEveryColumn) {
   model.setPeers({host, client});
 
   EXPECT_EQ(text(model, 0, PeerTableModel::Name), QStringLiteral("ada"));
-  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("full (22,982)"));
-  EXPECT_EQ(text(model, 1, PeerTableModel::Resolution), QStringLiteral("1,719 vertices"));
+  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("full"));
+  EXPECT_EQ(text(model, 1, PeerTableModel::Resolution), QStringLiteral("1,719"));
   EXPECT_EQ(text(model, 0, PeerTableModel::Role), QStringLiteral("host"));
   EXPECT_EQ(text(model, 1, PeerTableModel::Role), QStringLiteral("client (you)"));
-  EXPECT_EQ(text(model, 0, PeerTableModel::Lock), QStringLiteral("holds the lock"));
-  EXPECT_EQ(text(model, 1, PeerTableModel::Lock), QStringLiteral("waiting #2"));
+  EXPECT_EQ(text(model, 0, PeerTableModel::Lock), QStringLiteral("holds lock"));
+  EXPECT_EQ(text(model, 1, PeerTableModel::Lock), QStringLiteral("waits #2"));
   EXPECT_EQ(text(model, 0, PeerTableModel::LossPct), QStringLiteral("\u2013"));
   EXPECT_EQ(text(model, 0, PeerTableModel::HdMaxPct), QStringLiteral("\u2013"));
   EXPECT_EQ(text(model, 1, PeerTableModel::LossPct), QStringLiteral("2.5"));
@@ -121,14 +121,35 @@ TEST(PeerTableModel, FormatsEveryColumn) {
   EXPECT_EQ(model.rowOfPeer(99), -1);
 }
 
+// Issue 16: plain words in the headers, the precise terms in their tooltips.
+TEST(PeerTableModel, HeadersUsePlainWordsAndTooltipsKeepThePreciseTerms) {
+  PeerTableModel model;
+  for (int column = 0; column < PeerTableModel::ColumnCount; ++column) {
+    const QString title = model.headerData(column, Qt::Horizontal).toString();
+    EXPECT_FALSE(title.contains(QStringLiteral("HD"))) << title.toStdString();
+    EXPECT_FALSE(title.contains(QStringLiteral("p99"))) << title.toStdString();
+  }
+  EXPECT_EQ(model.headerData(PeerTableModel::HdMaxPct, Qt::Horizontal).toString(), QStringLiteral("Error %"));
+  EXPECT_TRUE(model.headerData(PeerTableModel::HdMaxPct, Qt::Horizontal, Qt::ToolTipRole)
+                  .toString()
+                  .contains(QStringLiteral("Hausdorff distortion (HD max)")));
+  const QString latency = model.headerData(PeerTableModel::LatencyMs, Qt::Horizontal, Qt::ToolTipRole).toString();
+  EXPECT_TRUE(latency.contains(QStringLiteral("99th percentile"))) << latency.toStdString();
+  EXPECT_TRUE(latency.contains(QStringLiteral("last 10 s"))) << latency.toStdString();
+  EXPECT_TRUE(model.headerData(PeerTableModel::LossPct, Qt::Horizontal, Qt::ToolTipRole)
+                  .toString()
+                  .contains(QStringLiteral("last 10 s")));
+  EXPECT_FALSE(model.headerData(PeerTableModel::Name, Qt::Horizontal, Qt::ToolTipRole).isValid());
+}
+
 TEST(PeerTableModel, UnknownFullCountShowsVertexCounts) {
   PeerTableModel model;
   model.setPeers({peer(1, "solo", 1)});
-  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("1 vertex"));
+  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("1"));
   QSignalSpy changed(&model, &QAbstractItemModel::dataChanged);
   model.setFullVertexCount(1);
   EXPECT_EQ(changed.count(), 1);
-  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("full (1)"));
+  EXPECT_EQ(text(model, 0, PeerTableModel::Resolution), QStringLiteral("full"));
 }
 
 TEST(PeerTableModel, UpdatesMinimally) {

@@ -20,8 +20,12 @@ struct FakeReceiver {
       s.report.received = 40;
       s.report.cumulativeLost = 2;
       s.report.jitterMs = 1.5;
-      s.report.lossFraction = std::numeric_limits<double>::quiet_NaN();
-      s.report.latencyP50Ms = -1.0;
+      s.report.lossFraction = 0.5;  // since the join: not what the report carries
+      s.report.recentLossFraction = std::numeric_limits<double>::quiet_NaN();
+      s.report.latencyP50Ms = 900.0;
+      s.report.latencyP99Ms = 2500.0;  // a join stall long ago
+      s.report.recentLatencyP50Ms = -1.0;
+      s.report.recentLatencyP99Ms = 1.25;
       s.framesApplied = 30;
       s.dropped = 4;
       return s;
@@ -65,6 +69,7 @@ TEST(ClientEngineCadence, StatsReportCarriesTheFiguresAsFiniteNonNegatives) {
   EXPECT_EQ(s.jitterMs, 1.5);
   EXPECT_EQ(s.lossFraction, 0.0) << "NaN is sent as 0";
   EXPECT_EQ(s.latencyP50Ms, 0.0) << "negative is sent as 0";
+  EXPECT_EQ(s.latencyP99Ms, 1.25) << "the last 10 s, not the whole run";
   EXPECT_EQ(s.hdMaxPct, 0.25);
   EXPECT_EQ(s.hdMeanPct, 0.0) << "infinity is sent as 0";
   EXPECT_EQ(s.hdLastPct, 0.125);

@@ -88,7 +88,7 @@ TEST(ClientEngine, ClosedConnectionReadsHostLostOnceJoined) {
   joinSession(joined);
   const ClientActions out = joined.onClosed();
   EXPECT_EQ(joined.state(), S::Failed);
-  EXPECT_EQ(joined.errorText(), QStringLiteral("host lost: the connection closed without a Leave"));
+  EXPECT_EQ(joined.errorText(), QStringLiteral("host lost: the connection to the host closed without warning"));
   EXPECT_EQ(actionsOf<client_action::CloseDatagrams>(out).size(), 1u);
 
   ClientEngine errored(config("c"));
@@ -159,7 +159,7 @@ TEST(ClientEngine, TheHostsLeaveReasonIsReadNotTakenForALostHost) {
   joinSession(lost);
   lost.onClosed();
   EXPECT_EQ(lost.state(), ClientState::Failed);
-  EXPECT_EQ(lost.errorText(), QStringLiteral("host lost: the connection closed without a Leave"));
+  EXPECT_EQ(lost.errorText(), QStringLiteral("host lost: the connection to the host closed without warning"));
   EXPECT_FALSE(lost.leaveReason().has_value());
 
   ClientEngine leaving(config("c"));

@@ -5,6 +5,7 @@
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/network_conditions_dock.h"
 #include "app/gui/peers_dock.h"
+#include "app/gui/repaint_batch.h"
 #include "app/gui/session_controller.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/statistics_dock.h"
@@ -183,6 +184,7 @@ void DemoScreenshots::grabMainWindow() {
 
 void DemoScreenshots::save(MainWindow* window, const QString& name) {
   const QString path = QDir(m_options.directory).filePath(name);
+  if (window->docks() != nullptr) window->docks()->repaintBatch()->releaseNow();  // grab() skips held widgets
   const QImage image = window->grab().toImage();
   if (image.isNull() || !image.save(path, "PNG")) m_failures << tr("could not write %1").arg(path);
 }

@@ -29,8 +29,8 @@ void printPeerFigures(const session::SessionHost& host) {
     const std::optional<session::StatsReport> r = host.stats(peer.peerId);
     if (!r) continue;
     out << QStringLiteral(
-               "  %1 (%2 vertices): %3 frames, loss %4%, jitter %5 ms, %6 kbit/s, latency p99 %7 ms, HD max %8% "
-               "mean %9%\n")
+               "  %1 (%2 vertices): %3 frames, loss %4% (last 10 s), jitter %5 ms, %6 kbit/s, "
+               "latency p99 %7 ms (last 10 s), HD max %8% mean %9%\n")
                .arg(peer.name)
                .arg(r->vertexCount)
                .arg(r->framesApplied)

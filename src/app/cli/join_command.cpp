@@ -131,6 +131,10 @@ QJsonObject figures(session::SessionClient& client, const session::DistortionMet
           {QStringLiteral("fps"), r.framesPerSecond},
           {QStringLiteral("latency_p50_ms"), r.latencyP50Ms},
           {QStringLiteral("latency_p99_ms"), r.latencyP99Ms},
+          // The last 10 s (issue 16): what the desktop's docks show for the same session.
+          {QStringLiteral("loss_fraction_recent"), r.recentLossFraction},
+          {QStringLiteral("latency_p50_recent_ms"), r.recentLatencyP50Ms},
+          {QStringLiteral("latency_p99_recent_ms"), r.recentLatencyP99Ms},
           {QStringLiteral("hd_max_pct"), hd.maxPct},
           {QStringLiteral("hd_mean_pct"), hd.meanPct},
           {QStringLiteral("hd_last_pct"), hd.lastPct},
@@ -140,15 +144,19 @@ QJsonObject figures(session::SessionClient& client, const session::DistortionMet
 
 /// One line of figures, on `stream` (stdout, or stderr when stdout is reserved for --json).
 void printLine(const QJsonObject& f, FILE* stream = stdout) {
-  QTextStream(stream) << QStringLiteral(
-                             "%1 frames | loss %2% | %3 kbit/s | %4 fps | latency p99 %5 ms | HD last %6% max %7%\n")
-                             .arg(f[QStringLiteral("frames_applied")].toInteger())
-                             .arg(100.0 * f[QStringLiteral("loss_fraction")].toDouble(), 0, 'f', 1)
-                             .arg(f[QStringLiteral("kbps_in")].toDouble(), 0, 'f', 1)
-                             .arg(f[QStringLiteral("fps")].toDouble(), 0, 'f', 0)
-                             .arg(f[QStringLiteral("latency_p99_ms")].toDouble(), 0, 'f', 2)
-                             .arg(f[QStringLiteral("hd_last_pct")].toDouble(), 0, 'f', 4)
-                             .arg(f[QStringLiteral("hd_max_pct")].toDouble(), 0, 'f', 4);
+  QTextStream(stream)
+      << QStringLiteral(
+             "%1 frames | loss %2% (last 10 s %8%) | %3 kbit/s | %4 fps | latency p99 %5 ms (last 10 s %9 ms) | "
+             "HD last %6% max %7%\n")
+             .arg(f[QStringLiteral("frames_applied")].toInteger())
+             .arg(100.0 * f[QStringLiteral("loss_fraction")].toDouble(), 0, 'f', 1)
+             .arg(f[QStringLiteral("kbps_in")].toDouble(), 0, 'f', 1)
+             .arg(f[QStringLiteral("fps")].toDouble(), 0, 'f', 0)
+             .arg(f[QStringLiteral("latency_p99_ms")].toDouble(), 0, 'f', 2)
+             .arg(f[QStringLiteral("hd_last_pct")].toDouble(), 0, 'f', 4)
+             .arg(f[QStringLiteral("hd_max_pct")].toDouble(), 0, 'f', 4)
+             .arg(100.0 * f[QStringLiteral("loss_fraction_recent")].toDouble(), 0, 'f', 1)
+             .arg(f[QStringLiteral("latency_p99_recent_ms")].toDouble(), 0, 'f', 2);
 }
 
 }  // namespace

@@ -159,8 +159,8 @@ void prepareDefaultDrag(MainWindow& window) {
         target->statusBar()->showMessage(
             QCoreApplication::translate(
                 "FirstStart",
-                "Hosting on TCP port %1. Drag the orange-red handle with the left mouse button; "
-                "others join with Session → Join and this computer's address.")
+                "Drag the orange-red handle. Others join with Session → Join, this computer's address "
+                "and port %1.")
                 .arg(port));
       },
       Qt::SingleShotConnection);

@@ -114,7 +114,8 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   connect(m_host, &session::SessionHost::lockChanged, this, &HostController::onLockChanged);
   connect(m_host, &session::SessionHost::editHistoryChanged, this, &HostController::editLogChanged);
   connect(m_host, &session::SessionHost::peersChanged, this, &HostController::peersChanged);
-  connect(m_host, &session::SessionHost::statsReported, this, &HostController::statsChanged);
+  // No statsChanged per StatsReport: the once-a-second statsChanged shows the latest reports, so the docks redraw
+  // once a second however many members report (each redraw composes the whole window: issue 16, idle CPU).
   connect(m_host, &session::SessionHost::presenceReceived, this, &HostController::presenceReceived);
   showLevel(std::move(prepared->level));
   showFrame({m_host->currentFrame(), m_host->coefficients().cast<float>()});

@@ -221,7 +221,7 @@ void MainWindow::adoptSession(SessionController* controller) {
   connect(m_session, &SessionController::progress, this, &MainWindow::onProgress);
   connect(m_session, &SessionController::hostingStarted, this, [this](quint16 port) {
     statusBar()->showMessage(
-        tr("Hosting on TCP port %1: others join with this computer's address and that port.").arg(port),
+        tr("Hosting on port %1. Others join with Session → Join and this computer's address.").arg(port),
         kStatusMessageMs);
   });
   emit sessionStarted(m_session);
@@ -270,8 +270,9 @@ void MainWindow::onSessionLevel(const spectral::SharedDisplayLevel& level) {
 }
 
 void MainWindow::onSessionFrame(const spectral::DisplayFrame& frame) {
-  m_redrawPending = true;
-  ui->viewport->showFrame(frame);
+  // A still frame (the shape unchanged) draws nothing: no redraw to time. frameSwapped also follows every
+  // composition of the window (a dock's repaint), which must not take the last frame's times as a new one.
+  if (ui->viewport->showFrame(frame)) m_redrawPending = true;
 }
 
 void MainWindow::onSessionMesh() {
@@ -333,21 +334,28 @@ void MainWindow::updateSessionActions() {
 void MainWindow::updateTimingLabel() {
   if (m_session == nullptr || m_session->state() != SessionController::State::Live) {
     m_timingLabel->clear();
+    m_timingLabel->setToolTip(QString());
     return;
   }
+  // Plain words in the status bar, the precise figures in the tooltip (issue 16).
   const double reconstruction = reconstructionMs();
-  QString text = tr("reconstruction + redraw: %1 ms (%2 + %3)")
-                     .arg(reconstruction + m_redrawMs, 0, 'f', 1)
-                     .arg(reconstruction, 0, 'f', 2)
-                     .arg(m_redrawMs, 0, 'f', 1);
+  QString text = tr("Frame: %1 ms").arg(reconstruction + m_redrawMs, 0, 'f', 1);
+  QString detail = tr("reconstruction + redraw: %1 ms (%2 + %3)")
+                       .arg(reconstruction + m_redrawMs, 0, 'f', 1)
+                       .arg(reconstruction, 0, 'f', 2)
+                       .arg(m_redrawMs, 0, 'f', 1);
   // How the frame was lightened while the shape moves (MeshViewport's adaptive resolution and proxy).
   m_labelFrame = ui->viewport->frameTimes();
   const bool proxy = m_labelFrame.triangles > 0 && m_labelFrame.triangles < ui->viewport->triangleCount();
   const int percent = qRound(100.0 * m_labelFrame.renderScale);
-  if (proxy)
-    text += tr(" · moving: %L1 of %L2 triangles").arg(m_labelFrame.triangles).arg(ui->viewport->triangleCount());
-  if (percent < 100) text += proxy ? tr(" at %1% scale").arg(percent) : tr(" · moving at %1% scale").arg(percent);
+  if (proxy) {
+    detail += tr("\nwhile moving: %L1 of %L2 triangles").arg(m_labelFrame.triangles).arg(ui->viewport->triangleCount());
+  }
+  if (percent < 100) detail += proxy ? tr(" at %1% scale").arg(percent) : tr("\nwhile moving: %1% scale").arg(percent);
+  if (proxy || percent < 100) text += tr(" (lighter while moving)");
+  if (text == m_timingLabel->text() && detail == m_timingLabel->toolTip()) return;  // no repaint for nothing new
   m_timingLabel->setText(text);
+  m_timingLabel->setToolTip(detail);
 }
 
 void MainWindow::onSessionFailed(const QString& message) {
@@ -379,8 +387,10 @@ void MainWindow::reportSessionFailure(const SessionController* controller, const
 
 void MainWindow::onProgress(int percent, const QString& what) {
   m_progressBar->setRange(0, 100);
+  // The bar holds the percentage only (a long "what" was clipped in it); the message beside it says what.
   m_progressBar->setValue(percent);
-  m_progressBar->setFormat(what + QStringLiteral(" %p%"));
+  m_progressBar->setFormat(QStringLiteral("%p%"));
+  m_progressBar->setToolTip(what);
   statusBar()->showMessage(what);
   updateSessionActions();
 }

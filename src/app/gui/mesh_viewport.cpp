@@ -154,10 +154,15 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
   m_frames.hold(std::move(level));
 }
 
-void MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
-  if (m_frames.show(frame.Z)) {
-    applyFrame();
+bool MeshViewport::showFrame(const spectral::DisplayFrame& frame) {
+  if (m_frames.shown().shows(frame.Z)) {
+    return false;  // a still frame (the host repeats the shape about once a second): nothing to reconstruct or repaint
   }
+  if (!m_frames.show(frame.Z)) {
+    return false;
+  }
+  applyFrame();
+  return true;
 }
 
 // Shows the held level's frame on the current path (LevelFrames::apply()), then the bounds and a repaint.
@@ -296,6 +301,9 @@ void MeshViewport::setPresenceMarkers(std::vector<PresenceMarker> markers) {
     marker.target -= origin;
     if (marker.pointer) *marker.pointer -= origin;
     if (marker.handle) *marker.handle -= origin;
+  }
+  if (markers == m_presence.markers()) {
+    return;  // a presence heartbeat that moved nobody: no repaint
   }
   m_presence.setMarkers(std::move(markers));
   update();

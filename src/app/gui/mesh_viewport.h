@@ -116,12 +116,14 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   /// Nothing moves until showFrame(). nullptr: clearMesh(). A level without basis columns shows as a plain mesh.
   void setDisplayLevel(spectral::SharedDisplayLevel level);
   /// Shows one frame of the displayed level, X̂' + K·frame.Z (the rest shape for an empty Z), on the current path
-  /// (the per-frame call of a client). Ignored without a level or for a Z that is not m by 3.
+  /// (the per-frame call of a client). Ignored without a level or for a Z that is not m by 3, and a Z already shown
+  /// (a still frame) neither reconstructs nor repaints.
   /// CPU path: reconstructs, recomputes normals and bounds now (O(#V·m + #F)), uploads in paintGL(); while a frame
   /// may draw the interactive proxy, only the proxy's vertices (O(#P·m + #T)), the mesh's following when needed
   /// (see setInteractiveProxy()). GPU path: O(m) here; paintGL() uploads 12·m bytes of uniforms and the vertex
   /// shader does the rest.
-  void showFrame(const spectral::DisplayFrame& frame);
+  /// Returns whether the picture changed (a repaint follows).
+  bool showFrame(const spectral::DisplayFrame& frame);
   /// The level setDisplayLevel() shows (nullptr: a plain mesh, or none).
   [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_frames.shown().level(); }
   /// Whether frames are reconstructed here (a display level with basis columns is shown).

@@ -8,11 +8,15 @@
 #include <QSortFilterProxyModel>
 #include <QTableView>
 
+#include <algorithm>
+
 namespace sc::app {
 
 using sc::model::PeerTableModel;
 
 namespace {
+
+constexpr int kCellMargin = 8;  ///< px each side of a figure: the style's cell padding and some air
 
 /// The sorting proxy, plus each peer's colour (peerColor()) as the Name column's decoration: a swatch per row.
 class ColouredPeerProxy final : public QSortFilterProxyModel {
@@ -66,6 +70,26 @@ void PeersDock::setModel(PeerTableModel* model) {
   m_view->clearSelection();
   m_model = model;
   m_proxy->setSourceModel(model);  // QSortFilterProxyModel drops a destroyed source itself.
+  fixFigureWidths();
+}
+
+void PeersDock::fixFigureWidths() {
+  // Figures get fixed widths that hold the values they show: columns that followed each second's digits changed
+  // the table's size hint, re-laid out the window and repainted it once more a second (issue 16, idle CPU).
+  const QFontMetrics metrics = m_view->fontMetrics();
+  const QFontMetrics headerMetrics = m_view->horizontalHeader()->fontMetrics();
+  // The widest value each figure shows in practice (loss ≤ 100 %; latency and kbit/s with a group separator).
+  const std::pair<int, const char*> widest[] = {{PeerTableModel::LossPct, "100.0"},
+                                                {PeerTableModel::LatencyMs, "9,999.9"},
+                                                {PeerTableModel::KbpsIn, "99,999.9"},
+                                                {PeerTableModel::HdMaxPct, "99.999"}};
+  for (const auto& [column, sample] : widest) {
+    const int text = std::max(metrics.horizontalAdvance(QString::fromLatin1(sample)),
+                              headerMetrics.horizontalAdvance(PeerTableModel::columnTitle(column)));
+    if (column >= m_view->horizontalHeader()->count()) continue;  // no model (yet)
+    m_view->horizontalHeader()->setSectionResizeMode(column, QHeaderView::Fixed);
+    m_view->horizontalHeader()->resizeSection(column, text + 2 * kCellMargin);
+  }
 }
 
 PeerTableModel* PeersDock::model() const { return m_model; }

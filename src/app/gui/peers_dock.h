@@ -22,7 +22,8 @@ namespace sc::app {
 ///
 /// The dock does not own the model: it observes it and forgets it if it is destroyed. View only: no session or
 /// protocol logic; the app's controller feeds the model and listens to currentPeerChanged(). Each row's Name shows
-/// the peer's colour (peerColor()) as a swatch (Qt::DecorationRole, added by the proxy).
+/// the peer's colour (peerColor()) as a swatch (Qt::DecorationRole, added by the proxy). Text columns are sized to
+/// their contents, figure columns to fixed widths (issue 16: short cells, details in tooltips).
 class PeersDock : public QDockWidget {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(PeersDock)
@@ -52,6 +53,9 @@ class PeersDock : public QDockWidget {
   void currentPeerCleared();
 
  private:
+  /// Gives the figure columns fixed widths that hold any value, so that changing figures never change the table's
+  /// size hint (and re-lay out the window). Needs the model's columns.
+  void fixFigureWidths();
   void onCurrentRowChanged(const QModelIndex& current);
 
   QTableView* m_view = nullptr;

@@ -1,6 +1,7 @@
 #include "app/gui/session_docks.h"
 
 #include "app/gui/peers_dock.h"
+#include "app/gui/repaint_batch.h"
 #include "app/gui/session_controller.h"
 #include "app/gui/statistics_dock.h"
 #include "model/peer_table_model.h"
@@ -20,6 +21,9 @@ SessionDocks::SessionDocks(QMainWindow* window) : QObject(window) {
   window->addDockWidget(Qt::RightDockWidgetArea, m_peersDock);
   window->addDockWidget(Qt::RightDockWidgetArea, m_statisticsDock);
   connect(m_peersDock, &PeersDock::currentPeerChanged, this, &SessionDocks::showStatisticsOf);
+  m_repaint = new RepaintBatch(this);
+  m_repaint->add(m_peersDock);
+  m_repaint->add(m_statisticsDock);
 }
 
 SessionDocks::~SessionDocks() = default;
@@ -38,6 +42,7 @@ void SessionDocks::bind(SessionController* controller) {
   connect(controller, &SessionController::lockChanged, this, &SessionDocks::refreshPeers);
   connect(controller, &SessionController::meshChanged, this, &SessionDocks::refreshPeers);
   connect(controller, &SessionController::statsChanged, this, [this] {
+    m_repaint->hold();  // the charts settle over a few passes: one repaint of both docks after them
     appendStatistics();
     refreshPeers();
   });

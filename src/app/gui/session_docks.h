@@ -1,7 +1,8 @@
 #pragma once
 // The Peers and Statistics docks of a session window, and what feeds their models: on every peersChanged /
 // lockChanged / statsChanged of the bound SessionController it rebuilds the PeerTableModel rows and appends one
-// sample per reporting peer to that peer's StatisticsModel (the last 60 s). Wiring only: the figures come from the
+// sample per reporting peer to that peer's StatisticsModel (the last 60 s). The once-a-second refresh repaints both
+// docks in one pass (RepaintBatch). Wiring only: the figures come from the
 // controller (a host sees every client's reports; a client its own), the views from the docks.
 
 #include <QElapsedTimer>
@@ -21,6 +22,7 @@ class StatisticsModel;
 namespace sc::app {
 
 class PeersDock;
+class RepaintBatch;
 class SessionController;
 class StatisticsDock;
 
@@ -41,6 +43,8 @@ class SessionDocks final : public QObject {
   [[nodiscard]] model::PeerTableModel* peerModel() const { return m_peerModel; }
   /// The statistics of one peer (nullptr before its first figures).
   [[nodiscard]] model::StatisticsModel* statisticsOf(quint32 peer) const;
+  /// Both docks' once-a-second repaint (RepaintBatch): held while the figures settle, then one pass.
+  [[nodiscard]] RepaintBatch* repaintBatch() const { return m_repaint; }
 
  private:
   void refreshPeers();
@@ -51,6 +55,7 @@ class SessionDocks final : public QObject {
   PeersDock* m_peersDock = nullptr;
   StatisticsDock* m_statisticsDock = nullptr;
   model::PeerTableModel* m_peerModel = nullptr;
+  RepaintBatch* m_repaint = nullptr;                        ///< child of this
   std::map<quint32, model::StatisticsModel*> m_statistics;  ///< children of this
   quint32 m_shownPeer = 0;
   QElapsedTimer m_clock;  ///< sample times: seconds since bind()

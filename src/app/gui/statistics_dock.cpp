@@ -64,20 +64,23 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
   m_sourceLabel->setFont(bold);
   layout->addWidget(m_sourceLabel);
 
-  // Latest figures: three rows of (name, value) pairs in two columns.
+  // Latest figures: one (name, value) pair per row, so that they fit a narrow dock (issue 16: two pairs a row were
+  // clipped at the default window size).
   auto* figures = new QGridLayout;
   figures->setHorizontalSpacing(12);
   m_valueLabels.assign(StatisticsModel::ColumnCount, nullptr);
   for (int column = StatisticsModel::HdPct; column < StatisticsModel::ColumnCount; ++column) {
     const int index = column - StatisticsModel::HdPct;
     auto* name = new QLabel(StatisticsModel::columnName(column) + QLatin1Char(':'), content);
+    name->setToolTip(StatisticsModel::columnToolTip(column));
     auto* value = new QLabel(unknownFigure(), content);
+    value->setToolTip(StatisticsModel::columnToolTip(column));
     value->setObjectName(valueLabelName(column));
     value->setAlignment(Qt::AlignRight | Qt::AlignVCenter);
-    value->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("0,000.000 kbit/s")));
-    figures->addWidget(name, index / 2, (index % 2) * 2);
-    figures->addWidget(value, index / 2, (index % 2) * 2 + 1);
+    // Not selectable: a selectable label lays its text out again (and repaints) at every layout pass of the dock.
+    value->setMinimumWidth(value->fontMetrics().horizontalAdvance(QStringLiteral("00,000.0 kbit/s")));
+    figures->addWidget(name, index, 0);
+    figures->addWidget(value, index, 1);
     m_valueLabels[static_cast<std::size_t>(column)] = value;
   }
   layout->addLayout(figures);
@@ -87,9 +90,9 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
            QLatin1Char(')');
   };
   addChart(chartTitle(StatisticsModel::HdPct), {StatisticsModel::HdPct});
-  addChart(chartTitle(StatisticsModel::LossPct), {StatisticsModel::LossPct});
+  addChart(tr("Loss in the last 10 s (%)"), {StatisticsModel::LossPct});
   addChart(tr("Bandwidth (kbit/s)"), {StatisticsModel::KbpsIn, StatisticsModel::KbpsOut});
-  addChart(chartTitle(StatisticsModel::LatencyMs), {StatisticsModel::LatencyMs});
+  addChart(tr("Latency, 99th percentile of 10 s (ms)"), {StatisticsModel::LatencyMs});
   for (const Chart& chart : m_charts) {
     layout->addWidget(chart.view);
   }

@@ -22,7 +22,8 @@ namespace sc::app {
 /// A QDockWidget (objectName "statisticsDock", title "Statistics") that observes a StatisticsModel:
 /// - a source label (objectName "statisticsSourceLabel"): the model's title(), "No statistics" without a model;
 /// - one value label per metric with the latest figure and its unit, e.g. "0.125 %", "42.0 kbit/s", or "–" while
-///   the model is empty; objectNames "hdPctValueLabel", "lossPctValueLabel", "kbpsInValueLabel",
+///   the model is empty, name and value with StatisticsModel::columnToolTip() (the precise figure: window,
+///   percentile, term); objectNames "hdPctValueLabel", "lossPctValueLabel", "kbpsInValueLabel",
 ///   "kbpsOutValueLabel", "fpsValueLabel", "latencyMsValueLabel" (decimals from StatisticsModel::columnDecimals());
 /// - four Qt Charts line charts: distortion %, loss %, bandwidth (in and out, two series) and latency. Series
 ///   point i is model row i (x = t in seconds, y = the metric), kept in step incrementally from rowsInserted /

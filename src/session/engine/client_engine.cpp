@@ -76,7 +76,7 @@ ClientActions ClientEngine::onDatagramsOpened(Micros now) {
 
 ClientActions ClientEngine::onClosed() {
   if (m_handshake.state() == ClientHandshake::State::Refused) return fail(m_handshake.errorText());
-  if (live()) return fail(QStringLiteral("host lost: the connection closed without a Leave"));
+  if (live()) return fail(QStringLiteral("host lost: the connection to the host closed without warning"));
   return fail(QStringLiteral("the host closed the connection"));
 }
 

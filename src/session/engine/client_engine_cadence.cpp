@@ -55,13 +55,15 @@ StatsReport ClientEngine::statsReport(const ReceiverSample& sample) const {
   stats.lost = static_cast<std::uint64_t>(std::max<std::int64_t>(0, r.cumulativeLost));
   stats.late = r.late;
   stats.dropped = sample.dropped + m_framesRefused;
-  stats.lossFraction = figure(r.lossFraction);
+  // The fractions and percentiles cover the last kRecentWindow (10 s, issue 16); `received` and `lost` stay
+  // cumulative, so the loss since the join is still lost / (received + lost).
+  stats.lossFraction = figure(r.recentLossFraction);
   stats.jitterMs = figure(r.jitterMs);
   stats.payloadKbpsIn = figure(r.payloadKbps);
   stats.wireKbpsIn = figure(r.wireKbps);
   stats.framesPerSecond = figure(r.framesPerSecond);
-  stats.latencyP50Ms = figure(r.latencyP50Ms);
-  stats.latencyP99Ms = figure(r.latencyP99Ms);
+  stats.latencyP50Ms = figure(r.recentLatencyP50Ms);
+  stats.latencyP99Ms = figure(r.recentLatencyP99Ms);
   stats.hdMaxPct = figure(m_hdMax);
   stats.hdMeanPct = figure(m_hdMean);
   stats.hdLastPct = figure(m_hdLast);

@@ -69,6 +69,7 @@ void ReceiverStatistics::restart(std::uint16_t sequence) {
   m_expectedPrior = 0;
   m_receivedPrior = 0;
   std::fill(m_history.begin(), m_history.end(), 0);
+  m_recentLoss.restart();
 }
 
 ArrivalKind ReceiverStatistics::classify(std::uint16_t sequence, std::int64_t& extended) {
@@ -126,12 +127,14 @@ ArrivalKind ReceiverStatistics::record(std::uint16_t sequence, Micros sentAt, Mi
   if (kind == ArrivalKind::Late) ++m_late;
   markSeen(extended);
   ++m_received;
+  m_recentLoss.record(arrivedAt, m_cycles + m_maxSeq - m_base + 1, m_received);
 
   const double transit = static_cast<double>((arrivedAt - sentAt).count());
   if (m_haveTransit) m_jitterUs += (std::abs(transit - m_lastTransitUs) - m_jitterUs) / 16.0;
   m_lastTransitUs = transit;
   m_haveTransit = true;
   recordLatency(arrivedAt - sentAt);
+  m_recentLatency.add(arrivedAt, arrivedAt - sentAt);
   return kind;
 }
 
@@ -141,6 +144,7 @@ void ReceiverStatistics::clearLatency() {
   m_latency.clear();
   m_latencyNext = 0;
   m_latencyMax = Micros{0};
+  m_recentLatency.clear();
 }
 
 void ReceiverStatistics::recordLatency(Micros latency) {
@@ -189,6 +193,10 @@ ReceiverReport ReceiverStatistics::peek(Micros now) const {
   r.latencyP50Ms = latencyPercentile(0.50);
   r.latencyP99Ms = latencyPercentile(0.99);
   r.latencyMaxMs = toMs(m_latencyMax);
+  r.recentLossFraction = m_recentLoss.fraction(now, r.expected, r.received);
+  r.recentLatencyP50Ms = m_recentLatency.percentileMs(now, 0.50);
+  r.recentLatencyP99Ms = m_recentLatency.percentileMs(now, 0.99);
+  r.recentLatencySamples = m_recentLatency.count(now);
   return r;
 }
 

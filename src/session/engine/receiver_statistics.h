@@ -7,6 +7,8 @@
 // and call report() about once a second for the receiver report. Time is in microseconds; Millis converts to it.
 // Not thread-safe.
 
+#include "session/engine/recent_window.h"
+
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -14,8 +16,6 @@
 #include <vector>
 
 namespace sc::session {
-
-using Micros = std::chrono::microseconds;  ///< injected monotonic clock reading, origin arbitrary
 
 /// Bytes (or events) in a sliding time window (now − window, now]. Also usable on the sending side ("out").
 /// Memory and cost: O(entries in the window) per query; add() is amortised O(1).
@@ -64,6 +64,11 @@ struct ReceiverReport {
   double latencyP50Ms = 0.0;  ///< one-way latency (arrival − send time), over the last latencyCapacity samples
   double latencyP99Ms = 0.0;
   double latencyMaxMs = 0.0;  ///< maximum over the whole run
+  // The same figures over the last kRecentWindow (10 s) before the report's `now` (issue 16): what the docks show.
+  double recentLossFraction = 0.0;  ///< lost/expected among the datagrams counted in the window, in [0, 1]
+  double recentLatencyP50Ms = 0.0;  ///< percentiles of the samples that arrived in the window; 0 when none did
+  double recentLatencyP99Ms = 0.0;
+  std::size_t recentLatencySamples = 0;
 };
 
 /// Contract:
@@ -76,7 +81,9 @@ struct ReceiverReport {
 ///  - Jitter (RFC 3550 A.8, in floating point): for each distinct datagram in arrival order,
 ///    D = (R_j − R_i) − (S_j − S_i) with S the sender's timestamp and R the arrival time, J += (|D| − J)/16.
 ///  - Latency = arrival − send time, meaningful when both use one clock (loopback); percentiles by nearest rank.
-/// Memory: O(kHistory bits + datagrams and frames in the rate window + latencyCapacity).
+///  - The recent figures (recent*) cover (now − kRecentWindow, now] (RecentSamples, RecentLoss); the others the
+///    whole run (loss since the statistics' last restart, latency over the last latencyCapacity samples).
+/// Memory: O(kHistory bits + datagrams and frames in the rate window + latencyCapacity + recent samples).
 /// Cost: O(1) amortised per record(); report() O(window entries + latencyCapacity).
 class ReceiverStatistics {
  public:
@@ -99,7 +106,8 @@ class ReceiverStatistics {
   ReceiverReport report(Micros now);
   /// The same figures without starting a new interval (interval fields: since the last report()).
   ReceiverReport peek(Micros now) const;
-  /// Forgets the latency samples (percentiles and maximum start over), e.g. to measure one phase of a run.
+  /// Forgets the latency samples (percentiles, recent ones included, and maximum start over), e.g. to measure one
+  /// phase of a run.
   void clearLatency();
 
  private:
@@ -135,6 +143,9 @@ class ReceiverStatistics {
   std::size_t m_latencyNext = 0;
   std::size_t m_latencyCapacity;
   Micros m_latencyMax{0};
+
+  RecentSamples m_recentLatency;
+  RecentLoss m_recentLoss;
 };
 
 }  // namespace sc::session

@@ -162,7 +162,7 @@ struct StatsReport {
   std::uint64_t lost = 0;
   std::uint64_t late = 0;
   std::uint64_t dropped = 0;  ///< failed authentication or parsing
-  double lossFraction = 0.0;  ///< all doubles finite and ≥ 0
+  double lossFraction = 0.0;  ///< all doubles finite and ≥ 0; loss and latency over the last 10 s (issue 16)
   double jitterMs = 0.0;
   double payloadKbpsIn = 0.0;
   double wireKbpsIn = 0.0;

@@ -173,9 +173,9 @@
 //          +4 4c  vertex ids, u32, < vertexCount      |   16  8  lost             cumulative (u64)
 //    …  4  anchors  a, then a × u32 vertex ids        |   24  8  late             (u64)
 //    Σ ids ≤ kMaxConstraintVertices; drags index the  |   32  8  dropped          failed auth/parse (u64)
-//    groups in this order                             |   40 80  10 × f64: lossFraction, jitterMs, kbpsIn
+//    groups in this order                             |   40 80  10 × f64: lossFraction (last 10 s), jitterMs, kbpsIn
 //                                                     |          (payload), wireKbpsIn, framesPerSecond,
-//                                                     |          latencyP50Ms, latencyP99Ms, hdMaxPct,
+//                                                     |          latencyP50Ms, latencyP99Ms (last 10 s), hdMaxPct,
 //                                                     |          hdMeanPct, hdLastPct (finite, ≥ 0)
 //
 // 0x51 LevelList (host → client: after the Welcome, then again whenever it changes)

@@ -33,6 +33,7 @@ struct PresenceMarker {
   std::optional<QVector3D> pointer;  ///< on the surface
   bool dragging = false;
   std::optional<QVector3D> handle;  ///< the centroid of the user's painted handle
+  friend bool operator==(const PresenceMarker&, const PresenceMarker&) = default;
 };
 
 using Segment = std::pair<QVector3D, QVector3D>;

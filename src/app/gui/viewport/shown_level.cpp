@@ -41,6 +41,16 @@ bool ShownLevel::show(const Eigen::MatrixXf& Z) {
   return true;
 }
 
+bool ShownLevel::shows(const Eigen::MatrixXf& Z) const {
+  if (!m_level || !m_showing) {
+    return false;
+  }
+  if (Z.size() == 0) {
+    return m_Z.isZero(0.0f);
+  }
+  return Z.rows() == m_Z.rows() && Z.cols() == m_Z.cols() && Z == m_Z;
+}
+
 std::pair<QVector3D, QVector3D> ShownLevel::bounds() const {
   const Eigen::Vector3f cauchySchwarz = m_maxRowNorm * m_Z.colwise().norm().transpose();
   const Eigen::Vector3f hoelder = (m_maxAbsColumn * m_Z.cwiseAbs()).transpose();

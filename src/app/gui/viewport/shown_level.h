@@ -32,6 +32,8 @@ class ShownLevel {
   /// Shows the frame X̂' + K·Z. @param[in] Z m by 3 (m = basisSize()); an empty Z stands for zero (the rest shape).
   /// Returns false (and changes nothing) for any other shape.
   bool show(const Eigen::MatrixXf& Z);
+  /// Whether show(Z) would change nothing: the picture already is X̂' + K·Z (an empty Z: zero). Cost: O(m).
+  [[nodiscard]] bool shows(const Eigen::MatrixXf& Z) const;
   /// The current frame's Z, m by 3.
   [[nodiscard]] const Eigen::MatrixXf& Z() const { return m_Z; }
   /// Whether the picture is X̂' + K·Z (false before the first show() and after explicit positions: stopShowing()).
