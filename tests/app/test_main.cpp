@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QSettings>
 #include <QStandardPaths>
 #include <QSurfaceFormat>
+#include <QTemporaryDir>
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
@@ -23,6 +25,11 @@ int main(int argc, char** argv) {
   }
   // Settings (recent sessions, known hosts) and the host's TLS identity go to ~/.qttest, not the user's folders.
   QStandardPaths::setTestModeEnabled(true);
+  // Each test process its own settings: ctest runs tests in parallel processes, and a test's Open Recent list or
+  // window layout must not be another one's (one of them clearing "files" while the other read it failed CI once).
+  const QTemporaryDir settingsDir;
+  QSettings::setPath(QSettings::NativeFormat, QSettings::UserScope, settingsDir.path());
+  QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, settingsDir.path());
   // Frames at full resolution unless a test turns adaptive resolution on (pixel comparisons stay deterministic).
   if (qEnvironmentVariableIsEmpty("SHAPECAST_ADAPTIVE_RESOLUTION")) {
     qputenv("SHAPECAST_ADAPTIVE_RESOLUTION", "0");

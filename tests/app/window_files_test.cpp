@@ -39,7 +39,7 @@ class WindowFilesTest : public sc::testing::TorusSessionTest {
   void SetUp() override {
     sc::testing::TorusSessionTest::SetUp();
     if (IsSkipped()) return;
-    QSettings().remove(QStringLiteral("files"));  // test-mode settings (~/.qttest), shared by the tests
+    QSettings().remove(QStringLiteral("files"));  // this test process's settings (test_main.cpp)
     m_sphere = sc::testing::icosphere(1);
     m_spherePath = m_dir.filePath(QStringLiteral("sphere.off"));
     ASSERT_TRUE(sc::testing::writeOff(m_spherePath, m_sphere.V, m_sphere.F));
