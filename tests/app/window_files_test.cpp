@@ -5,6 +5,7 @@
 #include "app/gui/main_window.h"
 #include "app/gui/recent_files.h"
 #include "app/gui/recent_sessions.h"
+#include "app_test_support.h"
 #include "session_windows.h"
 #include "test_meshes.h"
 
