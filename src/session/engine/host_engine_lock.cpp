@@ -142,10 +142,9 @@ bool HostEngine::applyConstraints(PeerId peer, LockEpoch epoch, const spectral::
     return false;
   }
   if (!admitConstraints(peer, epoch, set, now, out)) return false;
-  commitStroke(now, out, peer);  // its previous constraints' stroke ends here; the new set starts from this shape
-  SharedConstraints next = m_shared;
+  commitStroke(now, out, peer);       // its previous constraints' stroke ends here; the new set starts from this shape
+  SharedConstraints next = m_shared;  // commitStroke() folded every stroke and moved the base to the current shape
   next.set(peer, set);
-  foldStrokes(now, out);
   if (!m_deformer->setConstraints(next.combined(), *m_Z)) {
     ++m_counters.constraintsRejected;
     return false;
