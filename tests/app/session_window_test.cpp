@@ -210,17 +210,23 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   SessionDocks* docks = hostWindow.docks();
   ASSERT_NE(docks, nullptr);
   EXPECT_EQ(docks->peerModel()->rowCount(), 2);
+  // The host's sent rate covers the last second and a still shape sends nothing, so the client keeps dragging
+  // until a sample shows both directions.
   const quint32 clientId = joined->selfId();
+  ASSERT_TRUE(joined->beginDrag());
+  int step = 0;
   ASSERT_TRUE(QTest::qWaitFor(
-      [docks, clientId] {
+      [docks, clientId, joined, &step] {
+        joined->dragTo(Eigen::Vector3d(0.0, 0.3 + 0.01 * (++step % 10), 0.0), Eigen::Matrix3d::Identity());
         const sc::model::StatisticsModel* statistics = docks->statisticsOf(clientId);
-        return statistics != nullptr && statistics->latest() && statistics->latest()->kbpsIn > 0.0;
+        return statistics != nullptr && statistics->latest() && statistics->latest()->kbpsIn > 0.0 &&
+               statistics->latest()->kbpsOut > 0.0;
       },
       10000));
+  joined->endDrag();
   const int clientRow = docks->peerModel()->rowOfPeer(clientId);
   ASSERT_GE(clientRow, 0);
   EXPECT_TRUE(docks->peerModel()->peerAt(clientRow).hasStats);
-  EXPECT_GT(docks->statisticsOf(clientId)->latest()->kbpsOut, 0.0);
 
   // Screenshots are not blank.
   QTest::qWait(200);
