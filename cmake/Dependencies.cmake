@@ -25,6 +25,14 @@ add_compile_definitions(EIGEN_USE_BLAS)
 # (GCC bug 105593, fixed in GCC 13) wherever a norm is vectorised. The exact square root costs nothing measurable.
 add_compile_definitions(EIGEN_FAST_MATH=0)
 
+# Mesh codecs and simplification (meshoptimizer 0.18), general compression (zstd) and the NATS C client (cnats).
+find_package(meshoptimizer REQUIRED CONFIG)
+find_package(zstd REQUIRED CONFIG)
+# Debian 12's cnats CMake package names a static library the package does not ship, so cnats comes through
+# pkg-config: the target PkgConfig::NATS.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(NATS REQUIRED IMPORTED_TARGET libnats)
+
 if(SHAPECAST_BUILD_TESTS)
   find_package(GTest REQUIRED)
   include(GoogleTest)
