@@ -11,6 +11,8 @@
 
 #include <QHeaderView>
 #include <QImage>
+#include <QMenu>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QSortFilterProxyModel>
 #include <QTableView>
@@ -108,4 +110,38 @@ TEST(PeersDock, RendersNotBlank) {
   const QImage image = dock.grab().toImage();
   ASSERT_FALSE(image.isNull());
   EXPECT_GT(sc::testing::pixelStdDev(image), std::sqrt(50.0));  // grey-level variance above 50
+}
+
+TEST(PeersDock, SideDockColumnsByDefaultAndTheHeaderMenuShowsTheRestAndRemembers) {
+  QSettings().remove(QStringLiteral("peers/hiddenColumns"));
+  PeerTableModel model;
+  {
+    PeersDock dock(&model);
+    for (const int column : {PeerTableModel::Name, PeerTableModel::Role, PeerTableModel::Lock, PeerTableModel::LossPct})
+      EXPECT_TRUE(dock.columnShown(column)) << column;
+    for (const int column :
+         {PeerTableModel::Resolution, PeerTableModel::LatencyMs, PeerTableModel::KbpsIn, PeerTableModel::HdMaxPct})
+      EXPECT_FALSE(dock.columnShown(column)) << column;
+    EXPECT_EQ(dock.view()->horizontalHeader()->contextMenuPolicy(), Qt::CustomContextMenu);
+
+    // The header's menu lists every column, checked as shown; Name cannot be hidden.
+    std::unique_ptr<QMenu> menu(dock.makeColumnMenu(nullptr));
+    const QList<QAction*> actions = menu->actions();
+    ASSERT_EQ(actions.size(), PeerTableModel::ColumnCount);
+    EXPECT_EQ(actions[PeerTableModel::LatencyMs]->text(), QStringLiteral("Delay ms"));
+    EXPECT_FALSE(actions[PeerTableModel::Name]->isEnabled());
+    EXPECT_FALSE(actions[PeerTableModel::LatencyMs]->isChecked());
+    actions[PeerTableModel::LatencyMs]->trigger();  // show Delay ms
+    actions[PeerTableModel::Lock]->trigger();       // hide Lock
+    EXPECT_TRUE(dock.columnShown(PeerTableModel::LatencyMs));
+    EXPECT_FALSE(dock.columnShown(PeerTableModel::Lock));
+    dock.setColumnShown(PeerTableModel::Name, false);
+    EXPECT_TRUE(dock.columnShown(PeerTableModel::Name));
+  }
+  // The next dock (the next session, the next start) shows what the user chose.
+  PeersDock next(&model);
+  EXPECT_TRUE(next.columnShown(PeerTableModel::LatencyMs));
+  EXPECT_FALSE(next.columnShown(PeerTableModel::Lock));
+  EXPECT_FALSE(next.columnShown(PeerTableModel::KbpsIn));
+  QSettings().remove(QStringLiteral("peers/hiddenColumns"));
 }

@@ -5,6 +5,8 @@
 
 #include <QHeaderView>
 #include <QItemSelectionModel>
+#include <QMenu>
+#include <QSettings>
 #include <QSortFilterProxyModel>
 #include <QTableView>
 
@@ -17,6 +19,14 @@ using sc::model::PeerTableModel;
 namespace {
 
 constexpr int kCellMargin = 8;  ///< px each side of a figure: the style's cell padding and some air
+const QString kHiddenColumnsKey = QStringLiteral("peers/hiddenColumns");
+
+/// The columns a side dock of the default window cannot hold beside Name, Role, Lock and Loss %.
+QStringList defaultHiddenColumns() {
+  return {PeerTableModel::columnTitle(PeerTableModel::Resolution),
+          PeerTableModel::columnTitle(PeerTableModel::LatencyMs), PeerTableModel::columnTitle(PeerTableModel::KbpsIn),
+          PeerTableModel::columnTitle(PeerTableModel::HdMaxPct)};
+}
 
 /// The sorting proxy, plus each peer's colour (peerColor()) as the Name column's decoration: a swatch per row.
 class ColouredPeerProxy final : public QSortFilterProxyModel {
@@ -49,10 +59,19 @@ PeersDock::PeersDock(PeerTableModel* model, QWidget* parent) : QDockWidget(tr("P
   m_view->setAlternatingRowColors(true);
   m_view->setWordWrap(false);
   m_view->verticalHeader()->hide();
+  // Name takes what the other columns leave (its tooltip has the whole name): a longer Lock or Role text narrows
+  // the names instead of pushing the table into sideways scrolling.
   m_view->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  m_view->horizontalHeader()->setStretchLastSection(true);
+  m_view->horizontalHeader()->setStretchLastSection(false);
   m_view->setSortingEnabled(true);
   m_view->sortByColumn(PeerTableModel::Role, Qt::AscendingOrder);
+  m_view->horizontalHeader()->setContextMenuPolicy(Qt::CustomContextMenu);
+  m_view->horizontalHeader()->setToolTip(tr("Click to sort; right-click to choose the columns"));
+  connect(m_view->horizontalHeader(), &QWidget::customContextMenuRequested, this, [this](const QPoint& at) {
+    QMenu* menu = makeColumnMenu(this);
+    menu->setAttribute(Qt::WA_DeleteOnClose);
+    menu->popup(m_view->horizontalHeader()->mapToGlobal(at));
+  });
   setWidget(m_view);
 
   connect(m_view->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
@@ -71,6 +90,39 @@ void PeersDock::setModel(PeerTableModel* model) {
   m_model = model;
   m_proxy->setSourceModel(model);  // QSortFilterProxyModel drops a destroyed source itself.
   fixFigureWidths();
+  if (m_view->horizontalHeader()->count() > PeerTableModel::Name)
+    m_view->horizontalHeader()->setSectionResizeMode(PeerTableModel::Name, QHeaderView::Stretch);
+  restoreColumns();
+}
+
+bool PeersDock::columnShown(int column) const { return !m_view->isColumnHidden(column); }
+
+void PeersDock::setColumnShown(int column, bool shown) {
+  if (column <= PeerTableModel::Name || column >= PeerTableModel::ColumnCount) return;
+  m_view->setColumnHidden(column, !shown);
+  QStringList hidden;
+  for (int c = 0; c < PeerTableModel::ColumnCount; ++c)
+    if (m_view->isColumnHidden(c)) hidden << PeerTableModel::columnTitle(c);
+  QSettings().setValue(kHiddenColumnsKey, hidden);
+}
+
+void PeersDock::restoreColumns() {
+  const QStringList hidden = QSettings().value(kHiddenColumnsKey, defaultHiddenColumns()).toStringList();
+  for (int column = PeerTableModel::Name + 1; column < PeerTableModel::ColumnCount; ++column)
+    m_view->setColumnHidden(column, hidden.contains(PeerTableModel::columnTitle(column)));
+}
+
+QMenu* PeersDock::makeColumnMenu(QWidget* parent) {
+  auto* menu = new QMenu(tr("Columns"), parent);
+  for (int column = PeerTableModel::Name; column < PeerTableModel::ColumnCount; ++column) {
+    QAction* action = menu->addAction(PeerTableModel::columnTitle(column));
+    action->setCheckable(true);
+    action->setChecked(columnShown(column));
+    action->setEnabled(column != PeerTableModel::Name);
+    action->setToolTip(PeerTableModel::columnToolTip(column));
+    connect(action, &QAction::toggled, this, [this, column](bool shown) { setColumnShown(column, shown); });
+  }
+  return menu;
 }
 
 void PeersDock::fixFigureWidths() {

@@ -6,6 +6,7 @@
 
 #include <optional>
 
+class QMenu;
 class QSortFilterProxyModel;
 class QTableView;
 
@@ -24,6 +25,12 @@ namespace sc::app {
 /// protocol logic; the app's controller feeds the model and listens to currentPeerChanged(). Each row's Name shows
 /// the peer's colour (peerColor()) as a swatch (Qt::DecorationRole, added by the proxy). Text columns are sized to
 /// their contents, figure columns to fixed widths (issue 16: short cells, details in tooltips).
+///
+/// Columns: the side dock holds Name, Role, Lock and Loss % by default, so the table never scrolls sideways in the
+/// default window; "Shows", "Delay ms", "kbit/s" and "Error %" are a right-click on the header away (the header's
+/// context menu lists every column with a check box; Name cannot be hidden). The choice is kept in QSettings
+/// ("peers/hiddenColumns", column titles) and applies to every PeersDock opened afterwards. The selected peer's
+/// figures are all in the Statistics dock whatever the table shows.
 class PeersDock : public QDockWidget {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(PeersDock)
@@ -41,6 +48,13 @@ class PeersDock : public QDockWidget {
   [[nodiscard]] QTableView* view() const { return m_view; }
   [[nodiscard]] QSortFilterProxyModel* proxy() const { return m_proxy; }
 
+  /// Whether a column (sc::model::PeerTableModel::Column) is shown; setColumnShown() shows or hides it and stores
+  /// the choice (Name is always shown).
+  [[nodiscard]] bool columnShown(int column) const;
+  void setColumnShown(int column, bool shown);
+  /// The header's context menu: one checkable action per column, titled as the column (caller owns it).
+  [[nodiscard]] QMenu* makeColumnMenu(QWidget* parent);
+
   /// The peerId of the selected row, or nullopt if none is selected.
   [[nodiscard]] std::optional<quint32> selectedPeerId() const;
   /// Selects the row of peerId (and scrolls to it); returns false, leaving the selection, if it is not listed.
@@ -57,6 +71,8 @@ class PeersDock : public QDockWidget {
   /// size hint (and re-lay out the window). Needs the model's columns.
   void fixFigureWidths();
   void onCurrentRowChanged(const QModelIndex& current);
+  /// Hides the columns stored in QSettings (or the default ones) and shows the others.
+  void restoreColumns();
 
   QTableView* m_view = nullptr;
   QSortFilterProxyModel* m_proxy = nullptr;
