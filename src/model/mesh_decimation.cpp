@@ -212,7 +212,9 @@ DecimatedMesh decimateToTriangles(const Eigen::MatrixXd& V, const Eigen::MatrixX
   const int vertexEstimate = static_cast<int>(
       std::lround(targetTriangles * referenced / std::max<double>(1.0, static_cast<double>(F.rows()))));
   const Split s = split(V, F, std::max(3, vertexEstimate));
-  const int mainTarget = std::max(1, targetTriangles - s.debrisTriangles - s.refusedCount);
+  // About half of the carried (non-manifold) faces survive the collapses (measured on the 100k dragon: 1908 set
+  // aside, about 1000 back), so they take half their count off the target.
+  const int mainTarget = std::max(1, targetTriangles - s.debrisTriangles - s.refusedCount / 2);
   DecimatedMesh out =
       assemble(V, F, s, detail::simplifyToTriangles(floatPositions(V), s.main, static_cast<std::size_t>(mainTarget)));
   out.refusedFaces = s.refusedCount;
