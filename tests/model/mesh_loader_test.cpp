@@ -233,6 +233,15 @@ TEST_F(MeshLoaderTest, OffWithCommentsLoads) {
   EXPECT_EQ(mesh.V.row(1), Eigen::RowVector3d(1, 0, 0));
 }
 
+TEST_F(MeshLoaderTest, OffFaceDeclaringMoreCornersThanItHoldsIsReadFailed) {
+  // The corner count is not trusted: corners are read from the line one by one, nothing is reserved for 4e9 of them.
+  const char* const corners = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+  const MeshError error =
+      expectError(write("corners.off", std::string(corners) + "4000000000 0 1 2\n"), MeshErrorKind::ReadFailed);
+  EXPECT_NE(error.message.find("holds fewer indices"), std::string::npos) << error.message;
+  expectError(write("word.off", std::string(corners) + "3 0 one 2\n"), MeshErrorKind::ReadFailed);
+}
+
 TEST_F(MeshLoaderTest, OffCoordinatesKeepDoublePrecisionThroughCleaningAndTheOperators) {
   // A 3 × 3 grid 2e-9 apart at x ≈ 1, z = 1 + 1e-9: float32 would round every x to 1 and z to 1 (the columns would
   // merge and every face would collapse). Written with 17 significant digits, read back bit for bit.
