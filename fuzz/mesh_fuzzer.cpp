@@ -1,5 +1,6 @@
-// Fuzz target "mesh": loadMesh(), the OFF/OBJ/PLY/STL readers (OpenMesh behind reader_guards.h and SoupImporter)
-// and the cleaning that follows. loadMesh() takes a path, so the input is written to a scratch file first.
+// Fuzz target "mesh": loadMesh(), the OFF/OBJ/PLY/STL readers (our ASCII OFF reader, off_reader.h; OpenMesh behind
+// reader_guards.h and SoupImporter for the rest) and the cleaning that follows. loadMesh() takes a path, so the input
+// is written to a scratch file first.
 //
 // Input: one mode byte, then the file. Mode (low 2 bits) picks the extension: 0 .off, 1 .obj, 2 .ply, 3 .stl.
 // Invariants checked: a loaded mesh has finite positions, at least one face, and every corner indexes V.

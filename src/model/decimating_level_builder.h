@@ -20,8 +20,8 @@ namespace sc::model {
 /// decimateMesh() of the full mesh (V, F) to about `target` vertices, with the barycentric map and K = P·H of
 /// spectral::resolutionLevel(); an empty level when the decimation leaves fewer than 3 vertices or no face (the
 /// host counts it as a failed build).
-/// Cost: one decimation plus the barycentric map, O(#F log #F + n'·m). Not thread-safe with other OpenMesh users
-/// (the host runs one build at a time on its level thread).
+/// Cost: one decimation plus the barycentric map, O(#F log #F + n'·m). Thread-safe (meshoptimizer keeps no global
+/// state); the host runs one build at a time on its level thread.
 [[nodiscard]] spectral::ResolutionLevel decimatedLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                                        const Eigen::MatrixXd& H, std::uint32_t target);
 

@@ -1,5 +1,6 @@
 #include "model/mesh_reader.h"
 
+#include "model/off_reader.h"
 #include "model/reader_guards.h"
 #include "model/soup_importer.h"
 
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -75,7 +77,7 @@ std::string planRead(const std::filesystem::path& path, MeshFormat format, std::
 std::string runReader(const ReadPlan& plan, const std::string& fileName, std::istream& in, SoupImporter& importer) {
   OpenMesh::IO::Options options;  // no normals, colours or texture coordinates requested
   switch (plan.format) {
-    case MeshFormat::Off:
+    case MeshFormat::Off:  // binary OFF only (readTriangleSoup() reads ASCII OFF itself)
       // can_u_read() parses the header line and records the variant (COFF, NOFF, BINARY …) for read().
       if (!OpenMesh::IO::OFFReader().can_u_read(fileName)) {
         return "not an OFF file this reader supports: the first line must be [ST][C][N]OFF [BINARY]";
@@ -149,6 +151,16 @@ std::variant<TriangleSoup, MeshError> readTriangleSoup(const std::filesystem::pa
   if (!in) return fail("the file cannot be opened");
   ReadPlan plan;
   if (const std::string problem = planRead(path, format, in, fileBytes, plan); !problem.empty()) return fail(problem);
+  if (format == MeshFormat::Off) {  // ASCII OFF by our own reader (doubles, comments); binary OFF by OpenMesh's
+    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (!isBinaryOff(bytes)) {
+      auto read = readAsciiOff(bytes);
+      if (auto* problem = std::get_if<std::string>(&read)) return fail(*problem);
+      return std::move(std::get<TriangleSoup>(read));
+    }
+    in.clear();
+    in.seekg(0);
+  }
 
   static std::mutex openMeshReaders;  // OpenMesh's readers are singletons that keep per-read state
   const std::lock_guard lock(openMeshReaders);

@@ -129,5 +129,20 @@ TEST(MeshDecimation, Dragon100kDecimatesToFivePercentAndMaps) {
   // unit test fails on a loaded machine (10.7 s seen in a CI-like run while other builds were going).
 }
 
+TEST(MeshDecimation, SmallComponentsAreKeptAsTheyAre) {
+  // A sphere with a tetrahedron of scan debris beside it: a simplifier collapses the small component away first
+  // (its error is small); the level keeps it whole, and its vertices count towards the target.
+  auto mesh = testing::icosphere(4);
+  const auto n = static_cast<int>(mesh.V.rows());
+  mesh.V.conservativeResize(n + 4, 3);
+  mesh.V.bottomRows(4) << 3, 0, 0, 3.1, 0, 0, 3, 0.1, 0, 3, 0, 0.1;
+  mesh.F.conservativeResize(mesh.F.rows() + 4, 3);
+  mesh.F.bottomRows(4) << n, n + 2, n + 1, n, n + 3, n + 2, n, n + 1, n + 3, n + 1, n + 2, n + 3;
+  const DecimatedMesh low = decimateMesh(mesh.V, mesh.F, 300);
+  for (int v = n; v < n + 4; ++v) EXPECT_TRUE((low.sourceVertices.array() == v).any()) << "debris vertex " << v;
+  EXPECT_EQ(low.refusedFaces, 0);
+  expectGoodLevel(mesh, low, 0.02);
+}
+
 }  // namespace
 }  // namespace sc::model

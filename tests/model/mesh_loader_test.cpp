@@ -2,6 +2,7 @@
 
 #include "model/mesh_loader.h"
 #include "mesh_files.h"
+#include "spectral/laplace_operators.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -213,11 +214,64 @@ TEST_F(MeshLoaderTest, MalformedHeadersAreReadFailed) {
   }
   expectError(write("orphan.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n"), MeshErrorKind::ReadFailed);
   expectError(write("garbage.stl", "neither solid nor binary"), MeshErrorKind::ReadFailed);
-  expectError(write("comment.off", "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
-              MeshErrorKind::ReadFailed);
   expectError(write("sameline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), MeshErrorKind::ReadFailed);
-  // OpenMesh's OFF reader takes "nan" as unreadable text, not as a NaN coordinate.
+  // A NaN or infinite coordinate is refused, not read.
+  expectError(write("inf.off", "OFF\n3 1 0\ninf 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), MeshErrorKind::ReadFailed);
   expectError(write("nan.off", "OFF\n3 1 0\nnan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"), MeshErrorKind::ReadFailed);
+}
+
+TEST_F(MeshLoaderTest, OffWithCommentsLoads) {
+  // Comments on their own lines, after values, and blank lines; colours after the coordinates are ignored.
+  const MeshLoadResult result = loadMesh(write("comment.off",
+                                               "OFF\n# made by hand\n\n3 1 0  # counts\n0 0 0 # origin\n"
+                                               "1 0 0 255 0 0\n  0 1 0\n# the face\n3 0 1 2\n"));
+  ASSERT_TRUE(std::holds_alternative<LoadedMesh>(result)) << describe(result);
+  const LoadedMesh& mesh = std::get<LoadedMesh>(result);
+  EXPECT_EQ(mesh.V.rows(), 3);
+  ASSERT_EQ(mesh.F.rows(), 1);
+  EXPECT_EQ(mesh.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(mesh.V.row(1), Eigen::RowVector3d(1, 0, 0));
+}
+
+TEST_F(MeshLoaderTest, OffFaceDeclaringMoreCornersThanItHoldsIsReadFailed) {
+  // The corner count is not trusted: corners are read from the line one by one, nothing is reserved for 4e9 of them.
+  const char* const corners = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n";
+  const MeshError error =
+      expectError(write("corners.off", std::string(corners) + "4000000000 0 1 2\n"), MeshErrorKind::ReadFailed);
+  EXPECT_NE(error.message.find("holds fewer indices"), std::string::npos) << error.message;
+  expectError(write("word.off", std::string(corners) + "3 0 one 2\n"), MeshErrorKind::ReadFailed);
+}
+
+TEST_F(MeshLoaderTest, OffCoordinatesKeepDoublePrecisionThroughCleaningAndTheOperators) {
+  // A 3 × 3 grid 2e-9 apart at x ≈ 1, z = 1 + 1e-9: float32 would round every x to 1 and z to 1 (the columns would
+  // merge and every face would collapse). Written with 17 significant digits, read back bit for bit.
+  constexpr double h = 2e-9;
+  std::ostringstream off;
+  off.precision(17);
+  off << "OFF\n9 8 0\n";
+  Eigen::MatrixXd written(9, 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      written.row(3 * j + i) << 1.0 + i * h, j * h, 1.0 + 1e-9;
+      off << written(3 * j + i, 0) << ' ' << written(3 * j + i, 1) << ' ' << written(3 * j + i, 2) << '\n';
+    }
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int a = 3 * j + i;
+      off << "3 " << a << ' ' << a + 1 << ' ' << a + 4 << "\n3 " << a << ' ' << a + 4 << ' ' << a + 3 << '\n';
+    }
+  const MeshLoadResult result = loadMesh(write("fine.off", off.str()));
+  ASSERT_TRUE(std::holds_alternative<LoadedMesh>(result)) << describe(result);
+  const LoadedMesh& mesh = std::get<LoadedMesh>(result);
+  EXPECT_EQ(mesh.cleaning.mergedDuplicateVertices, 0);
+  EXPECT_EQ(mesh.cleaning.droppedZeroAreaFaces, 0);
+  ASSERT_EQ(mesh.F.rows(), 8);
+  EXPECT_EQ(mesh.V, written) << "every coordinate as written";
+  EXPECT_NE(static_cast<double>(static_cast<float>(mesh.V(0, 2))), mesh.V(0, 2)) << "float32 would round it";
+  // The operators the basis is computed from see the true geometry: area (2h)², no mollification needed.
+  const spectral::LaplaceOperators ops = spectral::laplaceOperators(mesh.V, mesh.F);
+  EXPECT_NEAR(ops.totalArea, 4 * h * h, 1e-6 * 4 * h * h);
+  EXPECT_EQ(ops.mollifyEpsilon, 0.0);
 }
 
 /// Writes the icosphere in `format`, cuts the file to `fraction` of its size and expects ReadFailed.

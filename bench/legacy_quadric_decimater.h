@@ -1,6 +1,7 @@
 #pragma once
-// Internal to src/model (includes OpenMesh; never include it from a public header): the halfedge mesh type and the
-// quadric edge-collapse decimater behind mesh_decimation.cpp.
+// The project's own quadric decimater before meshoptimizer replaced it (issue 19), kept only as the "before" of
+// shapecast-bench-decimation: the halfedge mesh type and the quadric edge-collapse decimater behind
+// legacy_decimation.cpp.
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/BaseDecimaterT.hh>
@@ -13,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace sc::model::detail {
+namespace sc::bench::legacy::detail {
 
 struct DoubleTraits : public OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;
@@ -273,4 +274,4 @@ class ModBoundaryQuadric : public OpenMesh::Decimater::ModQuadricT<Mesh> {
   OpenMesh::VPropHandleT<Quadric> m_boundary;
 };
 
-}  // namespace sc::model::detail
+}  // namespace sc::bench::legacy::detail
