@@ -1,5 +1,6 @@
 // shapecast-bench-kernel: per-frame time of the client reconstruction X' = X̂' + K·Z (reconstructInterleaved)
-// on random data of a display level's size; median over many frames, for 1 and 2 threads.
+// on random data of a display level's size; median over many frames, for 1 and 2 threads, with K in float32 (the
+// reference) and quantised to int16 with a scale per column (what a level holds since level format 2), in one run.
 // Usage: shapecast-bench-kernel [vertices = 100000] [m = 100] [frames = 200]
 
 #include "experiments/report/machine_info.h"
@@ -18,8 +19,10 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-/// Median milliseconds per frame; Z changes every frame as a host's stream would.
-double medianFrameMs(const sc::spectral::RowMatrixXf& K, const std::vector<float>& rest, int frames, int threads) {
+/// Median milliseconds per frame; Z changes every frame as a host's stream would. Basis: RowMatrixXf or
+/// QuantizedBasis.
+template <class Basis>
+double medianFrameMs(const Basis& K, const std::vector<float>& rest, int frames, int threads) {
   std::vector<float> out(rest.size());
   std::vector<double> ms;
   float checksum = 0;
@@ -45,15 +48,21 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: shapecast-bench-kernel [vertices] [m] [frames]\n");
     return 2;
   }
-  const sc::spectral::RowMatrixXf K = sc::spectral::RowMatrixXf::Random(n, m);
+  const Eigen::MatrixXd random = Eigen::MatrixXd::Random(n, m);
+  const sc::spectral::RowMatrixXf K = random.cast<float>();
+  const sc::spectral::QuantizedBasis K16 = sc::spectral::quantizeBasis(random);
   const std::vector<float> rest = sc::spectral::interleavedPositions(Eigen::MatrixXd::Random(n, 3));
   std::printf("machine   %s\n", qPrintable(sc::report::machineDescription()));
-  std::printf("kernel    X' = X^' + K Z, n' = %ld, m = %ld, K = %.1f MB float32 row-major, %d frames\n", n, m,
-              4.0 * static_cast<double>(n * m) / 1e6, frames);
-  for (int threads : {1, 2}) {
-    const double ms = medianFrameMs(K, rest, frames, threads);
-    std::printf("threads %d median %.3f ms/frame (%.1f GB/s of K)\n", threads, ms,
-                4.0 * static_cast<double>(n * m) / (ms * 1e6));
-  }
+  std::printf("kernel    X' = X^' + K Z, n' = %ld, m = %ld, K row-major, %d frames\n", n, m, frames);
+  const auto report = [&](const char* what, double bytesPerEntry, auto&& basis) {
+    for (int threads : {1, 2}) {
+      const double ms = medianFrameMs(basis, rest, frames, threads);
+      std::printf("%-7s K %6.1f MB threads %d median %.3f ms/frame (%.1f GB/s of K)\n", what,
+                  bytesPerEntry * static_cast<double>(n * m) / 1e6, threads, ms,
+                  bytesPerEntry * static_cast<double>(n * m) / (ms * 1e6));
+    }
+  };
+  report("float32", 4.0, K);
+  report("int16", 2.0, K16);
   return 0;
 }

@@ -109,7 +109,7 @@ sc::spectral::ResolutionLevel smallLevel() {
     level.P.insert(i, (i + 1) % n) = 0.25;
   }
   level.P.makeCompressed();
-  level.K = sc::spectral::RowMatrixXf::Random(n, 4);
+  level.K = sc::spectral::quantizeBasis(Eigen::MatrixXd::Random(n, 4));
   return level;
 }
 

@@ -27,8 +27,9 @@ bool allDisplayable(const Matrix& values) {
 }  // namespace
 
 PayloadBounds levelPayloadBounds(std::uint64_t vertices, std::uint64_t faces, std::uint64_t rows) {
-  // header 32 + X̂' 24n' + F' 12f' + CSR offsets 4(n'+1) + P 12z + K 4n'm + checksum 8 (resolution_level.h)
-  const std::uint64_t fixed = 44 + 28 * vertices + 12 * faces + 4 * vertices * rows;
+  // header 32 + X̂' 24n' + F' 12f' + CSR offsets 4(n'+1) + P 12z + scales 4m + K 2n'm + checksum 8
+  // (resolution_level.h, level format 2)
+  const std::uint64_t fixed = 44 + 28 * vertices + 12 * faces + 4 * rows + 2 * vertices * rows;
   return PayloadBounds{fixed, fixed + 36 * vertices};
 }
 
@@ -111,7 +112,9 @@ DecodedLevel decodeLevel(LevelJob job) {
                       .arg(decoded.level->F.rows());
       return out;
     }
-    if (!allDisplayable(decoded.level->restV) || !allDisplayable(decoded.level->K)) {
+    // |K(i, j)| ≤ 32768·scale(j) (an int16 entry times its column's scale).
+    const Eigen::RowVectorXd largestK = 32768.0 * decoded.level->K.scale.cast<double>();
+    if (!allDisplayable(decoded.level->restV) || !allDisplayable(largestK)) {
       out.error = QStringLiteral("the host sent a level with a coordinate or K entry beyond %1").arg(kMaxAbsCoordinate);
       return out;
     }
