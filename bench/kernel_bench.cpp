@@ -1,5 +1,6 @@
 // shapecast-bench-kernel: per-frame time of the client reconstruction X' = X̂' + K·Z (reconstructInterleaved)
-// on random data of a display level's size; median over many frames, for 1 and 2 threads.
+// on random data of a display level's size; median over many frames, for 1 and 2 threads, with K in float32 (the
+// reference) and quantised to int16 with a scale per column (what a level holds since level format 2), in one run.
 // Usage: shapecast-bench-kernel [vertices = 100000] [m = 100] [frames = 200]
 
 #include "experiments/report/machine_info.h"
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <vector>
 
 namespace {
@@ -18,21 +20,38 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-/// Median milliseconds per frame; Z changes every frame as a host's stream would.
-double medianFrameMs(const sc::spectral::RowMatrixXf& K, const std::vector<float>& rest, int frames, int threads) {
+/// CPU time of the calling thread in ms (excludes the time the scheduler gives other processes: on a shared
+/// machine the wall time also counts theirs).
+double threadCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+struct FrameMs {
+  double wall = 0.0;
+  double cpu = 0.0;  ///< the calling thread's CPU time (meaningful for 1 thread)
+};
+
+/// Median milliseconds per frame; Z changes every frame as a host's stream would. Basis: RowMatrixXf or
+/// QuantizedBasis.
+template <class Basis>
+FrameMs medianFrameMs(const Basis& K, const std::vector<float>& rest, int frames, int threads) {
   std::vector<float> out(rest.size());
-  std::vector<double> ms;
+  std::vector<double> ms, cpu;
   float checksum = 0;
   for (int frame = -5; frame < frames; ++frame) {  // 5 warm-up frames
     const Eigen::MatrixXf Z = Eigen::MatrixXf::Random(K.cols(), 3);
+    const double cpuStart = threadCpuMs();
     const auto start = std::chrono::steady_clock::now();
     sc::spectral::reconstructInterleaved(K, rest, Z, out, threads);
     const auto stop = std::chrono::steady_clock::now();
+    if (frame >= 0) cpu.push_back(threadCpuMs() - cpuStart);
     checksum += out[static_cast<std::size_t>(frame + 5) % out.size()];
     if (frame >= 0) ms.push_back(std::chrono::duration<double, std::milli>(stop - start).count());
   }
   if (checksum == 12345.0f) std::puts("");  // keeps the output observable
-  return median(ms);
+  return {median(ms), median(cpu)};
 }
 
 }  // namespace
@@ -45,15 +64,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: shapecast-bench-kernel [vertices] [m] [frames]\n");
     return 2;
   }
-  const sc::spectral::RowMatrixXf K = sc::spectral::RowMatrixXf::Random(n, m);
+  const Eigen::MatrixXd random = Eigen::MatrixXd::Random(n, m);
+  const sc::spectral::RowMatrixXf K = random.cast<float>();
+  const sc::spectral::QuantizedBasis K16 = sc::spectral::quantizeBasis(random);
   const std::vector<float> rest = sc::spectral::interleavedPositions(Eigen::MatrixXd::Random(n, 3));
   std::printf("machine   %s\n", qPrintable(sc::report::machineDescription()));
-  std::printf("kernel    X' = X^' + K Z, n' = %ld, m = %ld, K = %.1f MB float32 row-major, %d frames\n", n, m,
-              4.0 * static_cast<double>(n * m) / 1e6, frames);
-  for (int threads : {1, 2}) {
-    const double ms = medianFrameMs(K, rest, frames, threads);
-    std::printf("threads %d median %.3f ms/frame (%.1f GB/s of K)\n", threads, ms,
-                4.0 * static_cast<double>(n * m) / (ms * 1e6));
-  }
+  std::printf("kernel    X' = X^' + K Z, n' = %ld, m = %ld, K row-major, %d frames\n", n, m, frames);
+  const auto report = [&](const char* what, double bytesPerEntry, auto&& basis) {
+    for (int threads : {1, 2}) {
+      const FrameMs ms = medianFrameMs(basis, rest, frames, threads);
+      std::printf(
+          "%-7s K %6.1f MB threads %d median %.3f ms/frame (%.1f GB/s of K), CPU of the calling thread %.3f ms\n", what,
+          bytesPerEntry * static_cast<double>(n * m) / 1e6, threads, ms.wall,
+          bytesPerEntry * static_cast<double>(n * m) / (ms.wall * 1e6), ms.cpu);
+    }
+  };
+  report("float32", 4.0, K);
+  report("int16", 2.0, K16);
   return 0;
 }

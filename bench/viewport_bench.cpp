@@ -181,7 +181,8 @@ void benchMesh(const QString& file, QSize size, int m, int frames, bool profile,
   if (!proxyOnly) {
     runFrames(viewport, frames, [](int) {}).print("static");
   }
-  viewport.setDisplayLevel(sc::spectral::makeDisplayLevel({mesh.V, mesh.F, {}, syntheticBasis(mesh.V, m, 0.004f)}));
+  viewport.setDisplayLevel(sc::spectral::makeDisplayLevel(
+      {mesh.V, mesh.F, {}, sc::spectral::quantizeBasis(syntheticBasis(mesh.V, m, 0.004f).cast<double>())}));
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   Eigen::MatrixXf Z0(m, 3);

@@ -9,6 +9,7 @@
 #include "model/session_file_v1.h"
 #include "session/wire/coefficient_codec.h"
 #include "session/wire/control_messages.h"
+#include "session/wire/level_codec.h"
 #include "session/wire/model_transfer.h"
 #include "session/wire/path_open.h"
 #include "spectral/basis_cache.h"
@@ -109,7 +110,7 @@ sc::spectral::ResolutionLevel smallLevel() {
     level.P.insert(i, (i + 1) % n) = 0.25;
   }
   level.P.makeCompressed();
-  level.K = sc::spectral::RowMatrixXf::Random(n, 4);
+  level.K = sc::spectral::quantizeBasis(Eigen::MatrixXd::Random(n, 4));
   return level;
 }
 
@@ -123,6 +124,10 @@ void levelSeeds(const fs::path& root) {
   const QByteArray level = levelBytes();
   seeds.write("icosahedron-full", 0, level);
   seeds.write("icosahedron-body", 1, level.first(level.size() - 8));
+  // Compressed (mode 2): as a host sends it since protocol version 6, and with each section cut short.
+  const QByteArray compressed = compressLevelPayload(level);
+  seeds.write("icosahedron-compressed", 2, compressed);
+  seeds.write("icosahedron-compressed-cut", 2, compressed.first(compressed.size() - 5));
 }
 
 QByteArray frames(const std::vector<ControlMessage>& messages) {

@@ -43,8 +43,8 @@ std::vector<int> nearestToFirst(const Eigen::MatrixXd& V, int count) {
   return order;
 }
 
-/// Median time of one float32 reconstruction X̂ + K·Z on one thread.
-double clientSeconds(const spectral::RowMatrixXf& K, const Eigen::MatrixXd& rest, int frames) {
+/// Median time of one reconstruction X̂ + K·Z (K quantised to int16, as a client holds it) on one thread.
+double clientSeconds(const spectral::QuantizedBasis& K, const Eigen::MatrixXd& rest, int frames) {
   const std::vector<float> restXyz = spectral::interleavedPositions(rest);
   std::vector<float> out(restXyz.size());
   const Eigen::MatrixXf Z = Eigen::MatrixXf::Random(K.cols(), 3) * 1e-3f;
@@ -102,7 +102,7 @@ bool measureTable1Row(const std::string& name, const model::LoadedMesh& mesh, co
 
   // === run time: server frame and constraint change, client reconstruction at both resolutions
   measureServer(basis.result.basis, basis.operators, mesh, options, row);
-  const spectral::RowMatrixXf fullK = basis.result.basis.vectors.cast<float>();
+  const spectral::QuantizedBasis fullK = spectral::quantizeBasis(basis.result.basis.vectors);
   row.clientFullSeconds = clientSeconds(fullK, mesh.V, options.frames);
   row.clientLowSeconds = clientSeconds(level.K, level.restV, options.frames);
   return true;

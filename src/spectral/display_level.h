@@ -2,7 +2,8 @@
 // The one-way frame path's two values (docs/architecture.md, "The frame path"):
 //   - DisplayLevel: what a peer draws at one resolution, immutable once built and shared by pointer
 //     (std::shared_ptr<const DisplayLevel>) between the session that built it and every view that shows it, so a
-//     process holds one float32 K per displayed level (a host also keeps the double H its deformer needs);
+//     process holds one int16 K (QuantizedBasis) per displayed level (a host also keeps the double H its deformer
+//     needs);
 //   - DisplayFrame: the current frame, a frame number and Z (m by 3, float32), a small value copied freely.
 // Positions are X̂' + K·Z, computed by reconstruct() (the CPU kernel, reconstruction_kernel.h) or by the viewport's
 // vertex shader: the only two places that formula is written.
@@ -19,7 +20,7 @@
 namespace sc::spectral {
 
 struct DisplayLevel {
-  ResolutionLevel level;    ///< X̂' (restV, n' by 3), F', P (n' by n) and K (n' by m, float32, row-major)
+  ResolutionLevel level;    ///< X̂' (restV, n' by 3), F', P (n' by n) and K (n' by m, int16 with a scale per column)
   std::vector<float> rest;  ///< X̂' interleaved, 3·n' floats (the kernel's and the vertex buffer's layout)
 
   [[nodiscard]] std::uint32_t vertexCount() const { return static_cast<std::uint32_t>(level.restV.rows()); }

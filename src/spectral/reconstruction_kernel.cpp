@@ -10,23 +10,27 @@ namespace {
 /// Partial sums per coordinate: one 512-bit register of floats, or two 256-bit ones.
 constexpr Eigen::Index kLanes = 16;
 
-/// out[3i + c] = rest[3i + c] + Σ_k K(i, k)·Z(k, c) for rows [begin, end).
-void reconstructRows(const float* K, Eigen::Index m, const float* z0, const float* z1, const float* z2,
-                     const float* rest, float* out, std::ptrdiff_t begin, std::ptrdiff_t end) {
+/// out[3i + c] = rest[3i + c] + Σ_k K(i, k)·Z(k, c) for rows [begin, end); K float32 or int16 (converted to float
+/// per entry: one convert and three FMAs per entry, still vectorised lane-wise).
+template <class T>
+void reconstructRows(const T* K, Eigen::Index m, const float* z0, const float* z1, const float* z2, const float* rest,
+                     float* out, std::ptrdiff_t begin, std::ptrdiff_t end) {
   for (std::ptrdiff_t i = begin; i < end; ++i) {
-    const float* k = K + i * m;
+    const T* k = K + i * m;
     float a0[kLanes] = {}, a1[kLanes] = {}, a2[kLanes] = {};
     Eigen::Index j = 0;
     for (; j + kLanes <= m; j += kLanes)
       for (Eigen::Index l = 0; l < kLanes; ++l) {  // lane-wise: vectorises without reassociation
-        a0[l] += k[j + l] * z0[j + l];
-        a1[l] += k[j + l] * z1[j + l];
-        a2[l] += k[j + l] * z2[j + l];
+        const auto v = static_cast<float>(k[j + l]);
+        a0[l] += v * z0[j + l];
+        a1[l] += v * z1[j + l];
+        a2[l] += v * z2[j + l];
       }
     for (Eigen::Index l = 0; j + l < m; ++l) {  // tail, m mod 16 terms
-      a0[l] += k[j + l] * z0[j + l];
-      a1[l] += k[j + l] * z1[j + l];
-      a2[l] += k[j + l] * z2[j + l];
+      const auto v = static_cast<float>(k[j + l]);
+      a0[l] += v * z0[j + l];
+      a1[l] += v * z1[j + l];
+      a2[l] += v * z2[j + l];
     }
     for (Eigen::Index w = kLanes / 2; w >= 1; w /= 2)  // pairwise horizontal sums
       for (Eigen::Index l = 0; l < w; ++l) {
@@ -40,6 +44,16 @@ void reconstructRows(const float* K, Eigen::Index m, const float* z0, const floa
   }
 }
 
+template <class T>
+void reconstructAll(const T* K, Eigen::Index n, Eigen::Index m, std::span<const float> rest, const Eigen::MatrixXf& Z,
+                    std::span<float> out, int threads) {
+  assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
+  assert(rest.size() == static_cast<std::size_t>(3 * n) && out.size() == rest.size() && "buffers must be 3·n'");
+  detail::parallelRanges(n, threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    reconstructRows(K, m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), begin, end);
+  });
+}
+
 }  // namespace
 
 std::vector<float> interleavedPositions(const Eigen::MatrixXd& V) {
@@ -51,13 +65,14 @@ std::vector<float> interleavedPositions(const Eigen::MatrixXd& V) {
 
 void reconstructInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
                             std::span<float> out, int threads) {
-  const Eigen::Index n = K.rows(), m = K.cols();
-  assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
-  assert(rest.size() == static_cast<std::size_t>(3 * n) && out.size() == rest.size() && "buffers must be 3·n'");
-  detail::parallelRanges(n, threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
-    reconstructRows(K.data(), m, Z.col(0).data(), Z.col(1).data(), Z.col(2).data(), rest.data(), out.data(), begin,
-                    end);
-  });
+  reconstructAll(K.data(), K.rows(), K.cols(), rest, Z, out, threads);
+}
+
+void reconstructInterleaved(const QuantizedBasis& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
+                            std::span<float> out, int threads) {
+  assert(Z.rows() == K.cols() && Z.cols() == 3 && "Z must be m by 3");
+  const Eigen::MatrixXf scaledZ = K.scaled(Z);  // m by 3, once per frame
+  reconstructAll(K.Q.data(), K.rows(), K.cols(), rest, scaledZ, out, threads);
 }
 
 }  // namespace sc::spectral

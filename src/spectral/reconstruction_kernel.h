@@ -7,7 +7,10 @@
 // stays in L1, so one frame is a single sequential read of K (4·n'·m bytes, 40 MB at n' = 100k, m = 100) and
 // one sequential write of the output. The loop is memory-bound; at 100k × 100 it streams ≈ 10 GB/s per ms budget
 // of 4 ms, so the arithmetic (16-lane partial sums, vectorised by the compiler) is not the limit.
+// A level's K is int16 with a scale per column (QuantizedBasis): the scales are folded into Z once per frame and the
+// inner loop converts int16 to float and multiplies-adds, so a frame reads 2·n'·m bytes (20 MB at 100k × 100).
 
+#include "spectral/quantized_basis.h"
 #include "spectral/resolution_level.h"
 
 #include <Eigen/Core>
@@ -33,6 +36,12 @@ std::vector<float> interleavedPositions(const Eigen::MatrixXd& V);
 /// Cost: 6·n'·m flops and 4·n'·m bytes read (memory-bound); about 2.5 ms at n' = 100k, m = 100 on one core of
 ///       the development machine (bench/kernel_bench.cpp, docs/benchmarks.md).
 void reconstructInterleaved(const RowMatrixXf& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
+                            std::span<float> out, int threads = 1);
+
+/// The same with a quantised K (a level's): out = X̂' + Q·(scale ⊙ Z), i.e. X̂' + dequantized(K)·Z up to float
+/// rounding. Same contract as above. Cost: one m by 3 product for the scaled Z, then 6·n'·m flops and 2·n'·m bytes
+/// read (memory-bound); docs/benchmarks.md has the measured time at 100k × 100.
+void reconstructInterleaved(const QuantizedBasis& K, std::span<const float> rest, const Eigen::MatrixXf& Z,
                             std::span<float> out, int threads = 1);
 
 }  // namespace sc::spectral

@@ -31,12 +31,13 @@ struct Header {
 
 /// Bytes of the payload between header and checksum, or nullopt when it would exceed `limit` (no overflow).
 std::optional<std::size_t> payloadSize(const Header& h, std::size_t limit) {
-  // (count, bytes each): X̂', F', CSR offsets, columns + values, K.
-  const std::array<std::pair<std::uint64_t, std::uint64_t>, 5> parts = {{{h.lowVertices, 24},
+  // (count, bytes each): X̂', F', CSR offsets, columns + values, scales of K, K.
+  const std::array<std::pair<std::uint64_t, std::uint64_t>, 6> parts = {{{h.lowVertices, 24},
                                                                          {h.lowFaces, 12},
                                                                          {std::uint64_t{h.lowVertices} + 1, 4},
                                                                          {h.nonZeros, 12},
-                                                                         {h.lowVertices, 4ULL * h.m}}};
+                                                                         {h.m, 4},
+                                                                         {h.lowVertices, 2ULL * h.m}}};
   std::uint64_t total = 0;
   for (const auto& [count, each] : parts) {
     if (count == 0 || each == 0) continue;
@@ -119,21 +120,25 @@ LevelDecodeResult readPayload(Reader& in, const Header& h) {
   Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor> F(h.lowFaces, 3);
   std::vector<std::uint32_t> rows(std::size_t{h.lowVertices} + 1), cols(h.nonZeros);
   std::vector<double> values(h.nonZeros);
-  level.K.resize(h.lowVertices, h.m);
+  level.K.scale.resize(h.m);
+  level.K.Q.resize(h.lowVertices, h.m);
   in.getBytes(V.data(), 8 * static_cast<std::size_t>(V.size()));
   in.getBytes(F.data(), 4 * static_cast<std::size_t>(F.size()));
   in.getBytes(rows.data(), 4 * rows.size());
   in.getBytes(cols.data(), 4 * cols.size());
   in.getBytes(values.data(), 8 * values.size());
-  in.getBytes(level.K.data(), 4 * static_cast<std::size_t>(level.K.size()));
+  in.getBytes(level.K.scale.data(), 4 * static_cast<std::size_t>(level.K.scale.size()));
+  in.getBytes(level.K.Q.data(), 2 * static_cast<std::size_t>(level.K.Q.size()));
   level.restV = V;
   level.F = F.cast<int>();
   if (std::string error = contentError(level, rows, cols, h.fullVertices); !error.empty())
     return failure(LevelDecodeStatus::BadContent, error);
   // NaN or ∞ would flow into every reconstructed position (and the viewport's bounds) of this client.
   const bool weightsFinite = std::all_of(values.begin(), values.end(), [](double w) { return std::isfinite(w); });
-  if (!level.restV.allFinite() || !weightsFinite || !level.K.allFinite())
-    return failure(LevelDecodeStatus::BadContent, "a position, weight or K entry is not finite");
+  if (!level.restV.allFinite() || !weightsFinite || !level.K.scale.allFinite())
+    return failure(LevelDecodeStatus::BadContent, "a position, weight or scale of K is not finite");
+  if (level.K.scale.size() > 0 && level.K.scale.minCoeff() < 0.0f)
+    return failure(LevelDecodeStatus::BadContent, "a scale of K is negative");
   level.P.resize(h.lowVertices, h.fullVertices);
   level.P.reserve(static_cast<Eigen::Index>(h.nonZeros));
   for (std::uint32_t i = 0; i < h.lowVertices; ++i) {
@@ -219,7 +224,7 @@ ResolutionLevel resolutionLevel(const Eigen::MatrixXd& V, const Eigen::MatrixXi&
   level.restV = lowV;
   level.F = lowF;
   level.P = barycentricMap(V, F, lowV, nullptr, threads);
-  level.K = (level.P * H).cast<float>();
+  level.K = quantizeBasis(level.P * H);
   return level;
 }
 
@@ -230,7 +235,7 @@ ResolutionLevel fullResolutionLevel(const Eigen::MatrixXd& V, const Eigen::Matri
   level.F = F;
   level.P.resize(V.rows(), V.rows());
   level.P.setIdentity();
-  level.K = H.cast<float>();
+  level.K = quantizeBasis(H);
   return level;
 }
 
@@ -277,7 +282,9 @@ std::vector<std::byte> encodeResolutionLevel(const ResolutionLevel& level) {
   for (Eigen::Index i = 0; i <= P.rows(); ++i) out.put(static_cast<std::uint32_t>(P.outerIndexPtr()[i]));
   for (Eigen::Index k = 0; k < P.nonZeros(); ++k) out.put(static_cast<std::uint32_t>(P.innerIndexPtr()[k]));
   out.putBytes(P.valuePtr(), 8 * static_cast<std::size_t>(P.nonZeros()));
-  out.putBytes(level.K.data(), 4 * static_cast<std::size_t>(level.K.size()));
+  assert(level.K.scale.size() == level.K.cols() && "K needs one scale per column");
+  out.putBytes(level.K.scale.data(), 4 * static_cast<std::size_t>(level.K.scale.size()));
+  out.putBytes(level.K.Q.data(), 2 * static_cast<std::size_t>(level.K.Q.size()));
   out.put(checksum64(out.bytes()));
   return std::move(out.bytes());
 }

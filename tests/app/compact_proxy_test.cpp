@@ -70,8 +70,9 @@ TEST(CompactProxy, ReconstructsTheMeshPositionsOfItsVertices) {
   CompactProxy proxy(triangles, static_cast<int>(sphere.V.rows()));
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  sc::spectral::RowMatrixXf K(sphere.V.rows(), 12);
-  for (Eigen::Index i = 0; i < K.size(); ++i) K.data()[i] = 0.05f * u(rng);
+  Eigen::MatrixXd values(sphere.V.rows(), 12);
+  for (Eigen::Index i = 0; i < values.size(); ++i) values.data()[i] = 0.05 * u(rng);
+  const sc::spectral::QuantizedBasis K = sc::spectral::quantizeBasis(values);
   Eigen::MatrixXf Z(12, 3);
   for (Eigen::Index i = 0; i < Z.size(); ++i) Z.data()[i] = u(rng);
   const std::vector<float> rest = sc::spectral::interleavedPositions(sphere.V);

@@ -150,10 +150,11 @@ TEST_F(InteractiveProxyTest, ANewMeshDropsTheProxy) {
 TEST_F(InteractiveProxyTest, CoefficientFramesDrawTheProxyAndTheIdleFrameTheMeshAtTheLatestCoefficients) {
   const auto sphere = sc::testing::icosphere(5);
   constexpr int m = 8;
-  sc::spectral::RowMatrixXf K(sphere.V.rows(), m);
-  for (Eigen::Index i = 0; i < K.rows(); ++i)
+  Eigen::MatrixXd values(sphere.V.rows(), m);
+  for (Eigen::Index i = 0; i < values.rows(); ++i)
     for (Eigen::Index k = 0; k < m; ++k)
-      K(i, k) = 0.08f * std::sin(static_cast<float>(k + 1) * static_cast<float>(sphere.V(i, k % 3)));
+      values(i, k) = 0.08 * std::sin(static_cast<double>(k + 1) * sphere.V(i, k % 3));
+  const sc::spectral::QuantizedBasis K = sc::spectral::quantizeBasis(values);
   Eigen::MatrixXf Z = Eigen::MatrixXf::Zero(m, 3);
   Z(0, 0) = 1.0f;
   Z(1, 1) = -1.0f;

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 namespace {
@@ -23,9 +24,10 @@ namespace {
 using sc::app::MeshViewport;
 using sc::app::ReconstructionPath;
 
-// A smooth-ish random basis: K_ik = scale·sin(k·x_i + phase_k) style values, deterministic.
-sc::spectral::RowMatrixXf syntheticBasis(const Eigen::MatrixXd& V, int m, float scale) {
-  sc::spectral::RowMatrixXf K(V.rows(), m);
+// A smooth-ish random basis: K_ik = scale·sin(k·x_i + phase_k) style values, deterministic; quantised as a level
+// holds it.
+sc::spectral::QuantizedBasis syntheticBasis(const Eigen::MatrixXd& V, int m, float scale) {
+  Eigen::MatrixXd K(V.rows(), m);
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> phase(0.0f, 6.28f);
   for (int k = 0; k < m; ++k) {
@@ -35,7 +37,7 @@ sc::spectral::RowMatrixXf syntheticBasis(const Eigen::MatrixXd& V, int m, float 
       K(i, k) = scale * std::sin(static_cast<float>(k + 1) * static_cast<float>(V(i, axis)) + p);
     }
   }
-  return K;
+  return sc::spectral::quantizeBasis(K);
 }
 
 Eigen::MatrixXf randomCoefficients(int m, float scale, unsigned seed) {
@@ -78,12 +80,12 @@ class MeshViewportReconstructionTest : public ::testing::Test {
   }
 
   // The display level of the sphere with basis K, as a session hands it to the viewport.
-  sc::spectral::SharedDisplayLevel levelWith(const sc::spectral::RowMatrixXf& K) const {
+  sc::spectral::SharedDisplayLevel levelWith(const sc::spectral::QuantizedBasis& K) const {
     return sc::spectral::makeDisplayLevel({m_sphere.V, m_sphere.F, {}, K});
   }
 
   // The CPU kernel's positions for (K, Z).
-  std::vector<float> cpuPositions(const sc::spectral::RowMatrixXf& K, const Eigen::MatrixXf& Z) const {
+  std::vector<float> cpuPositions(const sc::spectral::QuantizedBasis& K, const Eigen::MatrixXf& Z) const {
     std::vector<float> out(m_rest.size());
     sc::spectral::reconstructInterleaved(K, m_rest, Z, out);
     return out;
@@ -183,10 +185,10 @@ TEST_F(MeshViewportReconstructionTest, TooLargeABasisFallsBackToTheCpu) {
 TEST_F(MeshViewportReconstructionTest, HoldsTheSharedLevelAndReadsItsKInPlace) {
   const int m = 9;
   const auto level = levelWith(syntheticBasis(m_sphere.V, m, 0.05f));
-  const float* K = level->level.K.data();
+  const std::int16_t* K = level->level.K.Q.data();
   m_viewport.setDisplayLevel(level);
   EXPECT_EQ(m_viewport.displayLevel(), level) << "held by pointer, not copied";
-  EXPECT_EQ(m_viewport.displayLevel()->level.K.data(), K);
+  EXPECT_EQ(m_viewport.displayLevel()->level.K.Q.data(), K);
   EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5) << "the rest shape before the first frame";
   const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 4U);
   for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {

@@ -36,28 +36,28 @@ constexpr float kSpeckEntry = 17000.0f;  // a 3-vertex component's constant mode
 
 /// A basis of 4 columns over `V`: column 0 a bump of height `height` around `centre` (the handle's region),
 /// columns 1–2 smooth, column 3 zero but for one huge entry on the vertex farthest from the bump (a speck's mode).
-sc::spectral::RowMatrixXf basisWithASpeck(const Eigen::MatrixXd& V, const Eigen::RowVector3d& centre, double radius,
-                                          double height) {
-  sc::spectral::RowMatrixXf K = sc::spectral::RowMatrixXf::Zero(V.rows(), 4);
+sc::spectral::QuantizedBasis basisWithASpeck(const Eigen::MatrixXd& V, const Eigen::RowVector3d& centre, double radius,
+                                             double height) {
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(V.rows(), 4);
   Eigen::Index farthest = 0;
   double farthestDistance = -1.0;
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     const double d2 = (V.row(i) - centre).squaredNorm();
-    K(i, 0) = static_cast<float>(height * std::exp(-d2 / (radius * radius)));
-    K(i, 1) = static_cast<float>(0.05 * V(i, 0));
-    K(i, 2) = static_cast<float>(0.05 * V(i, 1) * V(i, 2));
+    K(i, 0) = height * std::exp(-d2 / (radius * radius));
+    K(i, 1) = 0.05 * V(i, 0);
+    K(i, 2) = 0.05 * V(i, 1) * V(i, 2);
     if (d2 > farthestDistance) {
       farthestDistance = d2;
       farthest = i;
     }
   }
   K(farthest, 3) = kSpeckEntry;
-  return K;
+  return sc::spectral::quantizeBasis(K);
 }
 
 TEST(ShownLevelBounds, AHugeRowOfAModeTheFrameLeavesAloneDoesNotWidenTheBox) {
   const auto sphere = sc::testing::icosphere(3);
-  const sc::spectral::RowMatrixXf K = basisWithASpeck(sphere.V, Eigen::RowVector3d(1.0, 0.0, 0.0), 0.4, 1.0);
+  const sc::spectral::QuantizedBasis K = basisWithASpeck(sphere.V, Eigen::RowVector3d(1.0, 0.0, 0.0), 0.4, 1.0);
   const std::vector<float> rest = sc::spectral::interleavedPositions(sphere.V);
   sc::app::ShownLevel shown;
   shown.hold(sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, K}), rest);
@@ -155,7 +155,7 @@ class MovedHandlePickTest : public ::testing::TestWithParam<int> {
 
   const Eigen::RowVector3d kCentre{1.3, 0.0, 0.0};
   sc::testing::GeneratedMesh m_torus = sc::testing::torus(300, 125);
-  sc::spectral::RowMatrixXf m_K;
+  sc::spectral::QuantizedBasis m_K;
   Eigen::MatrixXf m_Z = Eigen::MatrixXf::Zero(4, 3);
   std::vector<int> m_handle;
   MeshViewport m_view;

@@ -2,6 +2,7 @@
 // adapter's worker thread runs: checksum, decode, the session's shape, the interleaved rest positions.
 #include "client_engine_fixture.h"
 
+#include "session/wire/level_codec.h"
 #include "spectral/resolution_level.h"
 
 namespace sc::session::test {
@@ -29,6 +30,46 @@ TEST(ClientLevelDecode, AWrongChecksumIsRefused) {
   EXPECT_TRUE(out.payload.isEmpty());
   EXPECT_EQ(out.error, QStringLiteral("model transfer failed: %1")
                            .arg(QString::fromLatin1(toString(ModelReceiver::Status::BadChecksum))));
+}
+
+TEST(ClientLevelDecode, ACompressedPayloadIsCheckedAgainstTheSha256OfWhatItDecodesTo) {
+  const QByteArray canonical = encoded(tinyLevel(0.5f));
+  const QByteArray compressed = compressLevelPayload(canonical);
+  ASSERT_FALSE(compressed.isEmpty());
+  const DecodedLevel out = decodeLevel(LevelJob{compressed, sha256(canonical), kRows, kVertices});
+  ASSERT_NE(out.level, nullptr) << out.error.toStdString();
+  EXPECT_EQ(out.level->level.K, tinyLevel(0.5f).K);
+  EXPECT_EQ(out.payload, compressed) << "the payload as received";
+  // The digest of the compressed bytes is not the transfer's: refused as a bad checksum.
+  const DecodedLevel wrong = decodeLevel(LevelJob{compressed, sha256(compressed), kRows, kVertices});
+  EXPECT_EQ(wrong.level, nullptr);
+  EXPECT_TRUE(wrong.error.contains(QString::fromLatin1(toString(ModelReceiver::Status::BadChecksum))));
+}
+
+TEST(ClientLevelDecode, ACorruptedCompressedPayloadIsRefusedByTheCodecOrTheChecksum) {
+  const QByteArray canonical = encoded(tinyLevel(0.5f));
+  const QByteArray compressed = compressLevelPayload(canonical);
+  bool codecRefused = false, checksumRefused = false;
+  for (qsizetype at = 52; at < compressed.size(); ++at) {  // every byte after the header
+    QByteArray corrupted = compressed;
+    corrupted[at] = static_cast<char>(corrupted[at] ^ 0x21);
+    const DecodedLevel out = decodeLevel(LevelJob{corrupted, sha256(canonical), kRows, kVertices});
+    if (out.level) continue;  // the flip hit bits no codec reads: the level decoded is the original one
+    EXPECT_TRUE(out.payload.isEmpty());
+    codecRefused |= out.error.startsWith(QStringLiteral("bad compressed level payload: "));
+    checksumRefused |= out.error.contains(QString::fromLatin1(toString(ModelReceiver::Status::BadChecksum)));
+    EXPECT_TRUE(out.error.startsWith(QStringLiteral("bad compressed level payload: ")) ||
+                out.error.contains(QString::fromLatin1(toString(ModelReceiver::Status::BadChecksum))))
+        << out.error.toStdString();
+  }
+  EXPECT_TRUE(codecRefused);
+  EXPECT_TRUE(checksumRefused);
+  // A header declaring a level larger than the session's shape allows is refused before anything is allocated.
+  QByteArray huge = compressed;
+  for (int field = 12; field < 20; ++field) huge[field] = static_cast<char>(0x7f);
+  const DecodedLevel out = decodeLevel(LevelJob{huge, sha256(canonical), kRows, kVertices});
+  EXPECT_EQ(out.level, nullptr);
+  EXPECT_TRUE(out.error.contains(QStringLiteral("larger than"))) << out.error.toStdString();
 }
 
 TEST(ClientLevelDecode, AnUndecodablePayloadIsRefused) {

@@ -86,7 +86,7 @@ inline spectral::ResolutionLevel tinyLevel(float kScale = 1.0f) {
   level.F << 0, 1, 2;
   level.P.resize(3, kVertices);
   level.P.setIdentity();
-  level.K = spectral::RowMatrixXf::Constant(3, kRows, kScale);
+  level.K = spectral::quantizeBasis(Eigen::MatrixXd::Constant(3, kRows, kScale));
   return level;
 }
 

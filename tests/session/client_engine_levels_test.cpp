@@ -70,7 +70,7 @@ TEST_F(ClientEngineLevels, OneDecodeAtATimeAndTheLatestTransferSupersedes) {
   EXPECT_TRUE(engine.levelDecoding());
   out = engine.onLevelDecoded(decodedLevel(2.0f));
   ASSERT_NE(engine.displayLevel(), nullptr);
-  EXPECT_EQ(engine.displayLevel()->level.K(0, 0), 2.0f) << "the latest is installed";
+  EXPECT_FLOAT_EQ(engine.displayLevel()->level.K(0, 0), 2.0f) << "the latest is installed";
   EXPECT_EQ(actionsOf<client_action::LevelReady>(out).size(), 1u);
 }
 

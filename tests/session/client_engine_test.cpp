@@ -211,7 +211,7 @@ TEST(ClientEngine, PeerAndLevelListsAreKeptAndAnnounced) {
   ClientActions out = engine.onMessage(message(peers), kT0);
   EXPECT_EQ(engine.peers(), peers);
   EXPECT_EQ(actionsOf<client_action::Notify>(out).at(0).notice, ClientNotice::PeersChanged);
-  const LevelList levels{2, {LevelInfo{0, 3, 1, 200}}};  // 200 bytes: what 3 vertices, 1 face, m = 2 imply
+  const LevelList levels{2, {LevelInfo{0, 3, 1, 200}}};  // 200 bytes: within what 3 vertices, 1 face, m = 2 imply
   out = engine.onMessage(message(levels), kT0);
   EXPECT_EQ(engine.levels(), levels);
   EXPECT_EQ(actionsOf<client_action::Notify>(out).at(0).notice, ClientNotice::LevelsChanged);

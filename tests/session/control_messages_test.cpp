@@ -102,7 +102,7 @@ TEST(ControlMessages, DocumentedSizes) {
                        "65"));
   EXPECT_EQ(encodeControlMessage(Keyframe{1, std::vector<double>(3 * kMaxRows, 0.5)}).size(), 5 + 6 + 24 * kMaxRows);
   const QByteArray hello = encodeControlMessage(Hello{kProtocolVersion, QStringLiteral("ab")});
-  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534305026162"));  // frozen: length, type, magic, version (5), name
+  EXPECT_EQ(hello.toHex(), QByteArray("0000000740534306026162"));  // frozen: length, type, magic, version (6), name
 }
 
 TEST(ControlMessages, LeaveReasonsAndTheLockQueueAreBounded) {

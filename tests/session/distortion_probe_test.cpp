@@ -124,10 +124,11 @@ sc::spectral::ResolutionLevel smallLevel() {
   level.restV = mesh.V;
   level.F = mesh.F;
   std::mt19937 rng(5);
-  std::normal_distribution<float> normal(0.0f, 0.1f);
-  level.K.resize(mesh.V.rows(), kM);
-  for (Eigen::Index i = 0; i < level.K.rows(); ++i)
-    for (Eigen::Index k = 0; k < kM; ++k) level.K(i, k) = normal(rng);
+  std::normal_distribution<double> normal(0.0, 0.1);
+  Eigen::MatrixXd K(mesh.V.rows(), kM);
+  for (Eigen::Index i = 0; i < K.rows(); ++i)
+    for (Eigen::Index k = 0; k < kM; ++k) K(i, k) = normal(rng);
+  level.K = sc::spectral::quantizeBasis(K);
   return level;
 }
 
@@ -167,7 +168,7 @@ TEST(DistortionPercent, MatchesBruteForceMaxMin) {
   for (const double noise : {1e-3, 1e-2, 0.3}) {
     const Eigen::MatrixXd shown = exact + randomZ(3, noise);
     const double pct = distortionPercent(level, shown, exact, diagonal);
-    const Eigen::MatrixXd K = level.K.cast<double>();
+    const Eigen::MatrixXd K = level.K.Q.cast<double>() * level.K.scale.cast<double>().asDiagonal();
     const Eigen::MatrixXd Xs = level.restV + K * shown;
     const Eigen::MatrixXd Xe = level.restV + K * exact;
     const double expected = 100.0 * bruteForceHausdorff(Xs, Xe) / diagonal;

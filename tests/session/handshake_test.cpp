@@ -189,7 +189,9 @@ TEST(Handshake, VersionMismatchIsRefusedBeforeAnyChallenge) {
   // Our encoder writes only our version, so an older (version 2: datagrams without the extended sequence) and a
   // future client's Hello are spelled out: L = 6, type 0x40, magic, version, and a byte a later version might add
   // (the host must not read past the version).
-  for (const std::uint8_t version : {std::uint8_t{2}, static_cast<std::uint8_t>(kProtocolVersion + 1)}) {
+  // The version just before ours (5: float32 K in the level payload) is the old client a user meets first.
+  for (const std::uint8_t version : {std::uint8_t{2}, static_cast<std::uint8_t>(kProtocolVersion - 1),
+                                     static_cast<std::uint8_t>(kProtocolVersion + 1)}) {
     Link link(hostConfig(QStringLiteral("pw")), clientConfig(QStringLiteral("pw")));
     link.client.start();  // the client's own Hello is replaced by the raw one below
     link.toHost.append(QByteArray::fromHex("00000005405343") + QByteArray(1, static_cast<char>(version)) +

@@ -157,10 +157,15 @@ TEST_F(SessionFaults, HostVanishingLeavesClientsWithTheirShapeSayingHostLostAndT
 }
 
 TEST_F(SessionFaults, ClientVanishingMidTransferFreesItsPeerAndTheLock) {
-  // icosphere(5), m = 120: a full-model payload of about 5.3 MB (K alone is 10242 · 120 float32), far above what
-  // a 4 KiB receive window, the host's kernel send buffer (on loopback its 64 KiB segments let it grow past
-  // 1 MiB) and its 256 KiB transfer high-water mark hold, so the transfer is certainly unfinished.
-  const std::shared_ptr<const HostModel> medium = harmonicHostModel(sc::testing::icosphere(5), 120);
+  // icosphere(6), m = 64 with a random basis: incompressible (the host then sends the canonical payload, about
+  // 7.4 MB: K alone is 40962 · 64 int16; a harmonic basis of this smooth sphere compresses to a fraction), far
+  // above what a 4 KiB receive window, the host's kernel send buffer (on loopback its 64 KiB segments let it grow
+  // past 1 MiB) and its 256 KiB transfer high-water mark hold, so the transfer is certainly unfinished.
+  auto noisy = std::make_shared<HostModel>(*harmonicHostModel(sc::testing::icosphere(6), 4));
+  std::srand(17);
+  noisy->basis.vectors = Eigen::MatrixXd::Random(noisy->V.rows(), 64);
+  noisy->basis.eigenvalues = Eigen::VectorXd::LinSpaced(64, 0.0, 1.0);
+  const std::shared_ptr<const HostModel> medium = noisy;
   auto host = startHost(medium);
   auto bystander = join(host->tcpPort(), QStringLiteral("bystander"));
   ASSERT_EQ(host->counters().transfersCompleted, 1u);

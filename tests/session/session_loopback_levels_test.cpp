@@ -6,6 +6,7 @@
 
 #include "model/mesh_decimation.h"
 #include "session/net/level_library.h"
+#include "session/wire/level_codec.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
 
@@ -37,9 +38,14 @@ TEST_F(SessionLoopback, LevelLibraryPicksTheClosestTargetAndBuildsOnce) {
   ASSERT_NE(library.find(target), nullptr);
   EXPECT_EQ(library.find(n())->kind, TransferKind::FullModel);
   EXPECT_EQ(library.find(n())->vertexCount, n());
-  // Hashed once, on the worker, with the payload.
-  EXPECT_EQ(library.find(n())->sha256, sha256(library.find(n())->payload));
-  EXPECT_EQ(library.find(target)->sha256, sha256(library.find(target)->payload));
+  // Hashed once, on the worker, with the payload: the SHA-256 of the decoded (canonical) payload.
+  for (const std::uint32_t built : {n(), target}) {
+    const LevelLibrary::Level* level = library.find(built);
+    const LevelDecompression decoded = decompressLevelPayload(level->payload, 1U << 30);
+    ASSERT_TRUE(decoded.ok()) << decoded.error.toStdString();
+    EXPECT_LT(level->payload.size(), decoded.payload.size()) << "sent compressed";
+    EXPECT_EQ(level->sha256, sha256(decoded.payload));
+  }
   library.request(target);  // cached: nothing more
   QTest::qWait(50);
   EXPECT_EQ(ready.size(), 2u);
@@ -48,8 +54,8 @@ TEST_F(SessionLoopback, LevelLibraryPicksTheClosestTargetAndBuildsOnce) {
 TEST_F(SessionLoopback, FullModelTransferIsBitExact) {
   auto host = startHost();
   auto client = join(*host, QStringLiteral("full"));
-  const QByteArray expected = toBytes(
-      spectral::encodeResolutionLevel(spectral::fullResolutionLevel(s_model->V, s_model->F, s_model->basis.vectors)));
+  const QByteArray expected = compressLevelPayload(toBytes(
+      spectral::encodeResolutionLevel(spectral::fullResolutionLevel(s_model->V, s_model->F, s_model->basis.vectors))));
   EXPECT_EQ(client->levelPayload(), expected);
   EXPECT_EQ(client->levelVertexCount(), n());
   ASSERT_NE(client->level(), nullptr);
@@ -103,8 +109,8 @@ TEST_F(SessionLoopback, LevelTransferIsBitExactAndSwitchesWithoutReconnect) {
   EXPECT_EQ(client->levelVertexCount(), level->vertexCount);
   // ... and equal to an independent build of the same level.
   const model::DecimatedMesh low = model::decimateMesh(s_model->V, s_model->F, static_cast<int>(target));
-  EXPECT_EQ(level->payload, toBytes(spectral::encodeResolutionLevel(spectral::resolutionLevel(
-                                s_model->V, s_model->F, s_model->basis.vectors, low.V, low.F))));
+  EXPECT_EQ(level->payload, compressLevelPayload(toBytes(spectral::encodeResolutionLevel(spectral::resolutionLevel(
+                                s_model->V, s_model->F, s_model->basis.vectors, low.V, low.F)))));
   ASSERT_FALSE(progress.empty());
   EXPECT_EQ(progress.back(), static_cast<std::uint32_t>(level->payload.size()));
   ASSERT_TRUE(QTest::qWaitFor([&] { return host->peerList().peers.back().vertexCount == level->vertexCount; }));

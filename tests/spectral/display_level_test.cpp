@@ -20,7 +20,7 @@ ResolutionLevel smallLevel(int n, int m) {
   level.restV = Eigen::MatrixXd::Random(n, 3);
   level.F.resize(1, 3);
   level.F << 0, 1, 2;
-  level.K = RowMatrixXf::Random(n, m);
+  level.K = quantizeBasis(Eigen::MatrixXd::Random(n, m));
   return level;
 }
 
@@ -32,14 +32,15 @@ TEST(DisplayLevel, KeepsTheLevelAndInterleavesItsRestPositions) {
   ASSERT_EQ(display->rest.size(), 15u);
   for (int i = 0; i < 5; ++i)
     for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(display->rest[3 * i + c], static_cast<float>(level.restV(i, c)));
-  EXPECT_TRUE(display->level.K.isApprox(level.K));
+  EXPECT_EQ(display->level.K, level.K);
 }
 
 TEST(DisplayLevel, ReconstructsRestPlusKTimesZ) {
   const SharedDisplayLevel display = makeDisplayLevel(smallLevel(7, 6));
   DisplayFrame frame{3, Eigen::MatrixXf::Random(6, 3)};
   const std::vector<float> out = reconstructed(*display, frame);
-  const Eigen::MatrixXd expected = display->level.restV + display->level.K.cast<double>() * frame.Z.cast<double>();
+  const Eigen::MatrixXd expected =
+      display->level.restV + dequantized(display->level.K).cast<double>() * frame.Z.cast<double>();
   ASSERT_EQ(out.size(), 21u);
   for (int i = 0; i < 7; ++i)
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[3 * i + c], expected(i, c), 1e-5);

@@ -94,9 +94,14 @@ TEST_F(ResolutionLevelTest, QueriesOnAndOffTheMeshVerticesMapToTheirClosestPoint
   }
 }
 
-TEST_F(ResolutionLevelTest, KIsPTimesHInFloat) {
+TEST_F(ResolutionLevelTest, KIsPTimesHQuantisedPerColumn) {
   const Eigen::MatrixXd expected = s_level->P * *s_H;
-  EXPECT_LT((s_level->K.cast<double>() - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+  const Eigen::MatrixXd K = dequantized(s_level->K).cast<double>();
+  for (Eigen::Index j = 0; j < K.cols(); ++j) {
+    const double top = expected.col(j).cwiseAbs().maxCoeff();
+    // half a quantisation step, plus float32 rounding of scale·Q
+    EXPECT_LE((K.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), top / 65534.0 + 2e-7 * top) << "column " << j;
+  }
 }
 
 TEST_F(ResolutionLevelTest, LevelReconstructsTheFullDeformationMappedByP) {
@@ -107,14 +112,16 @@ TEST_F(ResolutionLevelTest, LevelReconstructsTheFullDeformationMappedByP) {
   for (Eigen::Index k = 0; k < Z.rows(); ++k)
     for (int c = 0; c < 3; ++c) Z(k, c) = normal(rng) / (1.0 + k);
   const Eigen::MatrixXd full = s_mesh->V + *s_H * Z;
-  // Client: X̂' + K Z with the float kernel. Reference: P(X̂ + H Z) plus the projection offset X̂' − P X̂.
+  // Client: X̂' + K Z with the kernel on the quantised K. Reference: P(X̂ + H Z) plus the projection offset
+  // X̂' − P X̂; the difference is float rounding plus at most the quantisation bound.
   std::vector<float> out(3 * static_cast<std::size_t>(s_level->restV.rows()));
   reconstructInterleaved(s_level->K, interleavedPositions(s_level->restV), Z.cast<float>(), out);
   const Eigen::MatrixXd expected = s_level->P * full + (s_level->restV - s_level->P * s_mesh->V);
   const double scale = full.cwiseAbs().maxCoeff();
+  const double tolerance = 1e-5 * scale + quantizationBound(s_level->K, Z.cast<float>());
   for (Eigen::Index i = 0; i < expected.rows(); ++i)
     for (int c = 0; c < 3; ++c)
-      ASSERT_NEAR(out[static_cast<std::size_t>(3 * i + c)], expected(i, c), 1e-5 * scale) << "vertex " << i;
+      ASSERT_NEAR(out[static_cast<std::size_t>(3 * i + c)], expected(i, c), tolerance) << "vertex " << i;
 }
 
 TEST_F(ResolutionLevelTest, SerialisationRoundTripIsBitExact) {
@@ -133,7 +140,7 @@ TEST_F(ResolutionLevelTest, FullResolutionLevelIsTheIdentityMapAndRoundTrips) {
   const ResolutionLevel full = fullResolutionLevel(s_mesh->V, s_mesh->F, *s_H);
   EXPECT_EQ(full.P.nonZeros(), s_mesh->V.rows());
   EXPECT_EQ(Eigen::MatrixXd(full.P * s_mesh->V), s_mesh->V);
-  EXPECT_EQ(full.K, s_H->cast<float>());
+  EXPECT_EQ(full.K, quantizeBasis(*s_H));
   const LevelDecodeResult decoded = decodeResolutionLevel(encodeResolutionLevel(full));
   ASSERT_TRUE(decoded.ok()) << decoded.message;
   EXPECT_EQ(decoded.level->restV, s_mesh->V);
@@ -154,7 +161,7 @@ TEST_F(ResolutionLevelTest, TruncatedLongAndCorruptedBuffersAreRejected) {
     ASSERT_FALSE(decodeResolutionLevel(flipped).ok()) << "flipped byte " << at;
   }
   std::vector<std::byte> version = bytes;
-  version[8] = std::byte{2};
+  version[8] = std::byte{1};  // level format 1: float32 K
   EXPECT_EQ(decodeResolutionLevel(version).status, LevelDecodeStatus::UnsupportedVersion);
 }
 
@@ -184,8 +191,11 @@ TEST_F(ResolutionLevelTest, NonFiniteNumbersAreBadContentEvenWithAValidChecksum)
   weight.P.valuePtr()[0] = std::numeric_limits<double>::infinity();
   EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(weight)).status, LevelDecodeStatus::BadContent);
   ResolutionLevel basis = *s_level;
-  basis.K(0, 0) = std::numeric_limits<float>::infinity();
+  basis.K.scale(0) = std::numeric_limits<float>::infinity();
   EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(basis)).status, LevelDecodeStatus::BadContent);
+  ResolutionLevel negative = *s_level;
+  negative.K.scale(0) = -1.0f;
+  EXPECT_EQ(decodeResolutionLevel(encodeResolutionLevel(negative)).status, LevelDecodeStatus::BadContent);
   EXPECT_TRUE(decodeResolutionLevel(encodeResolutionLevel(*s_level)).ok());
 }
 

@@ -42,13 +42,12 @@ void CompactProxy::gatherTints(std::span<const std::uint8_t> meshRgba) {
   }
 }
 
-void CompactProxy::setBasis(const spectral::RowMatrixXf& K, std::span<const float> rest) {
+void CompactProxy::setBasis(const spectral::QuantizedBasis& K, std::span<const float> rest) {
   assert(static_cast<std::size_t>(K.rows()) == m_compactOf.size() && rest.size() == 3 * m_compactOf.size() &&
          "setBasis needs the mesh's K and rest positions");
-  m_basis.resize(static_cast<Eigen::Index>(m_meshVertex.size()), K.cols());
+  m_basis = K.gathered(m_meshVertex);
   m_rest.resize(3 * m_meshVertex.size());
   for (std::size_t i = 0; i < m_meshVertex.size(); ++i) {
-    m_basis.row(static_cast<Eigen::Index>(i)) = K.row(static_cast<Eigen::Index>(m_meshVertex[i]));
     for (std::size_t k = 0; k < 3; ++k) {
       m_rest[3 * i + k] = rest[3 * m_meshVertex[i] + k];
     }
@@ -56,7 +55,7 @@ void CompactProxy::setBasis(const spectral::RowMatrixXf& K, std::span<const floa
 }
 
 void CompactProxy::clearBasis() {
-  m_basis.resize(0, 0);
+  m_basis = {};
   m_rest.clear();
 }
 

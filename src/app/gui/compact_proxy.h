@@ -51,9 +51,9 @@ class CompactProxy {
   /// Keeps the proxy's rows of K and of the rest positions for reconstruct(). The one partial copy of a shown
   /// level's K (#P of its rows, a tenth for the 100k dragon): the kernel on these contiguous rows takes 0.6 ms per
   /// frame where the same rows read in place, scattered over K, take 3.3 ms (shapecast-bench-viewport, llvmpipe VM).
-  /// @param[in] K  meshVertices by m' basis (m' any, e.g. padded to a multiple of 4).
+  /// @param[in] K  meshVertices by m' quantised basis (the level's; its rows are copied as int16).
   /// @param[in] rest  3·meshVertices floats. Cost: O(#P·m') time and memory.
-  void setBasis(const spectral::RowMatrixXf& K, std::span<const float> rest);
+  void setBasis(const spectral::QuantizedBasis& K, std::span<const float> rest);
   void clearBasis();
   [[nodiscard]] bool hasBasis() const { return m_basis.cols() > 0; }
   /// Positions rest + K·Z of the proxy's vertices (spectral::reconstructInterleaved on its rows; normals:
@@ -70,8 +70,8 @@ class CompactProxy {
   std::vector<float> m_positions;
   std::vector<float> m_normals;
   std::vector<std::uint8_t> m_tints;
-  spectral::RowMatrixXf m_basis;  // #P by m'
-  std::vector<float> m_rest;      // 3·#P
+  spectral::QuantizedBasis m_basis;  // #P by m'
+  std::vector<float> m_rest;         // 3·#P
 };
 
 }  // namespace sc::app

@@ -1,7 +1,7 @@
 #pragma once
 // HostController: this instance hosts (SessionController's host role). It prepares the model on a worker thread
 // (HostPreparation: mesh or saved session, basis, the full level built once), then owns a SessionHost whose own
-// user is peer 1. Its display is the full level (K = float(H), shared with the view; the SessionHost keeps the
+// user is peer 1. Its display is the full level (K = quantizeBasis(H), shared with the view; the SessionHost keeps the
 // double H its deformer needs), pushed down once, and one DisplayFrame{frame, float(Z)} per new frame.
 // A host started from a session file restores the file's shape once live (savedSessionRestored()).
 //

@@ -36,7 +36,7 @@ struct PreparedHost {
   PreparedHost& operator=(const PreparedHost&) = delete;
 
   std::shared_ptr<session::HostModel> model;        ///< null unless it succeeded
-  spectral::SharedDisplayLevel level;               ///< fullResolutionLevel() of the model: K = float(H)
+  spectral::SharedDisplayLevel level;               ///< fullResolutionLevel() of the model: K = quantizeBasis(H)
   std::shared_ptr<const model::SessionFile> saved;  ///< the session file hosted (null for a mesh file)
   QString error;                                    ///< readable reason when it failed
   bool cancelled = false;

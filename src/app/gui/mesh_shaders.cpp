@@ -47,7 +47,7 @@ void main() {
 const char* const kMeshReconstructVertex = R"(#version 330 core
 layout(location = 0) in vec3 aRest;
 layout(location = 2) in vec4 aTint;
-uniform samplerBuffer uBasis;
+uniform isamplerBuffer uBasis;
 uniform vec4 uZ[192];
 uniform int uGroups;
 uniform mat4 uModelView;
@@ -62,7 +62,7 @@ void main() {
   vec4 sz = vec4(0.0);
   int row = gl_VertexID * uGroups;
   for (int g = 0; g < uGroups; ++g) {
-    vec4 k = texelFetch(uBasis, row + g);
+    vec4 k = vec4(texelFetch(uBasis, row + g));
     sx += k * uZ[g];
     sy += k * uZ[uGroups + g];
     sz += k * uZ[2 * uGroups + g];

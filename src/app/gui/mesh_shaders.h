@@ -25,8 +25,9 @@ extern const char* const kBackgroundFragment;
 extern const char* const kMeshVertex;
 /// Mesh vertex shader of the GPU reconstruction path: x = aRest + K·Z, then as kMeshVertex (same outputs; vNormal
 /// is zero, the fragment shader then uses face normals, see uFaceNormals). Attributes: location 0 = rest
-/// position, 2 = tint. Uniforms: samplerBuffer uBasis (GL_RGBA32F, row i of K as uGroups texels from
-/// i·uGroups, indexed by gl_VertexID); vec4 uZ[3·kMaxGroups] (Z's x column as uGroups vec4, then y, then z); int
+/// position, 2 = tint. Uniforms: isamplerBuffer uBasis (GL_RGBA16I, row i of the quantised K as uGroups texels from
+/// i·uGroups, indexed by gl_VertexID); vec4 uZ[3·kMaxGroups] (the scaled Z, spectral::QuantizedBasis::scaled(): its
+/// x column as uGroups vec4, then y, then z); int
 /// uGroups = ⌈m/4⌉ ≤ kMaxGroups; mat4 uModelView, uProjection. Also writes vModelPosition (x) for transform
 /// feedback.
 extern const char* const kMeshReconstructVertex;

@@ -145,7 +145,7 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
     return;
   }
   setMesh(level->level.restV, level->level.F);
-  const spectral::RowMatrixXf& K = level->level.K;
+  const spectral::QuantizedBasis& K = level->level.K;
   if (m_vertexCount == 0 || K.rows() != m_vertexCount || K.cols() == 0 ||
       level->rest.size() != 3 * static_cast<std::size_t>(K.rows())) {
     return;  // shown as a plain mesh

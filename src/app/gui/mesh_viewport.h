@@ -289,7 +289,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   void markMoved();
   [[nodiscard]] bool proxyMayDraw() const;
   [[nodiscard]] MeshPass meshPass(bool wireframe, bool proxy) const;
-  [[nodiscard]] const spectral::RowMatrixXf* gpuBasis() const;  // K when the GPU path draws, else nullptr
+  [[nodiscard]] const spectral::QuantizedBasis* gpuBasis() const;  // K when the GPU path draws, else nullptr
   [[nodiscard]] QSize pixelSize() const;
 
   OrbitCamera m_camera;

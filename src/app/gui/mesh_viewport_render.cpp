@@ -96,13 +96,13 @@ void MeshViewport::paintGL() {
 
 QSize MeshViewport::pixelSize() const { return (QSizeF(width(), height()) * devicePixelRatioF()).toSize(); }
 
-const spectral::RowMatrixXf* MeshViewport::gpuBasis() const {
+const spectral::QuantizedBasis* MeshViewport::gpuBasis() const {
   return m_frames.gpuDrawing() ? &m_frames.shown().K() : nullptr;
 }
 
 MeshPass MeshViewport::meshPass(bool wireframe, bool proxy) const {
   return {m_camera.view(), m_camera.projection(), wireframe, proxy,
-          m_frames.gpuDrawing() ? &m_frames.shown().Z() : nullptr};
+          m_frames.gpuDrawing() ? &m_frames.shown().scaledZ() : nullptr};
 }
 
 DepthImage MeshViewport::renderDepth() {
@@ -125,7 +125,7 @@ std::vector<float> MeshViewport::gpuReconstructedPositions() {
   makeCurrent();
   m_buffers.upload(*m_gl33, &shown.K());
   const std::vector<float> shaded =
-      m_frames.gpu().readBack(*m_gl33, m_buffers.gpuVao(), m_buffers.basisTexture(), shown.Z(), m_vertexCount);
+      m_frames.gpu().readBack(*m_gl33, m_buffers.gpuVao(), m_buffers.basisTexture(), shown.scaledZ(), m_vertexCount);
   doneCurrent();
   std::vector<float> xyz;
   shifted(shaded, m_origin, xyz);

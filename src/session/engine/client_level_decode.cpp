@@ -1,8 +1,10 @@
 #include "session/engine/client_level_decode.h"
 
+#include "session/wire/level_codec.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <span>
@@ -27,8 +29,9 @@ bool allDisplayable(const Matrix& values) {
 }  // namespace
 
 PayloadBounds levelPayloadBounds(std::uint64_t vertices, std::uint64_t faces, std::uint64_t rows) {
-  // header 32 + X̂' 24n' + F' 12f' + CSR offsets 4(n'+1) + P 12z + K 4n'm + checksum 8 (resolution_level.h)
-  const std::uint64_t fixed = 44 + 28 * vertices + 12 * faces + 4 * vertices * rows;
+  // header 32 + X̂' 24n' + F' 12f' + CSR offsets 4(n'+1) + P 12z + scales 4m + K 2n'm + checksum 8
+  // (resolution_level.h, level format 2)
+  const std::uint64_t fixed = 44 + 28 * vertices + 12 * faces + 4 * rows + 2 * vertices * rows;
   return PayloadBounds{fixed, fixed + 36 * vertices};
 }
 
@@ -60,14 +63,14 @@ QString checkLevelList(const LevelList& list, std::uint16_t rows, std::uint32_t 
       return QStringLiteral("%1 has %2 faces for %3 vertices").arg(which).arg(level.faceCount).arg(level.vertexCount);
     }
     const PayloadBounds bounds = levelPayloadBounds(level.vertexCount, level.faceCount, rows);
-    if (level.payloadBytes < bounds.min || level.payloadBytes > bounds.max) {
-      return QStringLiteral("%1 announces %2 bytes, but %3 vertices, %4 faces and m = %5 imply %6 to %7 bytes")
+    // Compressed (level_codec.h) a payload may be far below bounds.min, never above the canonical maximum.
+    if (level.payloadBytes == 0 || level.payloadBytes > bounds.max) {
+      return QStringLiteral("%1 announces %2 bytes, but %3 vertices, %4 faces and m = %5 imply at most %6 bytes")
           .arg(which)
           .arg(level.payloadBytes)
           .arg(level.vertexCount)
           .arg(level.faceCount)
           .arg(rows)
-          .arg(bounds.min)
           .arg(bounds.max);
     }
   }
@@ -93,14 +96,27 @@ bool displayable(const Eigen::Ref<const Eigen::MatrixXd>& values) { return allDi
 DecodedLevel decodeLevel(LevelJob job) {
   DecodedLevel out;
   try {
-    if (!checksumMatches(job.payload, job.sha256)) {
+    QByteArray canonical = job.payload;
+    if (declaredLevelPayloadSize(job.payload)) {
+      // The largest level this session's shape allows (every listed level is within it), and one transfer's limit.
+      const std::uint64_t limit = std::min<std::uint64_t>(
+          kMaxTransferSize,
+          levelPayloadBounds(job.vertexCount, std::uint64_t{kMaxFacesPerVertex} * job.vertexCount, job.rowCount).max);
+      LevelDecompression decompressed = decompressLevelPayload(job.payload, limit);
+      if (!decompressed.ok()) {
+        out.error = QStringLiteral("bad compressed level payload: %1").arg(decompressed.error);
+        return out;
+      }
+      canonical = std::move(decompressed.payload);
+    }
+    if (!checksumMatches(canonical, job.sha256)) {
       out.error = QStringLiteral("model transfer failed: %1")
                       .arg(QString::fromLatin1(toString(ModelReceiver::Status::BadChecksum)));
       return out;
     }
-    const auto* data = reinterpret_cast<const std::byte*>(job.payload.constData());
+    const auto* data = reinterpret_cast<const std::byte*>(canonical.constData());
     spectral::LevelDecodeResult decoded =
-        spectral::decodeResolutionLevel(std::span<const std::byte>(data, static_cast<std::size_t>(job.payload.size())));
+        spectral::decodeResolutionLevel(std::span<const std::byte>(data, static_cast<std::size_t>(canonical.size())));
     if (!decoded.ok()) {
       out.error = QStringLiteral("bad level payload: %1").arg(QString::fromStdString(decoded.message));
       return out;
@@ -111,7 +127,9 @@ DecodedLevel decodeLevel(LevelJob job) {
                       .arg(decoded.level->F.rows());
       return out;
     }
-    if (!allDisplayable(decoded.level->restV) || !allDisplayable(decoded.level->K)) {
+    // |K(i, j)| ≤ 32768·scale(j) (an int16 entry times its column's scale).
+    const Eigen::RowVectorXd largestK = 32768.0 * decoded.level->K.scale.cast<double>();
+    if (!allDisplayable(decoded.level->restV) || !allDisplayable(largestK)) {
       out.error = QStringLiteral("the host sent a level with a coordinate or K entry beyond %1").arg(kMaxAbsCoordinate);
       return out;
     }

@@ -26,7 +26,7 @@ inline constexpr double kMaxAbsCoordinate = 1e9;
 inline constexpr std::uint32_t kMaxFacesPerVertex = 8;
 
 /// The byte sizes an encoded level (spectral/resolution_level.h) of `vertices` n', `faces` f' and `rows` m can have:
-/// 44 + 28·n' + 12·f' + 4·n'·m + 12·z bytes with z (non-zeros of P) in [0, 3·n']. Exact in 64 bits.
+/// 44 + 28·n' + 12·f' + 4·m + 2·n'·m + 12·z bytes with z (non-zeros of P) in [0, 3·n']. Exact in 64 bits.
 struct PayloadBounds {
   std::uint64_t min = 0;
   std::uint64_t max = 0;

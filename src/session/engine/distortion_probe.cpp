@@ -14,10 +14,12 @@ namespace {
 /// a is newer than b in 32-bit serial-number arithmetic (RFC 1982).
 bool newerFrame(std::uint32_t a, std::uint32_t b) { return static_cast<std::int32_t>(a - b) > 0; }
 
-/// X̂' + K·Z in double precision, one row of K at a time (no n' by m double temporary).
+/// X̂' + K·Z in double precision, one row of the quantised K at a time (no n' by m double temporary): the scales
+/// are folded into Z once, X̂'_i + Q_i·(scale ⊙ Z).
 Eigen::MatrixXd reconstruct(const spectral::ResolutionLevel& level, const Eigen::MatrixXd& Z) {
+  const Eigen::MatrixXd scaledZ = level.K.scale.cast<double>().transpose().asDiagonal() * Z;
   Eigen::MatrixXd X = level.restV;
-  for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) += level.K.row(i).cast<double>() * Z;
+  for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) += level.K.Q.row(i).cast<double>() * scaledZ;
   return X;
 }
 

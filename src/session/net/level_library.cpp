@@ -1,5 +1,6 @@
 #include "session/net/level_library.h"
 
+#include "session/wire/level_codec.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
 
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <exception>
+#include <utility>
 
 namespace sc::session {
 
@@ -119,8 +121,12 @@ LevelLibrary::BuildResult LevelLibrary::build(const HostModel& model, const Leve
                          .arg(kMaxTransferSize);
       return result;
     }
-    out.payload = QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
-    out.sha256 = sha256(out.payload);  // once per level, here rather than per transfer on the network thread
+    const QByteArray canonical(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
+    out.sha256 = sha256(canonical);  // once per level, here rather than per transfer on the network thread
+    // Sent compressed (level_codec.h) unless that is no smaller (a level of a few vertices); the SHA-256 is the
+    // canonical payload's either way.
+    QByteArray compressed = compressLevelPayload(canonical);
+    out.payload = !compressed.isEmpty() && compressed.size() < canonical.size() ? std::move(compressed) : canonical;
     result.level = std::move(out);
   } catch (const std::exception& e) {
     result.error = QStringLiteral("building the level for %1 vertices failed: %2").arg(target).arg(e.what());

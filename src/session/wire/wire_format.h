@@ -225,8 +225,9 @@ namespace sc::session {
 inline constexpr std::uint16_t kMagic = 0x5343;  ///< "SC", first two bytes of every datagram.
 /// 3: issue 14 (encrypted datagrams, path challenge); 4: issue 15 (strokes and the shared edit history, presence,
 /// Leave reason and text, LockNotice Waiting with the lock queue, Released{RevokedByHost}); 5: several leases at
-/// once (one Granted per lease to a newcomer, LockNotice Refused for overlapping constraints).
-inline constexpr std::uint8_t kProtocolVersion = 5;
+/// once (one Granted per lease to a newcomer, LockNotice Refused for overlapping constraints); 6: issue 17 (level
+/// payloads in level format 2: K as int16 with a float scale per column, spectral/quantized_basis.h).
+inline constexpr std::uint8_t kProtocolVersion = 6;
 
 /// Message types, explicit values. Datagram types use values below 0x40, control (TCP) types from 0x40 on.
 enum class MessageType : std::uint8_t {

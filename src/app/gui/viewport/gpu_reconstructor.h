@@ -1,11 +1,12 @@
 #pragma once
 // GpuReconstructor: the GPU path of a shown level's frames. X̂' + K·Z is evaluated in the vertex shader
-// (shaders::kMeshReconstructVertex: K in a GL_RGBA32F texture buffer owned by ViewportBuffers, Z in a uniform
-// array, the rest positions as the vertex attribute); this class owns the program, says whether the context can
-// draw a basis, sets the per-frame uniforms and reads the shader's positions back through transform feedback.
-// The shading uses face normals (screen-space derivatives of the reconstructed position in the fragment shader):
-// exact for the drawn triangles, so no per-frame read-back or CPU work at all, at the price of a faceted look that
-// smooth CPU vertex normals do not have (invisible at 100k vertices, visible on a coarse level).
+// (shaders::kMeshReconstructVertex: K's int16 entries in a GL_RGBA16I texture buffer owned by ViewportBuffers, the
+// scaled Z (scale ⊙ Z, ShownLevel::scaledZ()) in a uniform array, the rest positions as the vertex attribute); this
+// class owns the program, says whether the context can draw a basis, sets the per-frame uniforms and reads the shader's
+// positions back through transform feedback. The shading uses face normals (screen-space derivatives of the
+// reconstructed position in the fragment shader): exact for the drawn triangles, so no per-frame read-back or CPU work
+// at all, at the price of a faceted look that smooth CPU vertex normals do not have (invisible at 100k vertices,
+// visible on a coarse level).
 
 #include <Eigen/Core>
 
@@ -39,8 +40,8 @@ class GpuReconstructor {
   /// (m ≤ 256) and #V·⌈m/4⌉ texels fit GL_MAX_TEXTURE_BUFFER_SIZE. m = 0: whether the program exists.
   [[nodiscard]] bool available(long long vertices, int basisSize) const;
 
-  /// With the program bound: binds K's texture to its unit and sets Z (m by 3; padded here to 4·⌈m/4⌉ rows, the
-  /// uniform array's layout). unbind() releases the texture.
+  /// With the program bound: binds K's texture to its unit and sets Z (m by 3, the scaled Z of the quantised K;
+  /// padded here to 4·⌈m/4⌉ rows, the uniform array's layout). unbind() releases the texture.
   void setUniforms(QOpenGLFunctions_3_3_Core& gl, unsigned basisTexture, const Eigen::MatrixXf& Z);
   void unbind(QOpenGLFunctions_3_3_Core& gl);
 

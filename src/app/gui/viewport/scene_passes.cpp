@@ -56,7 +56,7 @@ void ScenePasses::drawBackground(QOpenGLFunctions_3_3_Core& gl) {
 }
 
 void ScenePasses::drawFrame(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu,
-                            const spectral::RowMatrixXf* K, const MeshPass& pass, const FrameTarget& target,
+                            const spectral::QuantizedBasis* K, const MeshPass& pass, const FrameTarget& target,
                             StageClock& clock, FrameTimes& times) {
   clock.start();
   times.uploadMs = 0.0;

@@ -32,7 +32,7 @@ struct MeshPass {
   QMatrix4x4 projection;
   bool wireframe = false;                 ///< edges over the shaded triangles
   bool proxy = false;                     ///< the interactive proxy's triangles instead of the mesh's
-  const Eigen::MatrixXf* gpuZ = nullptr;  ///< non-null: the GPU path draws X̂' + K·Z with this Z (m by 3)
+  const Eigen::MatrixXf* gpuZ = nullptr;  ///< non-null: the GPU path draws X̂' + K·Z with this scaled Z (m by 3)
 };
 
 /// Where and how one picture is drawn.
@@ -67,7 +67,7 @@ class ScenePasses {
   /// then `pass`. Fills the GL stages of `times` (upload, background, mesh with the stretch and finish) and its
   /// triangle count, each stage ended by `clock` (started here). Needs create().
   void drawFrame(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu,
-                 const spectral::RowMatrixXf* K, const MeshPass& pass, const FrameTarget& target, StageClock& clock,
+                 const spectral::QuantizedBasis* K, const MeshPass& pass, const FrameTarget& target, StageClock& clock,
                  FrameTimes& times);
 
   /// Binds an offscreen target of `reduced` device pixels (re-created when the size changes) and its viewport.

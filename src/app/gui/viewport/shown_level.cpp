@@ -1,26 +1,33 @@
 #include "app/gui/viewport/shown_level.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace sc::app {
 
 void ShownLevel::hold(spectral::SharedDisplayLevel level, std::span<const float> rest) {
   m_level = std::move(level);
-  const spectral::RowMatrixXf& K = m_level->level.K;
-  m_maxRowNorm = K.rows() > 0 && K.cols() > 0 ? K.rowwise().norm().maxCoeff() : 0.0f;
-  m_maxAbsColumn =
-      K.rows() > 0 ? Eigen::RowVectorXf(K.cwiseAbs().colwise().maxCoeff()) : Eigen::RowVectorXf::Zero(K.cols());
+  const spectral::QuantizedBasis& K = m_level->level.K;
+  m_maxRowNorm = 0.0f;
+  m_maxAbsColumn = Eigen::RowVectorXf::Zero(K.cols());
+  for (Eigen::Index i = 0; i < K.rows(); ++i) {
+    const Eigen::RowVectorXf row = K.row(i);
+    m_maxRowNorm = std::max(m_maxRowNorm, row.norm());
+    m_maxAbsColumn = m_maxAbsColumn.cwiseMax(row.cwiseAbs());
+  }
   Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> R(
       rest.data(), static_cast<Eigen::Index>(rest.size() / 3), 3);
   m_restLo = R.rows() > 0 ? Eigen::Vector3f(R.colwise().minCoeff().transpose()) : Eigen::Vector3f::Zero();
   m_restHi = R.rows() > 0 ? Eigen::Vector3f(R.colwise().maxCoeff().transpose()) : Eigen::Vector3f::Zero();
   m_Z = Eigen::MatrixXf::Zero(K.cols(), 3);
+  m_scaledZ = m_Z;
   m_showing = false;
 }
 
 void ShownLevel::clear() {
   m_level.reset();
   m_Z.resize(0, 0);
+  m_scaledZ.resize(0, 0);
   m_showing = false;
   m_maxRowNorm = 0.0f;
   m_maxAbsColumn.resize(0);
@@ -37,6 +44,7 @@ bool ShownLevel::show(const Eigen::MatrixXf& Z) {
   } else {
     return false;
   }
+  m_scaledZ = m_level->level.K.scaled(m_Z);
   m_showing = true;
   return true;
 }

@@ -25,8 +25,8 @@ class ShownLevel {
 
   [[nodiscard]] bool empty() const { return !m_level; }
   [[nodiscard]] const spectral::SharedDisplayLevel& level() const { return m_level; }
-  /// n' by m, the shared level's K (needs !empty()).
-  [[nodiscard]] const spectral::RowMatrixXf& K() const { return m_level->level.K; }
+  /// n' by m, the shared level's quantised K (needs !empty()).
+  [[nodiscard]] const spectral::QuantizedBasis& K() const { return m_level->level.K; }
   [[nodiscard]] int basisSize() const { return m_level ? m_level->basisSize() : 0; }
 
   /// Shows the frame X̂' + K·Z. @param[in] Z m by 3 (m = basisSize()); an empty Z stands for zero (the rest shape).
@@ -36,6 +36,8 @@ class ShownLevel {
   [[nodiscard]] bool shows(const Eigen::MatrixXf& Z) const;
   /// The current frame's Z, m by 3.
   [[nodiscard]] const Eigen::MatrixXf& Z() const { return m_Z; }
+  /// scale ⊙ Z (K().scaled(Z())), m by 3: what the shader multiplies K's int16 entries with.
+  [[nodiscard]] const Eigen::MatrixXf& scaledZ() const { return m_scaledZ; }
   /// Whether the picture is X̂' + K·Z (false before the first show() and after explicit positions: stopShowing()).
   [[nodiscard]] bool showing() const { return m_showing; }
   void stopShowing() { m_showing = false; }
@@ -50,6 +52,7 @@ class ShownLevel {
  private:
   spectral::SharedDisplayLevel m_level;
   Eigen::MatrixXf m_Z;
+  Eigen::MatrixXf m_scaledZ;
   bool m_showing = false;
   float m_maxRowNorm = 0.0f;
   Eigen::RowVectorXf m_maxAbsColumn;  // 1 by m: max_i |K_ik| of each column

@@ -99,7 +99,7 @@ void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
     gl.glGenTextures(1, &m_basisTexture);
     gl.glBindBuffer(GL_TEXTURE_BUFFER, m_basisBuffer);
     gl.glBindTexture(GL_TEXTURE_BUFFER, m_basisTexture);
-    gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, m_basisBuffer);
+    gl.glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA16I, m_basisBuffer);
     gl.glBindTexture(GL_TEXTURE_BUFFER, 0);
     gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   }
@@ -124,7 +124,7 @@ void ViewportBuffers::destroy(QOpenGLFunctions_3_3_Core& gl) {
   m_basisTexture = m_basisBuffer = 0;
 }
 
-void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf* K) {
+void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis* K) {
   if (isMarked(kPositions)) send(m_positionBuffer, m_positions);
   if (isMarked(kNormals)) send(m_normalBuffer, m_normals);
   if (isMarked(kTints)) send(m_tintBuffer, m_tints);
@@ -153,23 +153,24 @@ void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::RowM
   }
 }
 
-// K padded to 4·⌈m/4⌉ columns of zeros (the texture's RGBA texels), written row by row into the mapped buffer.
-void ViewportBuffers::uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf& K) {
+// K's int16 entries padded to 4·⌈m/4⌉ columns of zeros (the texture's RGBA16I texels), written row by row into the
+// mapped buffer.
+void ViewportBuffers::uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K) {
   const auto m = static_cast<std::size_t>(K.cols());
   const std::size_t padded = 4 * ((m + 3) / 4);
-  const auto bytes = static_cast<GLsizeiptr>(static_cast<std::size_t>(K.rows()) * padded * sizeof(float));
+  const auto bytes = static_cast<GLsizeiptr>(static_cast<std::size_t>(K.rows()) * padded * sizeof(std::int16_t));
   gl.glBindBuffer(GL_TEXTURE_BUFFER, m_basisBuffer);
   if (padded == m || bytes == 0) {
-    gl.glBufferData(GL_TEXTURE_BUFFER, bytes, K.data(), GL_STATIC_DRAW);
+    gl.glBufferData(GL_TEXTURE_BUFFER, bytes, K.Q.data(), GL_STATIC_DRAW);
   } else {
     gl.glBufferData(GL_TEXTURE_BUFFER, bytes, nullptr, GL_STATIC_DRAW);
-    auto* out = static_cast<float*>(
+    auto* out = static_cast<std::int16_t*>(
         gl.glMapBufferRange(GL_TEXTURE_BUFFER, 0, bytes, GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT));
     if (out != nullptr) {
-      const float* in = K.data();  // row-major: row i at i·m
+      const std::int16_t* in = K.Q.data();  // row-major: row i at i·m
       for (Eigen::Index i = 0; i < K.rows(); ++i, in += m, out += padded) {
-        std::memcpy(out, in, m * sizeof(float));
-        std::fill(out + m, out + padded, 0.0f);
+        std::memcpy(out, in, m * sizeof(std::int16_t));
+        std::fill(out + m, out + padded, std::int16_t{0});
       }
       gl.glUnmapBuffer(GL_TEXTURE_BUFFER);
     }

@@ -67,13 +67,14 @@ class ViewportBuffers {
   /// of K (when the GPU path's program exists). Marks everything for upload (a new context has empty buffers).
   void create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture);
   void destroy(QOpenGLFunctions_3_3_Core& gl);
-  /// Uploads what is marked and clears those bits. `K` (n' by m, the shown level's, read in place): the basis,
-  /// padded to 4·⌈m/4⌉ columns while it is written into the GL buffer (no host copy); nullptr leaves kBasis marked.
-  void upload(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf* K);
+  /// Uploads what is marked and clears those bits. `K` (n' by m, the shown level's, read in place): its int16
+  /// entries Q, padded to 4·⌈m/4⌉ columns while they are written into the GL buffer (no host copy; the scales are
+  /// folded into the shader's Z, ShownLevel::scaledZ()); nullptr leaves kBasis marked.
+  void upload(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis* K);
   QOpenGLVertexArrayObject& meshVao() { return m_meshVao; }               ///< positions 0, normals 1, tints 2
   QOpenGLVertexArrayObject& proxyVao() { return m_proxyVao; }             ///< the compact proxy's, same layout
   QOpenGLVertexArrayObject& gpuVao() { return m_gpuVao; }                 ///< rest 0, tints 2, the mesh's indices
-  [[nodiscard]] unsigned basisTexture() const { return m_basisTexture; }  ///< GL_RGBA32F view of K (0: none)
+  [[nodiscard]] unsigned basisTexture() const { return m_basisTexture; }  ///< GL_RGBA16I view of K (0: none)
 
  private:
   template <typename T>
@@ -81,7 +82,7 @@ class ViewportBuffers {
     m_dirty |= bit;
     return value;
   }
-  void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::RowMatrixXf& K);
+  void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K);
 
   unsigned m_dirty = kAll;
   std::vector<float> m_positions;
@@ -105,7 +106,7 @@ class ViewportBuffers {
   QOpenGLBuffer m_proxyIndexBuffer{QOpenGLBuffer::IndexBuffer};
   QOpenGLBuffer m_restBuffer{QOpenGLBuffer::VertexBuffer};
   unsigned m_basisBuffer = 0;   // GL_TEXTURE_BUFFER storage of K
-  unsigned m_basisTexture = 0;  // GL_RGBA32F view of it
+  unsigned m_basisTexture = 0;  // GL_RGBA16I view of it
 };
 
 }  // namespace sc::app
