@@ -6,8 +6,10 @@
 // display level with a synthetic smooth m-column basis (the shader's cost and error do not depend on K's values),
 // uploads it through the viewport's own ViewportBuffers, and for `--frames` random Z compares the shader's
 // positions (GpuReconstructor::readBack) with spectral::reconstructInterleaved. Prints the renderer, the worst
-// error over the bounding-box diagonal and the median time of a GPU frame (uniforms, draw with transform feedback,
-// read-back) and of a CPU frame. Exit status 1 when the error exceeds 1e-5 of the diagonal or no context exists.
+// error over the bounding-box diagonal (the shader and the CPU kernel both read the int16 K; the quantisation's
+// own error against float32 K is printed beside it) and the median time of a GPU frame (uniforms, draw with transform
+// feedback, read-back) and of a CPU frame. Exit status 1 when the error exceeds 1e-5 of the diagonal or no context
+// exists.
 //
 // Usage: shapecast-gpu-check [--m 100] [--frames 20] [--egl] MESH...
 //   --egl  create the context with EGL by hand on EGL's default display, with a pbuffer config, and hand it to Qt
@@ -19,6 +21,7 @@
 #include "app/gui/viewport/viewport_buffers.h"
 #include "model/mesh_loader.h"
 #include "spectral/display_level.h"
+#include "spectral/quantized_basis.h"
 #include "spectral/reconstruction_kernel.h"
 
 #include <QtGui/qopenglcontext_platform.h>
@@ -44,16 +47,16 @@
 
 namespace {
 
-sc::spectral::RowMatrixXf smoothBasis(const Eigen::MatrixXd& V, int m, float scale) {
-  sc::spectral::RowMatrixXf K(V.rows(), m);
+Eigen::MatrixXd smoothBasis(const Eigen::MatrixXd& V, int m, double scale) {
+  Eigen::MatrixXd K(V.rows(), m);
   std::mt19937 rng(7);
-  std::uniform_real_distribution<float> phase(0.0f, 6.28f);
+  std::uniform_real_distribution<double> phase(0.0, 6.28);
   const double size = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   for (int k = 0; k < m; ++k) {
-    const float p = phase(rng);
+    const double p = phase(rng);
     const auto axis = static_cast<Eigen::Index>(k % 3);
     for (Eigen::Index i = 0; i < V.rows(); ++i) {
-      K(i, k) = scale * std::sin(static_cast<float>((k + 1) * V(i, axis) / size) * 6.0f + p);
+      K(i, k) = scale * std::sin((k + 1) * V(i, axis) / size * 6.0 + p);
     }
   }
   return K;
@@ -66,12 +69,15 @@ double median(std::vector<double> values) {
 }
 
 struct MeshResult {
-  double worstError = 0.0;  ///< max |GPU − CPU| over the diagonal, over all frames
+  double worstError = 0.0;    ///< max |GPU − CPU| over the diagonal, over all frames (both on the int16 K)
+  double quantisation = 0.0;  ///< max |CPU on int16 K − CPU on float32 K| over the diagonal
   double gpuMs = 0.0, cpuMs = 0.0;
 };
 
 MeshResult check(QOpenGLFunctions_3_3_Core& gl, const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, int m, int frames) {
-  const sc::spectral::RowMatrixXf K = smoothBasis(V, m, 0.01f);
+  const Eigen::MatrixXd basis = smoothBasis(V, m, 0.01);
+  const sc::spectral::QuantizedBasis K = sc::spectral::quantizeBasis(basis);
+  const sc::spectral::RowMatrixXf floatK = basis.cast<float>();
   const std::vector<float> rest = sc::spectral::interleavedPositions(V);
   const double diagonal = (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
   sc::app::ViewportBuffers buffers;
@@ -92,7 +98,7 @@ MeshResult check(QOpenGLFunctions_3_3_Core& gl, const Eigen::MatrixXd& V, const 
   }
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<float> cpu(rest.size());
+  std::vector<float> cpu(rest.size()), cpuFloat(rest.size());
   std::vector<double> gpuTimes, cpuTimes;
   for (int frame = 0; frame < frames; ++frame) {
     Eigen::MatrixXf Z(m, 3);
@@ -100,7 +106,7 @@ MeshResult check(QOpenGLFunctions_3_3_Core& gl, const Eigen::MatrixXd& V, const 
     QElapsedTimer timer;
     timer.start();
     const std::vector<float> shaded =
-        gpu.readBack(gl, buffers.gpuVao(), buffers.basisTexture(), Z, static_cast<int>(V.rows()));
+        gpu.readBack(gl, buffers.gpuVao(), buffers.basisTexture(), K.scaled(Z), static_cast<int>(V.rows()));
     if (const GLenum error = gl.glGetError(); error != GL_NO_ERROR) {
       std::printf("  GL error 0x%x in frame %d\n", error, frame);
       result.worstError = INFINITY;
@@ -110,12 +116,16 @@ MeshResult check(QOpenGLFunctions_3_3_Core& gl, const Eigen::MatrixXd& V, const 
     timer.restart();
     sc::spectral::reconstructInterleaved(K, rest, Z, cpu);
     cpuTimes.push_back(static_cast<double>(timer.nsecsElapsed()) / 1e6);
+    sc::spectral::reconstructInterleaved(floatK, rest, Z, cpuFloat);
     if (shaded.size() != cpu.size()) {
       result.worstError = INFINITY;
       break;
     }
-    for (std::size_t i = 0; i < cpu.size(); ++i)
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
       result.worstError = std::max(result.worstError, std::abs(static_cast<double>(shaded[i] - cpu[i])) / diagonal);
+      result.quantisation =
+          std::max(result.quantisation, std::abs(static_cast<double>(cpu[i] - cpuFloat[i])) / diagonal);
+    }
   }
   gpu.destroy(gl);
   buffers.destroy(gl);
@@ -225,9 +235,10 @@ int main(int argc, char** argv) {
     }
     const MeshResult r = check(*gl, loaded->V, loaded->F, m, frames);
     std::printf(
-        "%s: %lld vertices, m = %d, %d frames: max |GPU - CPU| = %.2e of the diagonal; median frame GPU "
-        "%.3f ms (draw + read-back), CPU %.3f ms\n",
-        qPrintable(path), static_cast<long long>(loaded->V.rows()), m, frames, r.worstError, r.gpuMs, r.cpuMs);
+        "%s: %lld vertices, m = %d, %d frames: max |GPU - CPU| = %.2e of the diagonal (int16 K; its "
+        "quantisation against float32 K: %.2e); median frame GPU %.3f ms (draw + read-back), CPU %.3f ms\n",
+        qPrintable(path), static_cast<long long>(loaded->V.rows()), m, frames, r.worstError, r.quantisation, r.gpuMs,
+        r.cpuMs);
     ok = ok && r.worstError <= 1e-5;
   }
   std::printf("%s\n", ok ? "GPU path agrees with the CPU kernel" : "GPU path FAILED");
