@@ -17,6 +17,11 @@
 namespace sc::session {
 namespace {
 
+/// The TLS socket's read buffer under a link rate: small, so that TCP's flow control backs up to the host.
+constexpr qint64 kLinkReadBuffer = 64 * 1024;
+/// Under a link rate, a waiting stream is read again once this many bytes (or all pending, if fewer) are allowed.
+constexpr std::size_t kLinkReadChunk = 4096;
+
 ClientEngineConfig engineConfig(const SessionClientOptions& options) {
   return ClientEngineConfig{options.name,
                             options.password,
@@ -34,7 +39,12 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
   m_options.password.reset();  // the engine holds it (and drops it once its proof is made)
   m_socket = new QSslSocket(this);
   m_socket->setSslConfiguration(clientTlsConfiguration());
-  m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}}, this);
+  m_linkTimer = new QTimer(this);
+  m_linkTimer->setSingleShot(true);
+  m_linkTimer->setTimerType(Qt::PreciseTimer);
+  makeLink();
+  m_channel =
+      new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}, m_link}, this);
   m_timer = new QTimer(this);
   m_timer->setSingleShot(true);
   m_timer->setTimerType(Qt::PreciseTimer);
@@ -42,7 +52,11 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
           [this] { m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1); });
   connect(m_socket, &QSslSocket::encrypted, this, &SessionClient::onEncrypted);
   connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
-  connect(m_socket, &QTcpSocket::disconnected, this, [this] { apply(m_engine.onClosed()); });
+  connect(m_socket, &QTcpSocket::disconnected, this, [this] {
+    readStream(true);  // what the host sent before closing (a Leave) is not held back by the link rate
+    apply(m_engine.onClosed());
+  });
+  connect(m_linkTimer, &QTimer::timeout, this, &SessionClient::readAvailable);
   connect(m_socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
     if (error == QAbstractSocket::RemoteHostClosedError) return;  // disconnected() reports it
     apply(m_engine.onTransportError(m_socket->errorString()));
@@ -81,9 +95,26 @@ void SessionClient::onEncrypted() {
   apply(m_engine.onSecured(presented, sessionNow()));
 }
 
-void SessionClient::readAvailable() {
-  const QByteArray bytes = m_socket->readAll();
+void SessionClient::readAvailable() { readStream(false); }
+
+void SessionClient::readStream(bool unthrottled) {
+  QByteArray bytes;
+  if (!m_link || unthrottled) {
+    bytes = m_socket->readAll();
+    if (m_link) m_link->consume(static_cast<std::size_t>(bytes.size()), sessionNow());
+  } else {
+    const Micros now = sessionNow();
+    const qint64 allowed = std::min<qint64>(static_cast<qint64>(m_link->available(now)), m_socket->bytesAvailable());
+    if (allowed > 0) bytes = m_socket->read(allowed);
+    m_link->consume(static_cast<std::size_t>(bytes.size()), now);
+    const qint64 pending = m_socket->bytesAvailable();
+    if (pending > 0) {
+      const Micros at = m_link->availableAt(std::min(static_cast<std::size_t>(pending), kLinkReadChunk), now);
+      m_linkTimer->start(static_cast<int>(std::min<Micros::rep>(((at - now).count() + 999) / 1000, 1'000'000)));
+    }
+  }
   if (bytes.isEmpty()) return;
+  m_streamBytesRead += static_cast<std::uint64_t>(bytes.size());
   m_engine.onHeard(sessionNow());
   m_reader.append(bytes);
   while (m_engine.acceptsMessages()) {
@@ -128,7 +159,17 @@ bool SessionClient::applyCommand(ClientActions actions) {
 
 void SessionClient::setImpairment(std::optional<ImpairmentSettings> settings) {
   m_options.impairment = settings;
-  m_channel->setImpairment(std::move(settings));
+  makeLink();
+  m_channel->setImpairment(std::move(settings), m_link);
+  // Bytes the old link held back are read under the new one (or at once without a rate).
+  if (m_socket->bytesAvailable() > 0) QTimer::singleShot(0, this, &SessionClient::readAvailable);
+}
+
+void SessionClient::makeLink() {
+  const bool rated = m_options.impairment && m_options.impairment->rate.bitsPerSecond > 0.0;
+  m_link = rated ? std::make_shared<LinkRate>(m_options.impairment->rate) : nullptr;
+  m_socket->setReadBufferSize(rated ? kLinkReadBuffer : 0);
+  if (!rated) m_linkTimer->stop();
 }
 
 void SessionClient::setDistortion(double maxPct, double meanPct, double lastPct) {
