@@ -10,6 +10,7 @@
 #include "session/net/tls_server.h"
 
 #include <QtCore/QTimer>
+#include <QtCore/QVariant>
 #include <QtNetwork/QSslSocket>
 
 #include <algorithm>
@@ -19,6 +20,13 @@ namespace {
 
 /// The TLS socket's read buffer under a link rate: small, so that TCP's flow control backs up to the host.
 constexpr qint64 kLinkReadBuffer = 64 * 1024;
+/// Under a link rate, the kernel's receive buffer of the TLS socket: 20 ms at the rate, at least 64 KiB. On loopback
+/// the kernel would otherwise grow both ends' buffers to megabytes; the host's socket then reports no progress
+/// for seconds at a low rate (Linux wakes a writer only once half its send buffer is free) and the host drops the
+/// client as stalled (HostEngineOptions::sendStallTimeout). A real slow path keeps those buffers small.
+qint64 linkKernelBuffer(double bitsPerSecond) {
+  return std::max<qint64>(64 * 1024, static_cast<qint64>(bitsPerSecond / 8.0 * 0.02));
+}
 /// Under a link rate, a waiting stream is read again once this many bytes (or all pending, if fewer) are allowed.
 constexpr std::size_t kLinkReadChunk = 4096;
 
@@ -48,8 +56,13 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
   m_timer = new QTimer(this);
   m_timer->setSingleShot(true);
   m_timer->setTimerType(Qt::PreciseTimer);
-  connect(m_socket, &QTcpSocket::connected, this,
-          [this] { m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1); });
+  connect(m_socket, &QTcpSocket::connected, this, [this] {
+    m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+    if (m_link) {
+      m_socket->setSocketOption(QAbstractSocket::ReceiveBufferSizeSocketOption,
+                                QVariant::fromValue(linkKernelBuffer(m_link->bitsPerSecond())));
+    }
+  });
   connect(m_socket, &QSslSocket::encrypted, this, &SessionClient::onEncrypted);
   connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
   connect(m_socket, &QTcpSocket::disconnected, this, [this] {
