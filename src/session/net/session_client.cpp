@@ -116,13 +116,16 @@ void SessionClient::readStream(bool unthrottled) {
     bytes = m_socket->readAll();
     if (m_link) m_link->consume(static_cast<std::size_t>(bytes.size()), sessionNow());
   } else {
+    // Asks for every allowed byte even when fewer are decrypted: a read beyond QSslSocket's buffer makes it
+    // decrypt more (its buffer is bounded, so the rest waits encrypted until a read asks for it, and no readyRead
+    // would come for it). A read short of the allowance means nothing more is decrypted yet: readyRead follows
+    // when it is. Reading the whole allowance means more may wait: read again when kLinkReadChunk is allowed.
     const Micros now = sessionNow();
-    const qint64 allowed = std::min<qint64>(static_cast<qint64>(m_link->available(now)), m_socket->bytesAvailable());
+    const auto allowed = static_cast<qint64>(m_link->available(now));
     if (allowed > 0) bytes = m_socket->read(allowed);
     m_link->consume(static_cast<std::size_t>(bytes.size()), now);
-    const qint64 pending = m_socket->bytesAvailable();
-    if (pending > 0) {
-      const Micros at = m_link->availableAt(std::min(static_cast<std::size_t>(pending), kLinkReadChunk), now);
+    if (bytes.size() == allowed) {
+      const Micros at = m_link->availableAt(kLinkReadChunk, now);
       m_linkTimer->start(static_cast<int>(std::min<Micros::rep>(((at - now).count() + 999) / 1000, 1'000'000)));
     }
   }

@@ -48,12 +48,12 @@
 // Link rate: with impairment->rate.bitsPerSecond > 0, one LinkRate (link_rate.h) is the client's access link:
 //   datagrams pass it in the channel's NetworkImpairment (delayed, tail-dropped when its queue is full), and the
 //   TLS stream is read only as fast as the same bucket allows: each readyRead (or the link timer) reads at most
-//   available() bytes, consumes them, and re-arms a precise single-shot timer at availableAt(min(pending, 4 KiB))
-//   while bytes wait. The socket's read buffer is bounded (kLinkReadBuffer), and so is its kernel receive buffer
-//   (20 ms at the rate, ≥ 64 KiB, set once connected when the rate is set from the start), so that TCP's flow
-//   control backs up to the host as over a real slow path; nothing on the stream is dropped. The bytes charged are
-//   those read (TLS plaintext). A Leave or anything else still buffered when the host closes is read at once (the close
-//   is not held back).
+//   available() bytes, consumes them, and, when it got all it asked for (more may wait, decrypted or not),
+//   re-arms a precise single-shot timer at availableAt(4 KiB). The socket's read buffer is bounded (kLinkReadBuffer),
+//   and so is its kernel receive buffer (20 ms at the rate, ≥ 64 KiB, set once connected when the rate is set from the
+//   start), so that TCP's flow control backs up to the host as over a real slow path; nothing on the stream is dropped.
+//   The bytes charged are those read (TLS plaintext). A Leave or anything else still buffered when the host closes is
+//   read at once (the close is not held back).
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
 #include "session/engine/client_engine.h"
