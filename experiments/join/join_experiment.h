@@ -44,6 +44,9 @@ struct JoinResult {
   double levelReadySeconds = 0.0, firstFrameSeconds = 0.0;
   double transferMbit = 0.0;  ///< stream bytes · 8 / (level ready − first byte of the transfer), Mbit/s
   double peakRssMb = 0.0, baselineRssMb = 0.0;
+  /// False when the host child refused its scripted drag (it does on the 100k dragon): no deformed frame comes,
+  /// firstFrameSeconds is −1 (null in JSON) and only the level is timed.
+  bool hostDrags = true;
 };
 
 /// Runs the experiment; `progress` gets one line per step. The host child is `executable` (this program).
@@ -57,8 +60,8 @@ std::variant<JoinResult, QString> runJoinExperiment(const QString& executable, c
 int runJoinExperimentCommand(const QStringList& arguments);
 
 /// {"mesh", "vertices", "rows", "level_vertices", "rate_mbit", "delay_ms", "loss", "bytes_received",
-///  "stream_bytes", "datagram_bytes", "first_frame_s", "level_ready_s", "transfer_mbit", "peak_rss_mb",
-///  "baseline_rss_mb"}
+///  "stream_bytes", "datagram_bytes", "first_frame_s" (null without a host drag), "host_drags", "level_ready_s",
+///  "transfer_mbit", "peak_rss_mb", "baseline_rss_mb"}
 QJsonObject joinResultJson(const JoinResult& result);
 
 }  // namespace sc::app

@@ -23,19 +23,24 @@ int runJoinExperimentCommand(const QStringList& arguments) {
                                 QStringLiteral("P"), QStringLiteral("0"));
   const QCommandLineOption level(QStringLiteral("level"), QStringLiteral("requested level: full or N vertices"),
                                  QStringLiteral("full|N"), QStringLiteral("full"));
-  p.addOptions({rate, delay, loss, level});
+  const QCommandLineOption timeout(QStringLiteral("timeout"),
+                                   QStringLiteral("give up after T seconds without a deformed frame (default 1800)"),
+                                   QStringLiteral("T"), QStringLiteral("1800"));
+  p.addOptions({rate, delay, loss, level, timeout});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
 
   JoinExperimentSettings settings;
-  bool ok1 = false, ok2 = false, ok3 = false, ok4 = true;
+  bool ok1 = false, ok2 = false, ok3 = false, ok4 = true, ok5 = false;
+  settings.timeoutSeconds = p.value(timeout).toDouble(&ok5);
   settings.rateMbit = p.value(rate).toDouble(&ok1);
   settings.delayMs = p.value(delay).toInt(&ok2);
   settings.loss = p.value(loss).toDouble(&ok3);
   if (p.value(level) != QLatin1String("full")) settings.level = p.value(level).toUInt(&ok4);
-  if (!ok1 || !ok2 || !ok3 || !ok4 || !(settings.rateMbit >= 0.0) || settings.delayMs < 0 || !(settings.loss >= 0.0) ||
-      settings.loss > 1.0) {
-    command.error(QStringLiteral("--rate-mbit takes Mbit/s ≥ 0, --delay-ms ms ≥ 0, --loss 0..1, --level full or N"));
+  if (!ok1 || !ok2 || !ok3 || !ok4 || !ok5 || !(settings.timeoutSeconds > 0.0) || !(settings.rateMbit >= 0.0) ||
+      settings.delayMs < 0 || !(settings.loss >= 0.0) || settings.loss > 1.0) {
+    command.error(QStringLiteral(
+        "--rate-mbit takes Mbit/s ≥ 0, --delay-ms ms ≥ 0, --loss 0..1, --level full or N, --timeout T > 0"));
     return kExitUsage;
   }
   QStringList basis{QStringLiteral("--m"), QString::number(command.basisArguments().m)};
