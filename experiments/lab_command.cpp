@@ -1,6 +1,7 @@
 #include "experiments/lab_command.h"
 
 #include "app/cli/cli_common.h"
+#include "experiments/join/join_experiment.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_command.h"
 #include "experiments/table1/table1_command.h"
@@ -19,6 +20,9 @@ constexpr const char* kUsage =
     "      reproduce the paper's Figures 3 and 4 on loopback and write them to docs/benchmarks.md\n"
     "  load --clients N --seconds T [--mesh MESH] [--markdown FILE] [--json]\n"
     "      one host process, N headless clients and a 30 fps drag: host CPU, per-client loss and latency\n"
+    "  join [--mesh MESH] [--rate-mbit 20] [--delay-ms 20] [--loss 0] [--level full|N] [--json]\n"
+    "      one host process and one client over an emulated link: bytes, time to the level and to the first\n"
+    "      deformed frame, the client's peak memory\n"
     "  table1 [MESH...] [--m 100] [--low-fraction 0.05] [--frames 200] [--json] [--markdown FILE]\n"
     "      reproduce the paper's Table 1 on this machine and write it to docs/benchmarks.md\n"
     "\n"
@@ -64,6 +68,7 @@ int runLabCommand(QStringList arguments) {
   const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();
   if (subcommand == QLatin1String("loss")) return runLossCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("load")) return runLoadExperimentCommand(withMeshPositional(arguments));
+  if (subcommand == QLatin1String("join")) return runJoinExperimentCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("load-host")) return runLoadHost(arguments);  // the load experiment's child
   if (subcommand == QLatin1String("table1")) return runTable1Command(arguments);
 

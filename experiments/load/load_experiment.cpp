@@ -2,6 +2,8 @@
 
 #include "experiments/load/load_experiment.h"
 
+#include "experiments/load/host_child.h"
+
 #include "app/cli/session_setup.h"
 #include "session/engine/session_clock.h"
 #include "session/net/session_client.h"
@@ -9,7 +11,6 @@
 #include <QFile>
 #include <QJsonArray>
 #include <QJsonDocument>
-#include <QProcess>
 #include <QThread>
 
 #include <sys/resource.h>
@@ -84,39 +85,6 @@ ClientCount countOf(SessionClient* client, bool clearLatency) {
       Qt::BlockingQueuedConnection);
   return count;
 }
-
-/// The host child: started, and read line by line.
-class HostChild {
- public:
-  bool start(const QString& executable, const QStringList& arguments) {
-    m_process.setProcessChannelMode(QProcess::ForwardedErrorChannel);
-    m_process.start(executable, arguments);
-    return m_process.waitForStarted();
-  }
-  /// Waits for a stdout line starting with `prefix`; returns it (empty after `timeout` or if the child ended).
-  QString waitLine(const QString& prefix, std::chrono::milliseconds timeout) {
-    QString found;
-    waitUntil(
-        [&] {
-          while (m_process.canReadLine()) {
-            const QString line = QString::fromUtf8(m_process.readLine()).trimmed();
-            if (line.startsWith(prefix)) found = line;
-          }
-          return !found.isEmpty() || m_process.state() == QProcess::NotRunning;
-        },
-        timeout);
-    return found;
-  }
-  void command(const QByteArray& line) { m_process.write(line + '\n'); }
-  ~HostChild() {
-    m_process.closeWriteChannel();
-    if (!m_process.waitForFinished(5000)) m_process.kill();
-    m_process.waitForFinished(5000);
-  }
-
- private:
-  QProcess m_process;
-};
 
 /// N clients spread over a few threads; everything they do runs in their threads.
 class ClientPool {

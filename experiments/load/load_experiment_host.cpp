@@ -5,6 +5,7 @@
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_experiment.h"
 #include "model/decimating_level_builder.h"
+#include "session/engine/host_engine.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
 #include "spectral/hausdorff.h"
@@ -22,6 +23,7 @@
 
 #include <cmath>
 #include <map>
+#include <vector>
 
 namespace sc::app {
 namespace {
@@ -42,6 +44,22 @@ void say(const QString& line) {
   out.flush();
 }
 
+/// Keeps every k-th anchor, k as small as lets the set pass the host's constraint work limit
+/// (HostEngineOptions::maxConstraintWork: (handle + anchor ids) · m²). The drag's anchors (every vertex beyond 40%
+/// of the diagonal) pass it on the 23k dragon; on the 100k dragon they are about twice too many and the host refused
+/// the drag. A thinned far region still holds the smooth spectral deformation in place.
+void fitWorkLimit(spectral::ConstraintSet& set, int m) {
+  const double maxIds = session::HostEngineOptions{}.maxConstraintWork / (static_cast<double>(m) * m);
+  std::size_t handleIds = 0;
+  for (const spectral::HandleGroup& group : set.handles) handleIds += group.vertices.size();
+  const double room = maxIds - static_cast<double>(handleIds);
+  if (room <= 0.0 || static_cast<double>(set.anchors.size()) <= room) return;
+  const auto step = static_cast<std::size_t>(std::ceil(static_cast<double>(set.anchors.size()) / room));
+  std::vector<int> kept;
+  for (std::size_t i = 0; i < set.anchors.size(); i += step) kept.push_back(set.anchors[i]);
+  set.anchors = std::move(kept);
+}
+
 /// The scripted drag played by the host's own user, and what it measured.
 class HostDrag {
  public:
@@ -49,6 +67,7 @@ class HostDrag {
       : m_host(host), m_script(defaultLossDrag(model.V)), m_diagonal(spectral::boundingBoxDiagonal(model.V)) {
     const std::variant<spectral::ConstraintSet, QString> resolved = resolveConstraints(m_script, model.V);
     if (const auto* set = std::get_if<spectral::ConstraintSet>(&resolved)) m_constraints = *set;
+    fitWorkLimit(m_constraints, model.rowCount());
     m_timer.setSingleShot(true);
     m_timer.setTimerType(Qt::PreciseTimer);
     QObject::connect(&m_timer, &QTimer::timeout, &m_timer, [this] { step(); });

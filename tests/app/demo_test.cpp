@@ -24,6 +24,7 @@
 #include <QDoubleSpinBox>
 #include <QFileInfo>
 #include <QImage>
+#include <QLabel>
 #include <QSpinBox>
 #include <QTemporaryDir>
 #include <QTest>
@@ -218,8 +219,23 @@ TEST_F(DemoTest, NetworkConditionsDockChangesTheClientsImpairment) {
   loss->setValue(0.0);
   delay->setValue(0);
   EXPECT_FALSE(client->impairmentInEffect().has_value());
-  EXPECT_DOUBLE_EQ(burst->value(), 4.0);                                  // kept as the user left it
-  EXPECT_FALSE(hostWindow.session()->setNetworkConditions(0.1, 1.0, 0));  // a host has none
+  EXPECT_DOUBLE_EQ(burst->value(), 4.0);  // kept as the user left it
+
+  // A link rate alone is an impairment too (issue 17): it reaches the datagram channel and the label says so.
+  auto* rate = dock->widget()->findChild<QDoubleSpinBox*>(QStringLiteral("rateSpinBox"));
+  ASSERT_NE(rate, nullptr);
+  rate->setValue(5.0);
+  ASSERT_TRUE(client->impairmentInEffect().has_value());
+  EXPECT_DOUBLE_EQ(client->impairmentInEffect()->rate.bitsPerSecond, 5e6);
+  EXPECT_EQ(client->impairmentInEffect()->loss, 0.0);
+  EXPECT_DOUBLE_EQ(clientWindow.session()->networkConditions().rateMbit, 5.0);
+  EXPECT_TRUE(dock->widget()
+                  ->findChild<QLabel*>(QStringLiteral("networkConditionsLabel"))
+                  ->text()
+                  .contains(QStringLiteral("5.0 Mbit/s")));
+  rate->setValue(0.0);
+  EXPECT_FALSE(client->impairmentInEffect().has_value());
+  EXPECT_FALSE(hostWindow.session()->setNetworkConditions(0.1, 1.0, 0, 0.0));  // a host has none
 }
 
 TEST(FirstStartName, GivenElseTheRememberedNameElseHost) {

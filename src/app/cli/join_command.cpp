@@ -36,6 +36,13 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
   const QCommandLineOption burst(QStringLiteral("burst"),
                                  QStringLiteral("Gilbert-Elliott loss with mean burst length L (datagrams)"),
                                  QStringLiteral("L"));
+  const QCommandLineOption delay(QStringLiteral("delay-ms"),
+                                 QStringLiteral("simulated one-way delay added to every datagram received, ms"),
+                                 QStringLiteral("D"), QStringLiteral("0"));
+  const QCommandLineOption rate(QStringLiteral("rate-mbit"),
+                                QStringLiteral("simulated link rate in Mbit/s for everything received (the model "
+                                               "transfer and the datagrams share it); 0 = unlimited"),
+                                QStringLiteral("R"), QStringLiteral("0"));
   const QCommandLineOption seed(QStringLiteral("seed"), QStringLiteral("seed of the simulated loss (default 1)"),
                                 QStringLiteral("S"), QStringLiteral("1"));
   const QCommandLineOption zeroFill(QStringLiteral("zero-fill"),
@@ -51,7 +58,7 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
                                    QStringLiteral("T"));
   const QCommandLineOption statsJson(QStringLiteral("stats-json"), QStringLiteral("write the final figures here"),
                                      QStringLiteral("file"));
-  p.addOptions({level, loss, burst, seed, zeroFill, concealment, seconds, statsJson});
+  p.addOptions({level, loss, burst, delay, rate, seed, zeroFill, concealment, seconds, statsJson});
   if (!command.parse(arguments, exitCode)) return std::nullopt;
   exitCode = kExitUsage;
 
@@ -76,10 +83,22 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
     command.error(QStringLiteral("--seed takes a non-negative integer"));
     return std::nullopt;
   }
-  if (lossRatio > 0.0 || p.isSet(burst)) {
+  const int delayMs = p.value(delay).toInt(&ok);
+  if (!ok || delayMs < 0) {
+    command.error(QStringLiteral("--delay-ms takes a non-negative whole number of milliseconds"));
+    return std::nullopt;
+  }
+  const double rateMbit = p.value(rate).toDouble(&ok);
+  if (!ok || !(rateMbit >= 0.0) || rateMbit > 100000.0) {
+    command.error(QStringLiteral("--rate-mbit takes a rate in Mbit/s between 0 (unlimited) and 100000"));
+    return std::nullopt;
+  }
+  if (lossRatio > 0.0 || p.isSet(burst) || delayMs > 0 || rateMbit > 0.0) {
     session::ImpairmentSettings impairment;
     impairment.loss = lossRatio;
     impairment.seed = seedValue;
+    impairment.delay = std::chrono::milliseconds(delayMs);
+    impairment.rate.bitsPerSecond = rateMbit * 1e6;
     if (p.isSet(burst)) {
       impairment.burst = true;
       impairment.burstLength = p.value(burst).toDouble(&ok);
@@ -187,7 +206,11 @@ int runJoinCommand(const QStringList& arguments) {
         << QStringLiteral("asking for the closest exact level: %1 vertices\n").arg(closest->vertexCount);
     client.requestResolution(closest->vertexCount);
   });
-  if (!joinAndWait(command, client, std::chrono::seconds(120))) return kExitNetwork;
+  // Under an emulated link rate a large level takes as long as it takes (46 MB at 1 Mbit/s: 6 minutes).
+  const bool rated = args->client.impairment && args->client.impairment->rate.bitsPerSecond > 0.0;
+  if (!joinAndWait(command, client, rated ? std::chrono::seconds(3600) : std::chrono::seconds(120))) {
+    return kExitNetwork;
+  }
   QTextStream(progress) << QStringLiteral("joined as peer %1, displaying %2 vertices\n")
                                .arg(client.peerId())
                                .arg(client.levelVertexCount());

@@ -60,8 +60,9 @@ class ClientController final : public SessionController {
   bool setLevel(std::uint32_t target) override;
   /// Simulates `loss` (0..1, clamped), mean burst `burstLength` (≥ 1; 1 = Bernoulli, more = Gilbert–Elliott) and
   /// `delayMs` (≥ 0) on the datagrams received, live (datagrams held back by the previous setting are delivered at
-  /// once). loss 0 and delay 0 remove the impairment. Emits networkConditionsChanged().
-  bool setNetworkConditions(double loss, double burstLength, int delayMs) override;
+  /// once), and a link rate of `rateMbit` Mbit/s (0: unlimited; datagrams and the TLS stream share it, see
+  /// session::SessionClient "Link rate"). All zero removes the impairment. Emits networkConditionsChanged().
+  bool setNetworkConditions(double loss, double burstLength, int delayMs, double rateMbit) override;
   [[nodiscard]] NetworkConditions networkConditions() const override;
   [[nodiscard]] session::PeerList peers() const override;
   [[nodiscard]] session::EditLog editLog() const override;

@@ -47,18 +47,20 @@ bool ClientController::setLevel(std::uint32_t target) {
 
 // ---------------------------------------------------------------------------------------------------- network
 
-bool ClientController::setNetworkConditions(double loss, double burstLength, int delayMs) {
+bool ClientController::setNetworkConditions(double loss, double burstLength, int delayMs, double rateMbit) {
   if (m_client == nullptr) return false;
+  rateMbit = std::isfinite(rateMbit) ? std::max(0.0, rateMbit) : 0.0;
   loss = std::isfinite(loss) ? std::clamp(loss, 0.0, 1.0) : 0.0;
   burstLength = std::isfinite(burstLength) ? std::max(1.0, burstLength) : 1.0;
   delayMs = std::max(0, delayMs);
   std::optional<session::ImpairmentSettings> settings;
-  if (loss > 0.0 || delayMs > 0) {
+  if (loss > 0.0 || delayMs > 0 || rateMbit > 0.0) {
     settings.emplace();
     settings->loss = loss;
     settings->burst = burstLength > 1.0;
     settings->burstLength = burstLength;
     settings->delay = std::chrono::milliseconds(delayMs);
+    settings->rate.bitsPerSecond = rateMbit * 1e6;
     // A fresh seed per change, so that returning to a setting does not replay the same losses.
     const std::optional<session::ImpairmentSettings>& previous = m_client->impairment();
     settings->seed = previous ? previous->seed + 1 : 1;
@@ -75,6 +77,7 @@ NetworkConditions ClientController::networkConditions() const {
   conditions.loss = s.loss;
   conditions.burstLength = s.burst ? s.burstLength : 1.0;
   conditions.delayMs = static_cast<int>(s.delay.count());
+  conditions.rateMbit = s.rate.bitsPerSecond / 1e6;
   return conditions;
 }
 

@@ -20,6 +20,7 @@ namespace {
 constexpr int kMaxLossPercent = 50;
 constexpr double kMaxBurst = 20.0;
 constexpr int kMaxDelayMs = 2000;
+constexpr double kMaxRateMbit = 10000.0;
 }  // namespace
 
 NetworkConditionsDock::NetworkConditionsDock(QWidget* parent) : QDockWidget(tr("Network conditions"), parent) {
@@ -60,6 +61,18 @@ NetworkConditionsDock::NetworkConditionsDock(QWidget* parent) : QDockWidget(tr("
   m_delaySpin->setToolTip(tr("Fixed delay added to every datagram received"));
   form->addRow(tr("Delay"), m_delaySpin);
 
+  m_rateSpin = new QDoubleSpinBox(m_controls);
+  m_rateSpin->setObjectName(QStringLiteral("rateSpinBox"));
+  m_rateSpin->setRange(0.0, kMaxRateMbit);
+  m_rateSpin->setDecimals(1);
+  m_rateSpin->setSingleStep(1.0);
+  m_rateSpin->setSuffix(QStringLiteral(" Mbit/s"));
+  m_rateSpin->setSpecialValueText(tr("unlimited"));
+  m_rateSpin->setToolTip(
+      tr("Bandwidth of the emulated link for everything received: the model transfer and the "
+         "datagrams (0 = unlimited)"));
+  form->addRow(tr("Rate"), m_rateSpin);
+
   layout->addWidget(m_controls);
   m_label = new QLabel(body);
   m_label->setObjectName(QStringLiteral("networkConditionsLabel"));
@@ -86,6 +99,9 @@ NetworkConditionsDock::NetworkConditionsDock(QWidget* parent) : QDockWidget(tr("
   connect(m_delaySpin, &QSpinBox::valueChanged, this, [this] {
     if (!m_updating) apply();
   });
+  connect(m_rateSpin, &QDoubleSpinBox::valueChanged, this, [this] {
+    if (!m_updating) apply();
+  });
   updateEnabled();
   hide();  // shown when a session turns out to be a client's
 }
@@ -105,13 +121,14 @@ void NetworkConditionsDock::bind(SessionController* controller) {
   showControllerConditions();
 }
 
-void NetworkConditionsDock::setConditions(double lossPercent, double burstLength, int delayMs) {
+void NetworkConditionsDock::setConditions(double lossPercent, double burstLength, int delayMs, double rateMbit) {
   {
     m_updating = true;
     m_lossSpin->setValue(lossPercent);
     m_lossSlider->setValue(static_cast<int>(std::lround(m_lossSpin->value())));
     m_burstSpin->setValue(burstLength);
     m_delaySpin->setValue(delayMs);
+    m_rateSpin->setValue(rateMbit);
     m_updating = false;
   }
   apply();
@@ -120,11 +137,12 @@ void NetworkConditionsDock::setConditions(double lossPercent, double burstLength
 double NetworkConditionsDock::lossPercent() const { return m_lossSpin->value(); }
 double NetworkConditionsDock::burstLength() const { return m_burstSpin->value(); }
 int NetworkConditionsDock::delayMs() const { return m_delaySpin->value(); }
+double NetworkConditionsDock::rateMbit() const { return m_rateSpin->value(); }
 
 void NetworkConditionsDock::apply() {
   if (m_controller && m_controller->role() == SessionController::Role::Client) {
     m_applying = true;  // keep the controls as the user left them (e.g. a burst length while loss is 0)
-    m_controller->setNetworkConditions(lossPercent() / 100.0, burstLength(), delayMs());
+    m_controller->setNetworkConditions(lossPercent() / 100.0, burstLength(), delayMs(), rateMbit());
     m_applying = false;
   }
   updateEnabled();
@@ -138,6 +156,7 @@ void NetworkConditionsDock::showControllerConditions() {
   m_lossSlider->setValue(static_cast<int>(std::lround(m_lossSpin->value())));
   m_burstSpin->setValue(conditions.burstLength);
   m_delaySpin->setValue(conditions.delayMs);
+  m_rateSpin->setValue(conditions.rateMbit);
   m_updating = false;
   updateEnabled();
   // Shown where it applies, once per client session; elsewhere View → Network conditions shows it (disabled).
@@ -157,14 +176,16 @@ void NetworkConditionsDock::updateEnabled() {
     m_label->setText(tr("Join a session to emulate loss and delay on what this window receives."));
   } else if (!active) {
     m_label->setText(tr("Not connected."));
-  } else if (lossPercent() == 0.0 && delayMs() == 0) {
+  } else if (lossPercent() == 0.0 && delayMs() == 0 && rateMbit() == 0.0) {
     m_label->setText(tr("No emulated impairment: datagrams arrive as the network delivers them."));
   } else {
+    const QString rate = rateMbit() > 0.0 ? tr(", a %1 Mbit/s link").arg(rateMbit(), 0, 'f', 1) : QString();
     m_label->setText(
-        tr("Emulating %1 % loss (%2), %3 ms delay on receive.")
+        tr("Emulating %1 % loss (%2), %3 ms delay%4 on receive.")
             .arg(lossPercent(), 0, 'f', 1)
             .arg(burstLength() > 1.0 ? tr("bursts of %1").arg(burstLength(), 0, 'f', 1) : tr("independent"))
-            .arg(delayMs()));
+            .arg(delayMs())
+            .arg(rate));
   }
 }
 

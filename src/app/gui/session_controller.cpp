@@ -163,7 +163,10 @@ Eigen::MatrixXd SessionController::coefficients() const { return m_frame.Z.cast<
 
 bool SessionController::setLevel(std::uint32_t /*target*/) { return false; }
 
-bool SessionController::setNetworkConditions(double /*loss*/, double /*burstLength*/, int /*delayMs*/) { return false; }
+bool SessionController::setNetworkConditions(double /*loss*/, double /*burstLength*/, int /*delayMs*/,
+                                             double /*rateMbit*/) {
+  return false;
+}
 
 double SessionController::sentKbps(session::PeerId /*peer*/) const { return 0.0; }
 

@@ -161,8 +161,9 @@ class SessionController : public QObject, protected EditTarget {
   virtual bool setLevel(std::uint32_t target);
 
   // --- emulated network conditions (client)
-  /// Client: emulated loss (0..1), mean burst and delay on receive, live; false (nothing changed) on a host.
-  virtual bool setNetworkConditions(double loss, double burstLength, int delayMs);
+  /// Client: emulated loss (0..1), mean burst and delay on receive and the link rate in Mbit/s (0: unlimited; it
+  /// throttles the datagrams and the TLS stream alike), live; false (nothing changed) on a host.
+  virtual bool setNetworkConditions(double loss, double burstLength, int delayMs, double rateMbit);
   /// The client's current conditions (zeros: none; always zeros on a host).
   [[nodiscard]] virtual NetworkConditions networkConditions() const { return {}; }
 

@@ -60,6 +60,7 @@ struct NetworkConditions {
   double loss = 0.0;         ///< stationary loss probability, 0..1
   double burstLength = 1.0;  ///< mean burst of consecutive losses in datagrams; 1 = independent (Bernoulli) loss
   int delayMs = 0;           ///< fixed one-way delay added on receive
+  double rateMbit = 0.0;     ///< link rate in Mbit/s for everything received (datagrams and stream); 0 = unlimited
 };
 
 /// The constraint set a user last sent (full-resolution ids, sorted and unique; anchors exclude the handle). The

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace sc::session {
 
@@ -13,7 +14,10 @@ Millis nonNegative(Millis value) { return std::max(value, Millis{0}); }
 
 }  // namespace
 
-NetworkImpairment::NetworkImpairment(const ImpairmentSettings& settings) : m_settings(settings), m_rng(settings.seed) {
+NetworkImpairment::NetworkImpairment(const ImpairmentSettings& settings, std::shared_ptr<LinkRate> link)
+    : m_settings(settings), m_rng(settings.seed), m_link(std::move(link)) {
+  if (!m_link && m_settings.rate.bitsPerSecond > 0.0) m_link = std::make_shared<LinkRate>(m_settings.rate);
+  if (m_link) m_settings.rate = m_link->settings();
   m_settings.loss = clamp01(m_settings.loss);
   m_settings.reorder = clamp01(m_settings.reorder);
   m_settings.duplicate = clamp01(m_settings.duplicate);
@@ -73,8 +77,18 @@ void NetworkImpairment::push(QByteArrayView bytes, Millis now) {
     ++m_dropped;
     return;
   }
-  const Millis base = now + m_settings.delay;
-  Millis due = std::max(now, base + jitterSample());
+  Millis departure = now;
+  if (m_link) {
+    const std::optional<Micros> leaves = m_link->admit(static_cast<std::size_t>(bytes.size()), now);
+    if (!leaves) {
+      ++m_dropped;
+      ++m_rateDropped;
+      return;
+    }
+    departure = std::chrono::ceil<Millis>(*leaves);
+  }
+  const Millis base = departure + m_settings.delay;
+  Millis due = std::max(departure, base + jitterSample());
   if (bernoulli(m_settings.reorder)) {
     ++m_reordered;
     due += m_settings.reorderGap;
@@ -84,7 +98,7 @@ void NetworkImpairment::push(QByteArrayView bytes, Millis now) {
   m_queue.push({due, m_order++, copy});
   if (twice) {
     ++m_duplicated;
-    m_queue.push({std::max(now, base + jitterSample()), m_order++, copy});
+    m_queue.push({std::max(departure, base + jitterSample()), m_order++, copy});
   }
 }
 

@@ -8,7 +8,12 @@
 // give the same output on every platform's libstdc++/libc++ engine; the distributions are computed here, not by
 // <random>'s implementation-defined distributions):
 //   1. loss: Bernoulli(loss), or the Gilbert–Elliott chain below; a lost datagram is counted in dropped() only;
-//   2. delivery time = arrival + delay + jitter sample, never earlier than the arrival;
+//   1b. rate (settings.rate.bitsPerSecond > 0, issue 17): the datagram passes the link's bottleneck (LinkRate,
+//      link_rate.h): it leaves at its departure time, or is tail-dropped when the queue is full (counted in
+//      dropped() and in rateDropped()); a lost datagram (step 1) uses no capacity. The LinkRate may be shared
+//      with the client's stream reader (constructor), so that datagrams and the TLS stream share one rate;
+//   2. delivery time = departure (the arrival without a rate) + delay + jitter sample, never earlier than the
+//      departure;
 //      jitter: Uniform in [−jitter, +jitter], or Normal(0, jitter) truncated to ±3·jitter;
 //      jitter alone can reorder datagrams that arrive closer together than the jitter spread (as netem does);
 //   3. reordering: with probability `reorder` the datagram is held back a further `reorderGap` (so datagrams
@@ -28,11 +33,14 @@
 // Settings outside their ranges are clamped (probabilities to [0, 1], times and burstLength to ≥ 0 / ≥ 1);
 // loss ≥ 1 drops everything. Memory: O(datagrams in flight). Cost: O(log n) per push and per released datagram.
 
+#include "session/engine/link_rate.h"
+
 #include <QtCore/QByteArray>
 #include <QtCore/QByteArrayView>
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <queue>
 #include <random>
 #include <vector>
@@ -54,16 +62,25 @@ struct ImpairmentSettings {
   Millis delay{0};           ///< fixed one-way delay added to every datagram
   Millis jitter{0};          ///< jitter spread (half-width for Uniform, σ for Normal)
   JitterShape jitterShape = JitterShape::Uniform;
-  double reorder = 0.0;    ///< probability that a datagram is held back by `reorderGap`
-  Millis reorderGap{10};   ///< extra hold of a reordered datagram
-  double duplicate = 0.0;  ///< probability that a datagram is delivered twice
-  std::uint64_t seed = 1;  ///< seed of the std::mt19937_64 stream
+  double reorder = 0.0;     ///< probability that a datagram is held back by `reorderGap`
+  Millis reorderGap{10};    ///< extra hold of a reordered datagram
+  double duplicate = 0.0;   ///< probability that a datagram is delivered twice
+  LinkRateSettings rate{};  ///< bandwidth of the link (bitsPerSecond 0: unlimited)
+  std::uint64_t seed = 1;   ///< seed of the std::mt19937_64 stream
+
+  /// True when nothing is emulated (no loss, delay, jitter, reordering, duplication or rate).
+  bool isIdeal() const {
+    return loss <= 0.0 && delay.count() <= 0 && jitter.count() <= 0 && reorder <= 0.0 && duplicate <= 0.0 &&
+           !(rate.bitsPerSecond > 0.0);
+  }
 };
 
 /// Not thread-safe; one per receive path.
 class NetworkImpairment {
  public:
-  explicit NetworkImpairment(const ImpairmentSettings& settings = {});
+  /// `link`: the bottleneck to use (shared with the stream reader); null: one is made from settings.rate when its
+  /// rate is > 0, else the link has no rate.
+  explicit NetworkImpairment(const ImpairmentSettings& settings = {}, std::shared_ptr<LinkRate> link = nullptr);
 
   /// Offers one datagram that arrived at `now`. Cost: O(log in-flight).
   void push(QByteArrayView bytes, Millis now);
@@ -80,6 +97,10 @@ class NetworkImpairment {
   std::uint64_t dropped() const { return m_dropped; }
   std::uint64_t duplicated() const { return m_duplicated; }
   std::uint64_t reordered() const { return m_reordered; }
+  /// Datagrams tail-dropped by the rate's queue (also counted in dropped()).
+  std::uint64_t rateDropped() const { return m_rateDropped; }
+  /// The bottleneck (nullptr without a rate).
+  const std::shared_ptr<LinkRate>& link() const { return m_link; }
   std::uint64_t delivered() const { return m_delivered; }
 
   /// Transition probabilities in use: Gilbert–Elliott p and r as derived above; Bernoulli: p = ℓ, r = 1 − ℓ.
@@ -116,6 +137,8 @@ class NetworkImpairment {
   std::uint64_t m_duplicated = 0;
   std::uint64_t m_reordered = 0;
   std::uint64_t m_delivered = 0;
+  std::uint64_t m_rateDropped = 0;
+  std::shared_ptr<LinkRate> m_link;
 };
 
 }  // namespace sc::session

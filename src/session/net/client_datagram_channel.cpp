@@ -41,6 +41,11 @@ ClientDatagramChannel::ClientDatagramChannel(ClientDatagramOptions options, QObj
 
 ClientDatagramChannel::~ClientDatagramChannel() = default;
 
+std::unique_ptr<NetworkImpairment> ClientDatagramChannel::makeImpairment() const {
+  if (!m_options.impairment) return nullptr;
+  return std::make_unique<NetworkImpairment>(*m_options.impairment, m_options.link);
+}
+
 bool ClientDatagramChannel::bind(const QHostAddress& local, QString* error) {
   if (m_socket->state() != QAbstractSocket::UnconnectedState) m_socket->close();
   if (!m_socket->bind(local, 0)) {
@@ -69,7 +74,7 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
                     ? std::make_unique<FramePredictor>(m, m_options.predictor)
                     : nullptr;
   m_predictTimer->stop();
-  m_impairment = m_options.impairment ? std::make_unique<NetworkImpairment>(*m_options.impairment) : nullptr;
+  m_impairment = makeImpairment();
   m_statistics = std::make_unique<ReceiverStatistics>();
   m_releaseTimer->stop();
   m_framesApplied = 0;
@@ -83,15 +88,16 @@ void ClientDatagramChannel::open(const QHostAddress& host, quint16 udpPort, Peer
   m_pathTimer->start(kPathOpenIntervalMs);
 }
 
-void ClientDatagramChannel::setImpairment(std::optional<ImpairmentSettings> settings) {
+void ClientDatagramChannel::setImpairment(std::optional<ImpairmentSettings> settings, std::shared_ptr<LinkRate> link) {
   m_options.impairment = std::move(settings);
+  m_options.link = std::move(link);
   if (!m_open || !m_assembler) {
     m_impairment.reset();  // open() creates it from m_options
     m_releaseTimer->stop();
     return;
   }
   std::unique_ptr<NetworkImpairment> old = std::move(m_impairment);
-  m_impairment = m_options.impairment ? std::make_unique<NetworkImpairment>(*m_options.impairment) : nullptr;
+  m_impairment = makeImpairment();
   m_releaseTimer->stop();
   if (old) {
     // Everything the old impairment still holds, in its release order (see the header).
@@ -181,6 +187,7 @@ void ClientDatagramChannel::readPending() {
     if (!datagram.isValid()) break;  // a socket error (e.g. a pending ICMP report): nothing to read
     if (answerPathChallenge(datagram.data())) continue;
     ++m_datagramsRead;
+    m_bytesRead += static_cast<std::uint64_t>(datagram.data().size());
     if (!m_open || !m_assembler) {
       ++m_unopenedDrops;
       continue;

@@ -42,6 +42,9 @@ struct ClientDatagramOptions {
   Concealment concealment = Concealment::HoldLast;
   std::optional<ImpairmentSettings> impairment;  ///< set: simulate loss/delay/reorder/duplication on receive
   PredictorSettings predictor;                   ///< used with Concealment::Extrapolate only
+  /// The link's bottleneck shared with the TLS stream reader (SessionClient); null: the impairment makes its own
+  /// from impairment->rate when that has a rate.
+  std::shared_ptr<LinkRate> link;
 };
 
 class ClientDatagramChannel : public QObject {
@@ -103,6 +106,8 @@ class ClientDatagramChannel : public QObject {
   std::uint64_t droppedDatagrams() const;
   /// Datagrams read from the socket (before the impairment), path challenges not included.
   std::uint64_t datagramsRead() const { return m_datagramsRead; }
+  /// Payload bytes of those datagrams.
+  std::uint64_t bytesRead() const { return m_bytesRead; }
   /// Authentic PathChallenges answered (each with one PathResponse).
   std::uint64_t pathChallengesAnswered() const { return m_pathChallengesAnswered; }
   /// PathOpen datagrams sent (over every open()).
@@ -125,7 +130,8 @@ class ClientDatagramChannel : public QObject {
   /// and holding them on the old schedule would mix two models. The new impairment starts a fresh loss chain (in
   /// Good) from settings->seed. Receiver statistics, Z and counters carry on (loss intervals simply see the new
   /// rate). Before open() the settings are kept for open(); a later open() uses the latest settings.
-  void setImpairment(std::optional<ImpairmentSettings> settings);
+  /// `link`: the bottleneck to share (see ClientDatagramOptions::link); it replaces the one given before.
+  void setImpairment(std::optional<ImpairmentSettings> settings, std::shared_ptr<LinkRate> link = nullptr);
   /// The settings set at construction or by setImpairment() (nullopt: none).
   const std::optional<ImpairmentSettings>& impairmentSettings() const { return m_options.impairment; }
 
@@ -138,6 +144,7 @@ class ClientDatagramChannel : public QObject {
   void predictionWithdrawn(std::uint32_t frame);
 
  private:
+  std::unique_ptr<NetworkImpairment> makeImpairment() const;  ///< from m_options (nullptr without an impairment)
   void readPending();
   void releaseDue();
   void armReleaseTimer();
@@ -170,6 +177,7 @@ class ClientDatagramChannel : public QObject {
   std::uint64_t m_framesApplied = 0;
   std::uint64_t m_unopenedDrops = 0;
   std::uint64_t m_datagramsRead = 0;
+  std::uint64_t m_bytesRead = 0;
   std::uint64_t m_pathOpensSent = 0;
   std::uint64_t m_pathChallengesAnswered = 0;
 };

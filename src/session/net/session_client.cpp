@@ -10,12 +10,25 @@
 #include "session/net/tls_server.h"
 
 #include <QtCore/QTimer>
+#include <QtCore/QVariant>
 #include <QtNetwork/QSslSocket>
 
 #include <algorithm>
 
 namespace sc::session {
 namespace {
+
+/// The TLS socket's read buffer under a link rate: small, so that TCP's flow control backs up to the host.
+constexpr qint64 kLinkReadBuffer = 64 * 1024;
+/// Under a link rate, the kernel's receive buffer of the TLS socket: 20 ms at the rate, at least 64 KiB. On loopback
+/// the kernel would otherwise grow both ends' buffers to megabytes; the host's socket then reports no progress
+/// for seconds at a low rate (Linux wakes a writer only once half its send buffer is free) and the host drops the
+/// client as stalled (HostEngineOptions::sendStallTimeout). A real slow path keeps those buffers small.
+qint64 linkKernelBuffer(double bitsPerSecond) {
+  return std::max<qint64>(64 * 1024, static_cast<qint64>(bitsPerSecond / 8.0 * 0.02));
+}
+/// Under a link rate, a waiting stream is read again once this many bytes (or all pending, if fewer) are allowed.
+constexpr std::size_t kLinkReadChunk = 4096;
 
 ClientEngineConfig engineConfig(const SessionClientOptions& options) {
   return ClientEngineConfig{options.name,
@@ -34,15 +47,29 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
   m_options.password.reset();  // the engine holds it (and drops it once its proof is made)
   m_socket = new QSslSocket(this);
   m_socket->setSslConfiguration(clientTlsConfiguration());
-  m_channel = new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}}, this);
+  m_linkTimer = new QTimer(this);
+  m_linkTimer->setSingleShot(true);
+  m_linkTimer->setTimerType(Qt::PreciseTimer);
+  makeLink();
+  m_channel =
+      new ClientDatagramChannel(ClientDatagramOptions{m_options.concealment, m_options.impairment, {}, m_link}, this);
   m_timer = new QTimer(this);
   m_timer->setSingleShot(true);
   m_timer->setTimerType(Qt::PreciseTimer);
-  connect(m_socket, &QTcpSocket::connected, this,
-          [this] { m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1); });
+  connect(m_socket, &QTcpSocket::connected, this, [this] {
+    m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
+    if (m_link) {
+      m_socket->setSocketOption(QAbstractSocket::ReceiveBufferSizeSocketOption,
+                                QVariant::fromValue(linkKernelBuffer(m_link->bitsPerSecond())));
+    }
+  });
   connect(m_socket, &QSslSocket::encrypted, this, &SessionClient::onEncrypted);
   connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
-  connect(m_socket, &QTcpSocket::disconnected, this, [this] { apply(m_engine.onClosed()); });
+  connect(m_socket, &QTcpSocket::disconnected, this, [this] {
+    readStream(true);  // what the host sent before closing (a Leave) is not held back by the link rate
+    apply(m_engine.onClosed());
+  });
+  connect(m_linkTimer, &QTimer::timeout, this, &SessionClient::readAvailable);
   connect(m_socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
     if (error == QAbstractSocket::RemoteHostClosedError) return;  // disconnected() reports it
     apply(m_engine.onTransportError(m_socket->errorString()));
@@ -81,9 +108,29 @@ void SessionClient::onEncrypted() {
   apply(m_engine.onSecured(presented, sessionNow()));
 }
 
-void SessionClient::readAvailable() {
-  const QByteArray bytes = m_socket->readAll();
+void SessionClient::readAvailable() { readStream(false); }
+
+void SessionClient::readStream(bool unthrottled) {
+  QByteArray bytes;
+  if (!m_link || unthrottled) {
+    bytes = m_socket->readAll();
+    if (m_link) m_link->consume(static_cast<std::size_t>(bytes.size()), sessionNow());
+  } else {
+    // Asks for every allowed byte even when fewer are decrypted: a read beyond QSslSocket's buffer makes it
+    // decrypt more (its buffer is bounded, so the rest waits encrypted until a read asks for it, and no readyRead
+    // would come for it). A read short of the allowance means nothing more is decrypted yet: readyRead follows
+    // when it is. Reading the whole allowance means more may wait: read again when kLinkReadChunk is allowed.
+    const Micros now = sessionNow();
+    const auto allowed = static_cast<qint64>(m_link->available(now));
+    if (allowed > 0) bytes = m_socket->read(allowed);
+    m_link->consume(static_cast<std::size_t>(bytes.size()), now);
+    if (bytes.size() == allowed) {
+      const Micros at = m_link->availableAt(kLinkReadChunk, now);
+      m_linkTimer->start(static_cast<int>(std::min<Micros::rep>(((at - now).count() + 999) / 1000, 1'000'000)));
+    }
+  }
   if (bytes.isEmpty()) return;
+  m_streamBytesRead += static_cast<std::uint64_t>(bytes.size());
   m_engine.onHeard(sessionNow());
   m_reader.append(bytes);
   while (m_engine.acceptsMessages()) {
@@ -128,7 +175,17 @@ bool SessionClient::applyCommand(ClientActions actions) {
 
 void SessionClient::setImpairment(std::optional<ImpairmentSettings> settings) {
   m_options.impairment = settings;
-  m_channel->setImpairment(std::move(settings));
+  makeLink();
+  m_channel->setImpairment(std::move(settings), m_link);
+  // Bytes the old link held back are read under the new one (or at once without a rate).
+  if (m_socket->bytesAvailable() > 0) QTimer::singleShot(0, this, &SessionClient::readAvailable);
+}
+
+void SessionClient::makeLink() {
+  const bool rated = m_options.impairment && m_options.impairment->rate.bitsPerSecond > 0.0;
+  m_link = rated ? std::make_shared<LinkRate>(m_options.impairment->rate) : nullptr;
+  m_socket->setReadBufferSize(rated ? kLinkReadBuffer : 0);
+  if (!rated) m_linkTimer->stop();
 }
 
 void SessionClient::setDistortion(double maxPct, double meanPct, double lastPct) {

@@ -45,6 +45,15 @@
 //   the previous frame stays, the frame is counted as dropped in the StatsReport).
 //   positions() = X̂' + K·Z (float32, interleaved xyz) is a convenience for headless users (CLI, tests): it runs
 //   spectral::reconstruct on its first call after an update (O(n'·m)) and caches the result.
+// Link rate: with impairment->rate.bitsPerSecond > 0, one LinkRate (link_rate.h) is the client's access link:
+//   datagrams pass it in the channel's NetworkImpairment (delayed, tail-dropped when its queue is full), and the
+//   TLS stream is read only as fast as the same bucket allows: each readyRead (or the link timer) reads at most
+//   available() bytes, consumes them, and, when it got all it asked for (more may wait, decrypted or not),
+//   re-arms a precise single-shot timer at availableAt(4 KiB). The socket's read buffer is bounded (kLinkReadBuffer),
+//   and so is its kernel receive buffer (20 ms at the rate, ≥ 64 KiB, set once connected when the rate is set from the
+//   start), so that TCP's flow control backs up to the host as over a real slow path; nothing on the stream is dropped.
+//   The bytes charged are those read (TLS plaintext). A Leave or anything else still buffered when the host closes is
+//   read at once (the close is not held back).
 // Network input never asserts; decode errors and unexpected messages fail the session with a readable reason.
 
 #include "session/engine/client_engine.h"
@@ -85,7 +94,9 @@ struct SessionClientOptions {
   /// What lost datagrams show (frame_predictor.h): Extrapolate by default (safe at pauses: the host's still frame,
   /// still_frame_schedule.h); HoldLast and ZeroFill stay selectable.
   Concealment concealment = Concealment::Extrapolate;
-  std::optional<ImpairmentSettings> impairment;  ///< simulated network conditions on receive
+  /// Simulated network conditions on receive. Its rate (impairment->rate, issue 17) applies to everything this
+  /// client receives: one LinkRate shared by the datagram channel and the TLS stream reader (see "Link rate").
+  std::optional<ImpairmentSettings> impairment;
   std::chrono::milliseconds hostTimeout{10000};  ///< a host silent this long fails the session
   /// A Challenge asking for fewer PBKDF2 iterations is refused without a proof (password_auth.h): only tests
   /// whose hosts use fewer lower it.
@@ -131,8 +142,13 @@ class SessionClient final : public QObject {
   bool sendPresence(const Presence& presence);
   /// Changes the simulated network conditions on receive, live (ClientDatagramChannel::setImpairment: datagrams
   /// the old impairment holds back are delivered at once); nullopt removes them. Also before start().
+  /// A new rate starts a fresh bucket (full) shared by both paths; no rate reads the stream unthrottled again.
   void setImpairment(std::optional<ImpairmentSettings> settings);
   [[nodiscard]] const std::optional<ImpairmentSettings>& impairment() const { return m_options.impairment; }
+  /// The link's bottleneck in use (nullptr without a rate): its counters show the stream's and datagrams' bytes.
+  [[nodiscard]] const LinkRate* link() const { return m_link.get(); }
+  /// Bytes read from the TLS stream so far (plaintext: control messages and level transfers).
+  [[nodiscard]] std::uint64_t streamBytesRead() const { return m_streamBytesRead; }
   /// Distortion figures (% of the bbox diagonal) reported in the next StatsReports.
   void setDistortion(double maxPct, double meanPct, double lastPct);
   /// What the next StatsReport would say now (ClientEngine::statsReport() over the channel's peek(): no new loss
@@ -236,6 +252,10 @@ class SessionClient final : public QObject {
   void wake();
   [[nodiscard]] ReceiverSample sampleReceiver(Micros now);
   void readAvailable();
+  /// Reads what the link allows (everything without a rate, or with `unthrottled`) and hands it to the engine.
+  void readStream(bool unthrottled);
+  /// Makes m_link from m_options.impairment (or none) and bounds the socket's read buffer accordingly.
+  void makeLink();
   void onEncrypted();
   /// The decode worker's result, on this object's thread.
   void finishDecode(DecodedLevel& result);
@@ -246,7 +266,10 @@ class SessionClient final : public QObject {
   QSslSocket* m_socket = nullptr;
   QByteArray m_hostFingerprint;
   ClientDatagramChannel* m_channel = nullptr;
-  QTimer* m_timer = nullptr;  ///< single-shot, armed at m_engine.nextWakeUp()
+  QTimer* m_timer = nullptr;         ///< single-shot, armed at m_engine.nextWakeUp()
+  std::shared_ptr<LinkRate> m_link;  ///< the access link's bucket (null: no rate)
+  QTimer* m_linkTimer = nullptr;     ///< single-shot, precise: the stream's next read under the link rate
+  std::uint64_t m_streamBytesRead = 0;
   std::optional<Micros> m_armedFor;
   ControlFrameReader m_reader;
   std::thread m_decoder;                   ///< one level decode at a time (the engine decides); the destructor joins it

@@ -151,6 +151,37 @@ TEST_F(SessionCommandsTest, BadAddressesAreUsageErrors) {
   EXPECT_EQ(nobody.exitCode, 4) << nobody.err.toStdString();  // connection refused: a network error, not a crash
 }
 
+TEST_F(SessionCommandsTest, JoinExperimentWaitsForTheLinkRate) {
+  // Issue 17: a host process and a client over a 2 Mbit/s emulated link. The level (about 0.2 MB) cannot arrive
+  // sooner than its bytes beyond the bucket's 32 KiB burst take at 2 Mbit/s.
+  const CliRun run =
+      runCli({QStringLiteral("experiment"), QStringLiteral("join"), QStringLiteral("--mesh"), m_mesh,
+              QStringLiteral("--rate-mbit"), QStringLiteral("2"), QStringLiteral("--delay-ms"), QStringLiteral("20"),
+              QStringLiteral("--json"), QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30")});
+  ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
+  const QJsonObject r = QJsonDocument::fromJson(run.out.trimmed()).object();
+  for (const char* key : {"bytes_received", "first_frame_s", "level_ready_s", "peak_rss_mb", "stream_bytes"})
+    EXPECT_TRUE(r.contains(QLatin1String(key))) << key;
+  EXPECT_EQ(r[QStringLiteral("level_vertices")].toInt(), 1440);
+  const double stream = r[QStringLiteral("stream_bytes")].toDouble();
+  EXPECT_GT(stream, 1440.0 * (3 + 30) * 4);  // rest positions and K in float32
+  EXPECT_GE(r[QStringLiteral("bytes_received")].toDouble(), stream);
+  EXPECT_GE(r[QStringLiteral("level_ready_s")].toDouble(), (stream - 32768.0) * 8.0 / 2e6);
+  EXPECT_GE(r[QStringLiteral("first_frame_s")].toDouble(), r[QStringLiteral("level_ready_s")].toDouble());
+  EXPECT_GT(r[QStringLiteral("peak_rss_mb")].toDouble(), 0.0);
+}
+
+TEST_F(SessionCommandsTest, JoinRefusesABadRateOrDelay) {
+  EXPECT_EQ(runCli({QStringLiteral("join"), QStringLiteral("127.0.0.1:1"), QStringLiteral("--rate-mbit"),
+                    QStringLiteral("-1")})
+                .exitCode,
+            2);
+  EXPECT_EQ(runCli({QStringLiteral("join"), QStringLiteral("127.0.0.1:1"), QStringLiteral("--delay-ms"),
+                    QStringLiteral("soon")})
+                .exitCode,
+            2);
+}
+
 TEST_F(SessionCommandsTest, LossExperimentPrintsRowsAndAPlot) {
   const QString plot = path("loss.png");
   const CliRun run = runCli({QStringLiteral("experiment"), QStringLiteral("loss"), QStringLiteral("--mesh"), m_mesh,

@@ -1,0 +1,48 @@
+#pragma once
+// The load-host child process (load_experiment.h) seen from its parent: started, read line by line, given
+// commands on stdin. Shared by the load and join experiments.
+
+#include "app/cli/session_setup.h"
+
+#include <QProcess>
+#include <QString>
+#include <QStringList>
+
+#include <chrono>
+
+namespace sc::app {
+
+/// The host child: started, and read line by line; closed (stdin) and reaped by the destructor.
+class HostChild {
+ public:
+  bool start(const QString& executable, const QStringList& arguments) {
+    m_process.setProcessChannelMode(QProcess::ForwardedErrorChannel);
+    m_process.start(executable, arguments);
+    return m_process.waitForStarted();
+  }
+  /// Waits for a stdout line starting with `prefix`; returns it (empty after `timeout` or if the child ended).
+  QString waitLine(const QString& prefix, std::chrono::milliseconds timeout) {
+    QString found;
+    waitUntil(
+        [&] {
+          while (m_process.canReadLine()) {
+            const QString line = QString::fromUtf8(m_process.readLine()).trimmed();
+            if (line.startsWith(prefix)) found = line;
+          }
+          return !found.isEmpty() || m_process.state() == QProcess::NotRunning;
+        },
+        timeout);
+    return found;
+  }
+  void command(const QByteArray& line) { m_process.write(line + '\n'); }
+  ~HostChild() {
+    m_process.closeWriteChannel();
+    if (!m_process.waitForFinished(5000)) m_process.kill();
+    m_process.waitForFinished(5000);
+  }
+
+ private:
+  QProcess m_process;
+};
+
+}  // namespace sc::app
