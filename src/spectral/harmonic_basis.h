@@ -18,9 +18,32 @@ struct HarmonicBasis {
   Eigen::Index size() const { return vectors.cols(); }
 };
 
+/// Which eigensolver manifoldHarmonicBasis() uses.
+enum class BasisSolver {
+  /// Spectra's shift-invert Lanczos on a simplicial CHOLMOD factor: one right-hand side at a time, converged to
+  /// `tolerance` on the Ritz values. The reference (tests compare against it) and the fallback.
+  Lanczos,
+  /// Coarse start + block subspace iteration (hierarchical_basis.h): eigenvectors of a Galerkin-aggregated level of
+  /// ≥ 8(m + guard) vertices, prolonged, then shift-invert subspace iterations with Rayleigh–Ritz and locking on
+  /// the fine mesh until every wanted pair's relative residual is below `residualTolerance`. Meshes too small to
+  /// coarsen (or with #V < 8(m + guard)) use Lanczos.
+  Hierarchical,
+};
+
 /// Settings of manifoldHarmonicBasis(). Defaults follow shared/design/spectral.md §2.2.
 struct BasisOptions {
   int m = 100;  ///< number of eigenpairs; must satisfy 1 ≤ m < #V.
+  /// See BasisSolver. Lanczos stays the default: the hierarchical solver is slower on the 2-core test machine
+  /// (docs/benchmarks.md, "Eigensolvers side by side").
+  BasisSolver solver = BasisSolver::Lanczos;
+  /// Hierarchical: bound on detail::relativeResiduals() ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) of every returned pair.
+  /// 1e-6 bounds the eigenvalue error by about 1e-12·(|λ|+|σ|)²/gap and the angle to the eigenspace by
+  /// 1e-6·(|λ|+|σ|)/gap (gap: distance to the rest of the spectrum), see subspace_iteration.h.
+  double residualTolerance = 1e-6;
+  /// Hierarchical: extra columns b − m of the iterated block; 0 means max(m/2, 16). More: fewer sweeps, more
+  /// dense work per sweep.
+  int guardVectors = 0;
+  int maxSweeps = 100;  ///< Hierarchical: sweeps before NotConverged (the 23k dragon needs 5 at 1e-6).
   /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
   /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
   int ncv = 0;
@@ -47,12 +70,16 @@ struct BasisResult {
   BasisStatus status = BasisStatus::InvalidInput;
   std::string message;  ///< human-readable reason when status != Ok.
   HarmonicBasis basis;
-  int operatorApplications{};  ///< solves with the factor (the dominant cost).
+  int operatorApplications{};  ///< solves with the factor (the dominant cost; right-hand sides, not blocks).
+  BasisSolver solver = BasisSolver::Lanczos;  ///< the solver that produced the basis (after any fallback).
+  int sweeps{};          ///< Hierarchical: Rayleigh–Ritz sweeps on the fine mesh (0 for Lanczos).
+  double maxResidual{};  ///< max relative residual ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) over the basis.
   bool ok() const { return status == BasisStatus::Ok; }
 };
 
-/// Computes the first m eigenpairs of S h = λ M h with Spectra's SymGEigsShiftSolver in shift-invert mode
-/// around σ < 0, using a CHOLMOD (simplicial) Cholesky factor of S − σM.
+/// Computes the first m eigenpairs of S h = λ M h with the solver chosen in the options (BasisSolver):
+/// Spectra's SymGEigsShiftSolver in shift-invert mode around σ < 0 on a CHOLMOD (simplicial) Cholesky factor of
+/// S − σM, or the hierarchical block subspace iteration around the same σ.
 ///
 /// Eigenvalues come out ascending; eigenvectors are M-orthonormal and have deterministic signs (each column's
 /// entry of largest magnitude is positive). Solver failure is reported through the status, never as a silently
@@ -61,13 +88,20 @@ struct BasisResult {
 /// @param[in] ops  stiffness S (#V by #V, PSD) and lumped mass (#V, > 0), e.g. from laplaceOperators().
 /// @param[in] options  m, Lanczos size, shift, tolerance, progress/cancellation.
 /// @return status, message and, on success, the basis.
-/// Cost: one sparse Cholesky of S − σM, then ≈ 2.5m triangular solve pairs plus O(#V·ncv²) Lanczos
-/// orthogonalisation per restart; memory O(nnz(L) + #V·ncv).
+/// Cost (Lanczos): one sparse Cholesky of S − σM, then ≈ 2.5m triangular solve pairs plus O(#V·ncv²) Lanczos
+/// orthogonalisation per restart; memory O(nnz(L) + #V·ncv). Hierarchical: see hierarchical_basis.h.
 BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOptions& options = {});
 
 /// max |HᵀMH − I| over all entries: the M-orthonormality defect of a basis.
 /// Cost: O(#V·m²).
 double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass);
+
+/// max over columns of the relative residual ‖S h − λ M h‖_{M⁻¹}/(|λ| + |σ|) (see subspace_iteration.h).
+/// Cost: O(nnz(S)·m + #V·m).
+double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& basis);
+
+/// "lanczos" or "hierarchical".
+const char* toString(BasisSolver solver);
 
 /// Human-readable name of a status ("ok", "cancelled", …).
 const char* toString(BasisStatus status);
