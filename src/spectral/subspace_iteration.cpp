@@ -127,17 +127,27 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
     // removes each column's own growth T_d(x_i); what remains is the leak of a strongly amplified pair into the
     // other columns, about r_i·T_d(x_i) (r_i its residual, x_i = 2(θ_top − σ)/(θ_i − σ) − 1 ≥ 1).
     cut = 1.0 / (theta(theta.size() - 1) - sigma);
-    const Eigen::VectorXd leak = r.tail(theta.size()).array() + 1e-8;
+    // No higher than needed either: a wanted pair's residual shrinks by about T_d(x_i) per filter (its unwanted
+    // components stay at most 1), so stop at the degree that brings every wanted pair below half the tolerance.
+    const Eigen::VectorXd residual = r.tail(theta.size());
+    const Eigen::Index wantedActive = m - l;
+    auto chebyshev = [&](int d, Eigen::Index i) {
+      const double x = std::max(1.0, 2.0 * (theta(theta.size() - 1) - sigma) / (theta(i) - sigma) - 1.0);
+      return std::cosh(d * std::acosh(x));
+    };
     auto growth = [&](int d) {
       double worst = 0.0;
-      for (Eigen::Index i = 0; i < theta.size(); ++i) {
-        const double x = std::max(1.0, 2.0 * (theta(theta.size() - 1) - sigma) / (theta(i) - sigma) - 1.0);
-        worst = std::max(worst, leak(i) * std::cosh(d * std::acosh(x)));
-      }
+      for (Eigen::Index i = 0; i < theta.size(); ++i) worst = std::max(worst, (residual(i) + 1e-8) * chebyshev(d, i));
       return worst;
     };
+    auto converges = [&](int d) {
+      for (Eigen::Index i = 0; i < wantedActive; ++i)
+        if (residual(i) / chebyshev(d, i) > 0.5 * options.tolerance) return false;
+      return true;
+    };
     degree = 1;
-    while (degree < kMaxDegree && growth(degree + 1) <= std::sqrt(options.maxGramCondition)) ++degree;
+    while (degree < kMaxDegree && !converges(degree) && growth(degree + 1) <= std::sqrt(options.maxGramCondition))
+      ++degree;
   }
   if (l < m) return result;
 
