@@ -43,7 +43,7 @@ struct BasisOptions {
   /// Hierarchical: extra columns b − m of the iterated block; 0 means max(m/2, 16). More: fewer sweeps, more
   /// dense work per sweep.
   int guardVectors = 0;
-  int maxSweeps = 100;  ///< Hierarchical: sweeps before NotConverged (the 23k dragon needs 5 at 1e-6).
+  int maxSweeps = 100;  ///< Hierarchical: sweeps before NotConverged (the 23k and 100k dragons need 4 at 1e-6).
   /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
   /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
   int ncv = 0;
