@@ -12,6 +12,10 @@ namespace {
 
 using Status = SubspaceIterationResult::Status;
 constexpr int kMaxDegree = 8;  ///< solves per sweep at most
+/// Right-hand sides per CHOLMOD supernodal solve. Measured on the 100k dragon (2 cores, one BLAS thread): 7.4 ms per
+/// right-hand side in blocks of 16, 9.1 in blocks of 64, 12.0 in one block of 150 (the block leaves the cache),
+/// against 14.7 ms for one simplicial solve.
+constexpr Eigen::Index kSolveChunk = 16;
 
 /// Rayleigh–Ritz on the columns of Y: θ ascending and Q (a by a) with (YQ)ᵀM(YQ) = I and (YQ)ᵀS(YQ) = diag(θ).
 /// The Gram matrix is scaled to unit diagonal first (Jacobi), which removes the column-norm part of its condition.
@@ -82,7 +86,11 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
     auto applyA = [&](const Eigen::MatrixXd& X) {
       const Eigen::MatrixXd MX = ops.mass.asDiagonal() * X;  // a plain right-hand side: solve() must not alias
       result.solves += static_cast<int>(X.cols());
-      Eigen::MatrixXd AX = factor.solve(MX);
+      Eigen::MatrixXd AX(MX.rows(), MX.cols());
+      for (Eigen::Index c = 0; c < MX.cols(); c += kSolveChunk) {
+        const Eigen::Index w = std::min(kSolveChunk, MX.cols() - c);
+        AX.middleCols(c, w) = factor.solve(MX.middleCols(c, w).eval());
+      }
       if (l > 0) {
         const auto L = locked.leftCols(l);
         AX -= L * (L.transpose() * (ops.mass.asDiagonal() * AX));
