@@ -64,7 +64,7 @@ QString tableOf(const std::vector<MeshFigures>& meshes) {
   for (const MeshFigures& f : meshes) {
     const QJsonObject& l = f.lanczos.first;
     const QJsonObject& h = f.hierarchical.first;
-    t += QStringLiteral("| %1 | %2 | %3 | %4 | %5 | **%6** | %7× | %8 / %9 | %10 | %11 / %12 | %13 / %14 |\n")
+    t += QStringLiteral("| %1 | %2 | %3 | %4 | %5 | %6 | %7× | %8 / %9 | %10 | %11 / %12 | %13 / %14 |\n")
              .arg(f.name)
              .arg(l[QStringLiteral("vertices")].toInt())
              .arg(l[QStringLiteral("components")].toInt())
