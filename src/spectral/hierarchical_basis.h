@@ -2,7 +2,7 @@
 // The hierarchical eigensolver: coarse eigenvectors of an aggregated level as the start of fine subspace iterations.
 // Internal to src/spectral (harmonic_basis.cpp dispatches to it for BasisSolver::Hierarchical).
 
-#include "spectral/harmonic_basis.h"
+#include "spectral/basis_types.h"
 
 namespace sc::spectral::detail {
 

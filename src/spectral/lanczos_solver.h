@@ -2,7 +2,7 @@
 // The raw eigensolvers behind manifoldHarmonicBasis(), before localisation and sign fixing.
 // Internal to src/spectral (harmonic_basis.cpp, hierarchical_basis.cpp).
 
-#include "spectral/harmonic_basis.h"
+#include "spectral/basis_types.h"
 
 namespace sc::spectral::detail {
 
