@@ -1,58 +1,14 @@
 #pragma once
 // Manifold harmonic basis (Vallet & Lévy 2008): the first m eigenpairs of S h = λ M h.
 
+#include "spectral/basis_types.h"
 #include "spectral/laplace_operators.h"
-
-#include <functional>
-#include <string>
 
 namespace sc::spectral {
 
-/// The first m manifold harmonics of a mesh.
-struct HarmonicBasis {
-  Eigen::VectorXd eigenvalues;  ///< m eigenvalues λ_0 ≤ … ≤ λ_{m−1} (≈0 once per connected component).
-  Eigen::MatrixXd vectors;      ///< #V by m matrix H, M-orthonormal: HᵀMH = I.
-  double shift{};               ///< σ < 0 the shift-invert operator (S − σM)⁻¹M was factorised at.
-
-  Eigen::Index vertexCount() const { return vectors.rows(); }
-  Eigen::Index size() const { return vectors.cols(); }
-};
-
-/// Settings of manifoldHarmonicBasis(). Defaults follow shared/design/spectral.md §2.2.
-struct BasisOptions {
-  int m = 100;  ///< number of eigenpairs; must satisfy 1 ≤ m < #V.
-  /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
-  /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
-  int ncv = 0;
-  /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
-  /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
-  double shiftFactor = 1.0;
-  double tolerance = 1e-10;  ///< Spectra's relative convergence tolerance on the Ritz values.
-  int maxRestarts = 1000;    ///< Spectra's iteration limit.
-  /// Called with the estimated fraction done in [0, 1] from inside the solve; return false to cancel.
-  std::function<bool(double fraction)> progress;
-};
-
-/// How manifoldHarmonicBasis() ended.
-enum class BasisStatus {
-  Ok,
-  InvalidInput,         ///< m out of range, non-positive mass, or S not square / mismatched.
-  FactorizationFailed,  ///< Cholesky of S − σM failed (S not PSD or M singular).
-  NotConverged,         ///< Spectra stopped before all m eigenpairs converged.
-  Cancelled,            ///< the progress callback returned false.
-};
-
-/// Result of manifoldHarmonicBasis(): a basis only when status == Ok.
-struct BasisResult {
-  BasisStatus status = BasisStatus::InvalidInput;
-  std::string message;  ///< human-readable reason when status != Ok.
-  HarmonicBasis basis;
-  int operatorApplications{};  ///< solves with the factor (the dominant cost).
-  bool ok() const { return status == BasisStatus::Ok; }
-};
-
-/// Computes the first m eigenpairs of S h = λ M h with Spectra's SymGEigsShiftSolver in shift-invert mode
-/// around σ < 0, using a CHOLMOD (simplicial) Cholesky factor of S − σM.
+/// Computes the first m eigenpairs of S h = λ M h with the solver chosen in the options (BasisSolver):
+/// Spectra's SymGEigsShiftSolver in shift-invert mode around σ < 0 on a CHOLMOD (simplicial) Cholesky factor of
+/// S − σM, or the hierarchical block subspace iteration around the same σ.
 ///
 /// Eigenvalues come out ascending; eigenvectors are M-orthonormal and have deterministic signs (each column's
 /// entry of largest magnitude is positive). Solver failure is reported through the status, never as a silently
@@ -61,13 +17,20 @@ struct BasisResult {
 /// @param[in] ops  stiffness S (#V by #V, PSD) and lumped mass (#V, > 0), e.g. from laplaceOperators().
 /// @param[in] options  m, Lanczos size, shift, tolerance, progress/cancellation.
 /// @return status, message and, on success, the basis.
-/// Cost: one sparse Cholesky of S − σM, then ≈ 2.5m triangular solve pairs plus O(#V·ncv²) Lanczos
-/// orthogonalisation per restart; memory O(nnz(L) + #V·ncv).
+/// Cost (Lanczos): one sparse Cholesky of S − σM, then ≈ 2.5m triangular solve pairs plus O(#V·ncv²) Lanczos
+/// orthogonalisation per restart; memory O(nnz(L) + #V·ncv). Hierarchical: see hierarchical_basis.h.
 BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOptions& options = {});
 
 /// max |HᵀMH − I| over all entries: the M-orthonormality defect of a basis.
 /// Cost: O(#V·m²).
 double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass);
+
+/// max over columns of the relative residual ‖S h − λ M h‖_{M⁻¹}/(|λ| + |σ|) (see subspace_iteration.h).
+/// Cost: O(nnz(S)·m + #V·m).
+double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& basis);
+
+/// "lanczos" or "hierarchical".
+const char* toString(BasisSolver solver);
 
 /// Human-readable name of a status ("ok", "cancelled", …).
 const char* toString(BasisStatus status);

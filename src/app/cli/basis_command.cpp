@@ -40,6 +40,9 @@ QJsonObject report(const QString& meshPath, const model::LoadedMesh& mesh, const
           {QStringLiteral("total_s"), c.totalSeconds},
           {QStringLiteral("peak_rss_mb"), peakResidentMegabytes()},
           {QStringLiteral("orthonormality_error"), spectral::orthonormalityError(basis.vectors, c.operators.mass)},
+          {QStringLiteral("max_residual"), spectral::maxRelativeResidual(c.operators, basis)},
+          {QStringLiteral("solver"), QString::fromLatin1(c.cached ? "cache" : spectral::toString(c.result.solver))},
+          {QStringLiteral("sweeps"), c.result.sweeps},
           {QStringLiteral("shift"), basis.shift},
           {QStringLiteral("solves"), c.result.operatorApplications},
           {QStringLiteral("eigenvalues"), eigenvalues},
@@ -75,7 +78,11 @@ void printText(const QJsonObject& r) {
   line("eigensolve_s", number("eigensolve_s"));
   line("total_s", number("total_s"));
   line("peak_rss_mb", number("peak_rss_mb"));
+  line("solver", r[QStringLiteral("solver")].toString());
+  line("solves", number("solves", 12));
+  line("sweeps", number("sweeps", 12));
   line("orthonormality_error", number("orthonormality_error", 3));
+  line("max_residual", number("max_residual", 3));
   line("eigenvalues[0..4]", firstEigenvalues.join(QLatin1Char(' ')));
   line("cached", r[QStringLiteral("cached")].toBool() ? QStringLiteral("yes") : QStringLiteral("no"));
   line("cache_file", r[QStringLiteral("cache_file")].toString());

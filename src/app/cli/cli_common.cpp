@@ -19,12 +19,16 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
       m_noCache(QStringLiteral("no-cache"), QStringLiteral("always solve; neither read nor write")),
       m_cacheDir(QStringLiteral("cache-dir"), QStringLiteral("cache folder (default: per user)"),
                  QStringLiteral("dir")),
-      m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")) {
+      m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")),
+      m_solver(QStringLiteral("solver"),
+               QStringLiteral("eigensolver: lanczos (default) or hierarchical (coarse start + block subspace "
+                              "iteration to a residual of 1e-6)"),
+               QStringLiteral("name"), QStringLiteral("lanczos")) {
   m_parser.setApplicationDescription(description);
   m_parser.addHelpOption();
   if (kind == SubcommandKind::Mesh) {
     m_parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
-    m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json});
+    m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json, m_solver});
   } else {
     m_parser.addPositionalArgument(QStringLiteral("HOST:PORT"), QStringLiteral("address and TCP port of the host"));
     m_parser.addOption(m_json);
@@ -56,6 +60,13 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
     error(QStringLiteral("--m must be a positive integer"));
     return false;
   }
+  const QString solver = m_parser.value(m_solver);
+  if (solver != QLatin1String("hierarchical") && solver != QLatin1String("lanczos")) {
+    error(QStringLiteral("--solver must be hierarchical or lanczos"));
+    return false;
+  }
+  m_basis.solver =
+      solver == QLatin1String("lanczos") ? spectral::BasisSolver::Lanczos : spectral::BasisSolver::Hierarchical;
   m_basis.json = m_parser.isSet(m_json);
   m_basis.cacheDir.reset();
   if (!m_parser.isSet(m_noCache))
@@ -117,6 +128,7 @@ std::optional<model::LoadedMesh> loadMeshOrReport(const SubcommandParser& comman
 spectral::BasisComputation basisOrReport(const SubcommandParser& command, const model::LoadedMesh& mesh) {
   spectral::BasisOptions options;
   options.m = command.basisArguments().m;
+  options.solver = command.basisArguments().solver;
   spectral::BasisComputation computation =
       spectral::basisForMesh(mesh.V, mesh.F, options, command.basisArguments().cacheDir);
   if (!computation.result.ok())

@@ -1,6 +1,7 @@
 #pragma once
-// What the shapecast-cli subcommands share: the basis options (--m, --cache-dir, --no-cache, --json), command-line
-// parsing with the common usage errors, and mesh loading / basis computation that report failures on stderr.
+// What the shapecast-cli subcommands share: the basis options (--m, --cache-dir, --no-cache, --json, --solver),
+// command-line parsing with the common usage errors, and mesh loading / basis computation that report failures on
+// stderr.
 //
 // Exit codes, the same for every subcommand: 0 ok, 1 the mesh could not be loaded, 2 bad usage (or bad input
 // file other than the mesh), 3 the basis could not be computed, 4 a network/session failure.
@@ -31,11 +32,13 @@ struct BasisArguments {
   int m = 100;                                    ///< --m: number of harmonics (≥ 1).
   std::optional<std::filesystem::path> cacheDir;  ///< --cache-dir, the per-user default, or nullopt (--no-cache).
   bool json = false;                              ///< --json: one JSON object on stdout.
+  /// --solver lanczos|hierarchical: the eigensolver (default lanczos, the reference; see spectral::BasisSolver).
+  spectral::BasisSolver solver = spectral::BasisSolver::Lanczos;
 };
 
 /// What a subcommand's one positional argument is.
 enum class SubcommandKind {
-  Mesh,  ///< MESH, plus the basis options --m, --no-cache, --cache-dir and --json
+  Mesh,  ///< MESH, plus the basis options --m, --no-cache, --cache-dir, --json and --solver
   Peer,  ///< HOST:PORT of a running host, plus --json (no basis options: the host owns the basis)
 };
 
@@ -53,7 +56,8 @@ class SubcommandParser {
   const QString& name() const { return m_name; }
 
   /// Parses `arguments` (those after the subcommand name). On --help prints the help and sets exitCode = 0; on a
-  /// parse error, a MESH count other than one or a bad --m prints why and the help to stderr and sets exitCode = 2.
+  /// parse error, a MESH count other than one, a bad --m or --solver prints why and the help to stderr and sets
+  /// exitCode = 2.
   /// @return true when the command should run (exitCode untouched).
   bool parse(const QStringList& arguments, int& exitCode);
 
@@ -81,6 +85,7 @@ class SubcommandParser {
   QCommandLineOption m_noCache;
   QCommandLineOption m_cacheDir;
   QCommandLineOption m_json;
+  QCommandLineOption m_solver;
   BasisArguments m_basis;
 };
 

@@ -83,6 +83,35 @@ TEST_F(BasisCommand, ErrorsHaveExitCodesAndMessages) {
   EXPECT_FALSE(tooMany.err.isEmpty());
 }
 
+TEST_F(BasisCommand, BothSolversGiveTheSameSpectrumWithResidualsReported) {
+  const QString sphere = m_dir.filePath(QStringLiteral("sphere5.off"));
+  writeOff(sphere, sc::testing::icosphere(5));  // 10242 vertices: large enough to coarsen
+  auto run = [&sphere](const char* solver) {
+    const CliRun r =
+        runCli({QStringLiteral("basis"), sphere, QStringLiteral("--no-cache"), QStringLiteral("--json"),
+                QStringLiteral("--m"), QStringLiteral("25"), QStringLiteral("--solver"), QString::fromLatin1(solver)});
+    EXPECT_EQ(r.exitCode, 0) << r.err.toStdString();
+    return QJsonDocument::fromJson(r.out).object();
+  };
+  const QJsonObject lanczos = run("lanczos");
+  const QJsonObject hierarchical = run("hierarchical");
+  EXPECT_EQ(lanczos[QStringLiteral("solver")].toString(), QStringLiteral("lanczos"));
+  EXPECT_EQ(hierarchical[QStringLiteral("solver")].toString(), QStringLiteral("hierarchical"));
+  EXPECT_GT(hierarchical[QStringLiteral("sweeps")].toInt(), 0);
+  EXPECT_LE(hierarchical[QStringLiteral("max_residual")].toDouble(), 1e-6);
+  EXPECT_LE(lanczos[QStringLiteral("max_residual")].toDouble(), 1e-6);
+  EXPECT_LE(hierarchical[QStringLiteral("orthonormality_error")].toDouble(), 1e-10);
+  const QJsonArray a = lanczos[QStringLiteral("eigenvalues")].toArray();
+  const QJsonArray b = hierarchical[QStringLiteral("eigenvalues")].toArray();
+  ASSERT_EQ(a.size(), 25);
+  ASSERT_EQ(b.size(), 25);
+  // m = 25 ends the l = 4 multiplet; residual 1e-6 bounds the eigenvalue error by about 1e-12·(λ + |σ|)²/gap
+  for (qsizetype k = 0; k < a.size(); ++k)
+    EXPECT_NEAR(a[k].toDouble(), b[k].toDouble(), 1e-8 * (1.0 + a[k].toDouble()));
+
+  EXPECT_EQ(runCli(basisArgs({QStringLiteral("--solver"), QStringLiteral("power")})).exitCode, 2);
+}
+
 TEST(BasisCommandRealMesh, LionGivesAnOrthonormalBasis) {
   const QString lion = QStringLiteral(SHAPECAST_ASSETS_DIR "/lion.off");
   if (!QFile::exists(lion)) GTEST_SKIP() << "lion.off not fetched (run scripts/fetch-meshes.sh)";

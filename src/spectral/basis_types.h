@@ -1,0 +1,82 @@
+#pragma once
+// The types of manifoldHarmonicBasis(): the basis, the solver choice and settings, and the result with its status.
+// Apart from harmonic_basis.h so that the solvers behind it (lanczos_solver, hierarchical_basis) need not include
+// harmonic_basis.h, which dispatches to them.
+
+#include "spectral/laplace_operators.h"
+
+#include <functional>
+#include <string>
+
+namespace sc::spectral {
+
+/// The first m manifold harmonics of a mesh.
+struct HarmonicBasis {
+  Eigen::VectorXd eigenvalues;  ///< m eigenvalues λ_0 ≤ … ≤ λ_{m−1} (≈0 once per connected component).
+  Eigen::MatrixXd vectors;      ///< #V by m matrix H, M-orthonormal: HᵀMH = I.
+  double shift{};               ///< σ < 0 the shift-invert operator (S − σM)⁻¹M was factorised at.
+
+  Eigen::Index vertexCount() const { return vectors.rows(); }
+  Eigen::Index size() const { return vectors.cols(); }
+};
+
+/// Which eigensolver manifoldHarmonicBasis() uses.
+enum class BasisSolver {
+  /// Spectra's shift-invert Lanczos on a simplicial CHOLMOD factor: one right-hand side at a time, converged to
+  /// `tolerance` on the Ritz values. The reference (tests compare against it) and the fallback.
+  Lanczos,
+  /// Coarse start + block subspace iteration (hierarchical_basis.h): eigenvectors of a Galerkin-aggregated level of
+  /// ≥ 8(m + guard) vertices, prolonged, then shift-invert subspace iterations with Rayleigh–Ritz and locking on
+  /// the fine mesh until every wanted pair's relative residual is below `residualTolerance`. Meshes too small to
+  /// coarsen (or with #V < 8(m + guard)) use Lanczos.
+  Hierarchical,
+};
+
+/// Settings of manifoldHarmonicBasis(). Defaults follow shared/design/spectral.md §2.2.
+struct BasisOptions {
+  int m = 100;  ///< number of eigenpairs; must satisfy 1 ≤ m < #V.
+  /// See BasisSolver. Lanczos stays the default: the hierarchical solver is slower on the 2-core test machine
+  /// (docs/benchmarks.md, "Eigensolvers side by side").
+  BasisSolver solver = BasisSolver::Lanczos;
+  /// Hierarchical: bound on detail::relativeResiduals() ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) of every returned pair.
+  /// 1e-6 bounds the eigenvalue error by about 1e-12·(|λ|+|σ|)²/gap and the angle to the eigenspace by
+  /// 1e-6·(|λ|+|σ|)/gap (gap: distance to the rest of the spectrum), see subspace_iteration.h.
+  double residualTolerance = 1e-6;
+  /// Hierarchical: extra columns b − m of the iterated block; 0 means max(m/2, 16). More: fewer sweeps, more
+  /// dense work per sweep.
+  int guardVectors = 0;
+  int maxSweeps = 100;  ///< Hierarchical: sweeps before NotConverged (the 23k and 100k dragons need 4 at 1e-6).
+  /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
+  /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
+  int ncv = 0;
+  /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
+  /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
+  double shiftFactor = 1.0;
+  double tolerance = 1e-10;  ///< Spectra's relative convergence tolerance on the Ritz values.
+  int maxRestarts = 1000;    ///< Spectra's iteration limit.
+  /// Called with the estimated fraction done in [0, 1] from inside the solve; return false to cancel.
+  std::function<bool(double fraction)> progress;
+};
+
+/// How manifoldHarmonicBasis() ended.
+enum class BasisStatus {
+  Ok,
+  InvalidInput,         ///< m out of range, non-positive mass, or S not square / mismatched.
+  FactorizationFailed,  ///< Cholesky of S − σM failed (S not PSD or M singular).
+  NotConverged,         ///< Spectra stopped before all m eigenpairs converged.
+  Cancelled,            ///< the progress callback returned false.
+};
+
+/// Result of manifoldHarmonicBasis(): a basis only when status == Ok.
+struct BasisResult {
+  BasisStatus status = BasisStatus::InvalidInput;
+  std::string message;  ///< human-readable reason when status != Ok.
+  HarmonicBasis basis;
+  int operatorApplications{};  ///< solves with the factor (the dominant cost; right-hand sides, not blocks).
+  BasisSolver solver = BasisSolver::Lanczos;  ///< the solver that produced the basis (after any fallback).
+  int sweeps{};          ///< Hierarchical: Rayleigh–Ritz sweeps on the fine mesh (0 for Lanczos).
+  double maxResidual{};  ///< max relative residual ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) over the basis.
+  bool ok() const { return status == BasisStatus::Ok; }
+};
+
+}  // namespace sc::spectral
