@@ -56,6 +56,18 @@ TEST(RelayReceiver, LateJoinAppliesTheKeyframeThenTheNewerBufferedFrames) {
   EXPECT_EQ(receiver.facts().vertexCount, 42u);
 }
 
+TEST(RelayReceiver, FramesBeforeTheFirstLiveOneAreNotLostAndTheKeyframeHasNoLatency) {
+  RelayReceiver receiver(kSid, identity().fingerprint());
+  ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
+  ASSERT_TRUE(receiver.onKeyframe(frame(3), at(40)));  // stored long ago: 39.5 ms old
+  EXPECT_EQ(receiver.stats(at(40)).latencyP99Ms, 0.0);
+  EXPECT_TRUE(receiver.onFrame(frame(9), at(9)));  // 4..8 were published before this viewer subscribed
+  EXPECT_TRUE(receiver.onFrame(frame(11), at(11)));
+  const RelayViewerStats stats = receiver.stats(at(11));
+  EXPECT_EQ(stats.lost, 1);  // 10
+  EXPECT_NEAR(stats.latencyP99Ms, 0.5, 1e-9);
+}
+
 TEST(RelayReceiver, LatestWinsAndSkippedFramesCountAsLost) {
   RelayReceiver receiver(kSid, identity().fingerprint());
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);

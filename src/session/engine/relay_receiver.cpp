@@ -55,7 +55,7 @@ bool RelayReceiver::onKeyframe(QByteArrayView message, Micros now) {
   if (!m_verifier) return false;
   std::optional<RelayFrame> keyframe = authentic(message);
   if (!keyframe) return false;
-  apply(std::move(*keyframe), now);
+  apply(std::move(*keyframe), now, /*live=*/false);
   startWithoutKeyframe(now);
   return true;
 }
@@ -77,21 +77,24 @@ bool RelayReceiver::onFrame(QByteArrayView message, Micros now) {
     return false;
   }
   std::optional<RelayFrame> frame = authentic(message);
-  return frame && apply(std::move(*frame), now);
+  return frame && apply(std::move(*frame), now, /*live=*/true);
 }
 
-bool RelayReceiver::apply(RelayFrame frame, Micros now) {
+bool RelayReceiver::apply(RelayFrame frame, Micros now, bool live) {
   if (m_frame) {
     const auto ahead = static_cast<std::int32_t>(frame.frame - *m_frame);  // serial-number arithmetic
     if (ahead <= 0) {
       ++m_counts.stale;
       return false;
     }
-    m_counts.lost += ahead - 1;
+    // Frames between the keyframe and the first frame this viewer saw live were published before it subscribed.
+    if (m_liveSeen) m_counts.lost += ahead - 1;
   }
   m_frame = frame.frame;
   m_Z = std::move(frame.Z);
   ++m_counts.applied;
+  if (!live) return true;  // a keyframe's stamp is as old as the keyframe: no latency sample
+  m_liveSeen = true;
   const Micros age = now - Micros{static_cast<std::int64_t>(frame.stampMicros)};
   m_latency.add(now, std::max(age, Micros{0}));
   return true;

@@ -5,8 +5,9 @@
 // wins: an older or repeated frame is dropped as stale) and counts what it dropped and what it never saw.
 //
 // Late join: frames that arrive before the keyframe are buffered (at most kRelayJoinBuffer; the oldest go first);
-// the keyframe sets Z, then the buffered frames newer than it are applied. Loss counts only frames after the first
-// one applied (keyframe or frame): frame numbers skipped between two applied frames.
+// the keyframe sets Z, then the buffered frames newer than it are applied. Loss counts frame numbers skipped between
+// two frames received live (the frames between the keyframe and the first live frame were published before the
+// viewer subscribed); latency is sampled on live frames only (a keyframe's stamp is as old as the keyframe).
 // Hostile input (malformed, bad signature, wrong row count) is dropped and counted, never asserted on.
 
 #include "session/engine/recent_window.h"
@@ -72,7 +73,9 @@ class RelayReceiver {
  private:
   /// Verifies and decodes one frame message; nullopt (counted) when refused.
   std::optional<RelayFrame> authentic(QByteArrayView message);
-  bool apply(RelayFrame frame, Micros now);
+  /// `live`: from the frame subject (not the keyframe): latency is sampled, and from the first one on skipped frame
+  /// numbers count as lost.
+  bool apply(RelayFrame frame, Micros now, bool live);
 
   QString m_sessionId;
   std::optional<QByteArray> m_pin;
@@ -80,6 +83,7 @@ class RelayReceiver {
   std::unique_ptr<RelayVerifier> m_verifier;
   std::deque<QByteArray> m_buffer;  ///< frames before the keyframe, oldest first
   bool m_joined = false;
+  bool m_liveSeen = false;
   std::optional<std::uint32_t> m_frame;
   Eigen::MatrixXd m_Z;
   RelayViewerStats m_counts;
