@@ -2,6 +2,7 @@
 // identity key round-trip exactly; a changed byte, another session, another key or a truncation is refused without
 // reading past the input.
 #include "session/wire/relay_message.h"
+#include "relay_test_identity.h"
 #include "session/net/tls_identity.h"
 
 #include <gtest/gtest.h>
@@ -14,11 +15,7 @@
 namespace sc::session {
 namespace {
 
-const TlsIdentity& identity(int which = 0) {
-  static const TlsIdentity a = *generateTlsIdentity(QStringLiteral("relay-a"));
-  static const TlsIdentity b = *generateTlsIdentity(QStringLiteral("relay-b"));
-  return which == 0 ? a : b;
-}
+using testing::relayIdentity;
 
 RelayFrame someFrame(int m = 20, std::uint32_t number = 7) {
   RelayFrame frame;
@@ -29,9 +26,9 @@ RelayFrame someFrame(int m = 20, std::uint32_t number = 7) {
 }
 
 TEST(RelayMessage, SignedFrameRoundTripsExactly) {
-  const RelaySigner signer(identity().privateKey.toDer(), QStringLiteral("s1"));
+  const RelaySigner signer(relayIdentity().privateKey.toDer(), QStringLiteral("s1"));
   ASSERT_TRUE(signer.valid());
-  const RelayVerifier verifier(identity().certificate.toDer(), QStringLiteral("s1"));
+  const RelayVerifier verifier(relayIdentity().certificate.toDer(), QStringLiteral("s1"));
   ASSERT_TRUE(verifier.valid());
   const RelayFrame frame = someFrame();
   const QByteArray message = signer.sign(encodeRelayFrameBody(frame));
@@ -49,9 +46,9 @@ TEST(RelayMessage, SignedFrameRoundTripsExactly) {
 }
 
 TEST(RelayMessage, AChangedByteAnotherSessionOrAnotherKeyIsRefused) {
-  const RelaySigner signer(identity().privateKey.toDer(), QStringLiteral("s1"));
+  const RelaySigner signer(relayIdentity().privateKey.toDer(), QStringLiteral("s1"));
   const QByteArray message = signer.sign(encodeRelayFrameBody(someFrame()));
-  const RelayVerifier verifier(identity().certificate.toDer(), QStringLiteral("s1"));
+  const RelayVerifier verifier(relayIdentity().certificate.toDer(), QStringLiteral("s1"));
   for (const qsizetype at : {qsizetype{3}, qsizetype{10}, qsizetype{100}, message.size() - 5}) {
     QByteArray forged = message;
     forged[at] = static_cast<char>(forged[at] ^ 0x01);
@@ -60,16 +57,16 @@ TEST(RelayMessage, AChangedByteAnotherSessionOrAnotherKeyIsRefused) {
     EXPECT_EQ(error, RelayError::BadSignature) << at;
   }
   RelayError error = RelayError::None;
-  EXPECT_FALSE(RelayVerifier(identity().certificate.toDer(), QStringLiteral("s2")).verify(message, &error));
+  EXPECT_FALSE(RelayVerifier(relayIdentity().certificate.toDer(), QStringLiteral("s2")).verify(message, &error));
   EXPECT_EQ(error, RelayError::BadSignature);
-  EXPECT_FALSE(RelayVerifier(identity(1).certificate.toDer(), QStringLiteral("s1")).verify(message, &error));
+  EXPECT_FALSE(RelayVerifier(relayIdentity(1).certificate.toDer(), QStringLiteral("s1")).verify(message, &error));
   EXPECT_EQ(error, RelayError::BadSignature);
 }
 
 TEST(RelayMessage, EveryTruncationIsRefusedWithoutReadingPastTheInput) {
-  const RelaySigner signer(identity().privateKey.toDer(), QStringLiteral("s1"));
+  const RelaySigner signer(relayIdentity().privateKey.toDer(), QStringLiteral("s1"));
   const QByteArray message = signer.sign(encodeRelayFrameBody(someFrame(4)));
-  const RelayVerifier verifier(identity().certificate.toDer(), QStringLiteral("s1"));
+  const RelayVerifier verifier(relayIdentity().certificate.toDer(), QStringLiteral("s1"));
   for (qsizetype size = 0; size < message.size(); ++size) {
     const QByteArray prefix = message.first(size);  // a copy: ASan sees any read past it
     EXPECT_FALSE(verifier.verify(prefix)) << size;
@@ -106,11 +103,11 @@ TEST(RelayMessage, NonFiniteValuesAndWrongCountsAreMalformed) {
 }
 
 TEST(RelayMessage, FactsRoundTripAndCarryTheFingerprint) {
-  const RelaySigner signer(identity().privateKey.toDer(), QStringLiteral("s1"));
+  const RelaySigner signer(relayIdentity().privateKey.toDer(), QStringLiteral("s1"));
   RelayFacts facts;
   facts.rowCount = 100;
   facts.vertexCount = 34834;
-  facts.certificateDer = identity().certificate.toDer();
+  facts.certificateDer = relayIdentity().certificate.toDer();
   const QByteArray message = signer.sign(encodeRelayFactsBody(facts));
   EXPECT_EQ(relayKind(message), RelayKind::Facts);
   const std::optional<QByteArrayView> body = relayBody(message);
@@ -119,7 +116,7 @@ TEST(RelayMessage, FactsRoundTripAndCarryTheFingerprint) {
   ASSERT_TRUE(decoded);
   EXPECT_EQ(decoded->rowCount, 100);
   EXPECT_EQ(decoded->vertexCount, 34834u);
-  EXPECT_EQ(relayCertificateFingerprint(decoded->certificateDer), identity().fingerprint());
+  EXPECT_EQ(relayCertificateFingerprint(decoded->certificateDer), relayIdentity().fingerprint());
   EXPECT_FALSE(decodeRelayFrameBody(*body));  // a Facts body is no frame
 }
 

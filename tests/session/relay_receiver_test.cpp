@@ -2,6 +2,7 @@
 // join through the keyframe with the frames buffered meanwhile, latest wins, loss and stale counts, forged and
 // malformed frames dropped and counted, a bounded join buffer.
 #include "session/engine/relay_receiver.h"
+#include "relay_test_identity.h"
 #include "session/net/tls_identity.h"
 
 #include <gtest/gtest.h>
@@ -9,11 +10,7 @@
 namespace sc::session {
 namespace {
 
-const TlsIdentity& identity(int which = 0) {
-  static const TlsIdentity a = *generateTlsIdentity(QStringLiteral("relay-a"));
-  static const TlsIdentity b = *generateTlsIdentity(QStringLiteral("relay-b"));
-  return which == 0 ? a : b;
-}
+using testing::relayIdentity;
 
 const QString kSid = QStringLiteral("s1");
 constexpr int kRows = 6;
@@ -22,8 +19,8 @@ QByteArray facts(int which = 0, int rows = kRows) {
   RelayFacts f;
   f.rowCount = rows;
   f.vertexCount = 42;
-  f.certificateDer = identity(which).certificate.toDer();
-  return RelaySigner(identity(which).privateKey.toDer(), kSid).sign(encodeRelayFactsBody(f));
+  f.certificateDer = relayIdentity(which).certificate.toDer();
+  return RelaySigner(relayIdentity(which).privateKey.toDer(), kSid).sign(encodeRelayFactsBody(f));
 }
 
 Eigen::MatrixXd shapeOf(std::uint32_t number, int rows = kRows) {
@@ -35,13 +32,13 @@ QByteArray frame(std::uint32_t number, int which = 0, int rows = kRows) {
   f.frame = number;
   f.stampMicros = 1000 * number;
   f.Z = shapeOf(number, rows);
-  return RelaySigner(identity(which).privateKey.toDer(), kSid).sign(encodeRelayFrameBody(f));
+  return RelaySigner(relayIdentity(which).privateKey.toDer(), kSid).sign(encodeRelayFrameBody(f));
 }
 
 Micros at(std::uint32_t number) { return Micros{1000 * number + 500}; }
 
 TEST(RelayReceiver, LateJoinAppliesTheKeyframeThenTheNewerBufferedFrames) {
-  RelayReceiver receiver(kSid, identity().fingerprint());
+  RelayReceiver receiver(kSid, relayIdentity().fingerprint());
   for (std::uint32_t n = 5; n <= 8; ++n) EXPECT_FALSE(receiver.onFrame(frame(n), at(n)));  // buffered: no facts yet
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
   EXPECT_FALSE(receiver.joined());
@@ -57,7 +54,7 @@ TEST(RelayReceiver, LateJoinAppliesTheKeyframeThenTheNewerBufferedFrames) {
 }
 
 TEST(RelayReceiver, FramesBeforeTheFirstLiveOneAreNotLostAndTheKeyframeHasNoLatency) {
-  RelayReceiver receiver(kSid, identity().fingerprint());
+  RelayReceiver receiver(kSid, relayIdentity().fingerprint());
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
   ASSERT_TRUE(receiver.onKeyframe(frame(3), at(40)));  // stored long ago: 39.5 ms old
   EXPECT_EQ(receiver.stats(at(40)).latencyP99Ms, 0.0);
@@ -69,7 +66,7 @@ TEST(RelayReceiver, FramesBeforeTheFirstLiveOneAreNotLostAndTheKeyframeHasNoLate
 }
 
 TEST(RelayReceiver, LatestWinsAndSkippedFramesCountAsLost) {
-  RelayReceiver receiver(kSid, identity().fingerprint());
+  RelayReceiver receiver(kSid, relayIdentity().fingerprint());
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
   receiver.startWithoutKeyframe(at(0));
   EXPECT_TRUE(receiver.onFrame(frame(1), at(1)));
@@ -86,7 +83,7 @@ TEST(RelayReceiver, LatestWinsAndSkippedFramesCountAsLost) {
 }
 
 TEST(RelayReceiver, FramesFromAnotherKeyAreDroppedAndCounted) {
-  RelayReceiver receiver(kSid, identity().fingerprint());
+  RelayReceiver receiver(kSid, relayIdentity().fingerprint());
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
   ASSERT_TRUE(receiver.onKeyframe(frame(1), at(1)));
   EXPECT_FALSE(receiver.onFrame(frame(2, /*which=*/1), at(2)));  // forged: another key
@@ -103,22 +100,22 @@ TEST(RelayReceiver, FramesFromAnotherKeyAreDroppedAndCounted) {
 }
 
 TEST(RelayReceiver, FactsOfAnotherCertificateAreRefused) {
-  RelayReceiver pinned(kSid, identity().fingerprint());
+  RelayReceiver pinned(kSid, relayIdentity().fingerprint());
   EXPECT_EQ(pinned.onFacts(facts(1)), RelayFactsStatus::WrongFingerprint);
   EXPECT_FALSE(pinned.hasFacts());
   EXPECT_FALSE(pinned.onKeyframe(frame(1), at(1)));
   RelayReceiver firstUse(kSid, std::nullopt);  // trust on first use, then pinned
   EXPECT_EQ(firstUse.onFacts(facts()), RelayFactsStatus::None);
-  EXPECT_EQ(firstUse.fingerprint(), identity().fingerprint());
+  EXPECT_EQ(firstUse.fingerprint(), relayIdentity().fingerprint());
   EXPECT_EQ(firstUse.onFacts(facts(1)), RelayFactsStatus::WrongFingerprint);
   EXPECT_EQ(firstUse.onFacts(facts(0, kRows + 1)), RelayFactsStatus::Malformed);  // m cannot change
   QByteArray forged = facts();
   forged[6] = static_cast<char>(forged[6] ^ 0x01);  // vertex count changed after signing
-  EXPECT_EQ(RelayReceiver(kSid, identity().fingerprint()).onFacts(forged), RelayFactsStatus::BadSignature);
+  EXPECT_EQ(RelayReceiver(kSid, relayIdentity().fingerprint()).onFacts(forged), RelayFactsStatus::BadSignature);
 }
 
 TEST(RelayReceiver, TheJoinBufferIsBounded) {
-  RelayReceiver receiver(kSid, identity().fingerprint());
+  RelayReceiver receiver(kSid, relayIdentity().fingerprint());
   ASSERT_EQ(receiver.onFacts(facts()), RelayFactsStatus::None);
   const std::uint32_t count = kRelayJoinBuffer + 36;
   for (std::uint32_t n = 1; n <= count; ++n) receiver.onFrame(frame(n), at(n));

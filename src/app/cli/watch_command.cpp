@@ -13,7 +13,7 @@
 namespace sc::app {
 namespace {
 
-QJsonObject report(const session::RelayViewer& viewer) {
+QJsonObject watchReport(const session::RelayViewer& viewer) {
   const session::RelayViewerStats s = viewer.stats();
   return QJsonObject{{QStringLiteral("frame"), static_cast<qint64>(viewer.receiver().frame().value_or(0))},
                      {QStringLiteral("applied"), static_cast<qint64>(s.applied)},
@@ -27,7 +27,7 @@ QJsonObject report(const session::RelayViewer& viewer) {
                      {QStringLiteral("latency_p99_ms"), s.latencyP99Ms}};
 }
 
-QString line(const QJsonObject& r) {
+QString watchLine(const QJsonObject& r) {
   return QStringLiteral(
              "frame %1: %2 applied, %3 lost, %4 stale, %5 bad signature, %6 dropped waiting, latency p50 "
              "%7 ms p99 %8 ms (last 10 s)")
@@ -111,7 +111,7 @@ int runWatchCommand(const QStringList& arguments) {
   }
   QTimer figures;
   QObject::connect(&figures, &QTimer::timeout, &viewer, [&viewer, json] {
-    if (!json) QTextStream(stdout) << line(report(viewer)) << '\n';
+    if (!json) QTextStream(stdout) << watchLine(watchReport(viewer)) << '\n';
   });
   figures.start(1000);
   const auto stop = [] { QCoreApplication::quit(); };
@@ -123,7 +123,8 @@ int runWatchCommand(const QStringList& arguments) {
   quitOnSignal(stop);
   if (stopAfter > 0) QTimer::singleShot(static_cast<int>(stopAfter * 1000.0), &viewer, stop);
   QCoreApplication::exec();
-  printReport(command, report(viewer), [&out](const QJsonObject& r) { out << "watch ended: " << line(r) << '\n'; });
+  printReport(command, watchReport(viewer),
+              [&out](const QJsonObject& r) { out << "watch ended: " << watchLine(r) << '\n'; });
   return kExitOk;
 }
 
