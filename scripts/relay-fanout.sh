@@ -4,11 +4,12 @@
 # dragon-drag.json, 181 frames at 30 fps) played by `drive`. Prints one JSON object: viewers, the smallest fraction
 # of frames a viewer got, latency (one machine: host stamp → viewer applied), the host's and the server's CPU over
 # the drag (% of one core, /proc/PID/stat) and the relay bytes the host published per frame (keyframes included).
-#   scripts/relay-fanout.sh N [MESH]      (default MESH: assets/meshes/dragon_vrip_res4.ply)
+#   scripts/relay-fanout.sh N [MESH]      (default MESH: assets/meshes/dragon_vrip_res4.ply; SHAPECAST_CLI=… picks
+#   another shapecast-cli)
 set -u
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 N=$1; MESH=${2:-$root/assets/meshes/dragon_vrip_res4.ply}
-cli=$root/build/bin/shapecast-cli
+cli=${SHAPECAST_CLI:-$root/build/bin/shapecast-cli}
 out=$(mktemp -d); trap 'rm -rf "$out"' EXIT
 "$root/scripts/nats-local.sh" fan > $out/nl.out 2>&1 &
 nl=$!; sleep 1.5
