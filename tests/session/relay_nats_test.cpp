@@ -81,6 +81,8 @@ TEST_F(RelayNats, AViewerThatStopsReadingLosesFramesWhileTheOthersLoseNone) {
   RelayViewer* a = addViewer();
   RelayViewer* b = addViewer();
   ASSERT_TRUE(stalled && a && b);
+  dragOnce(0.005);  // every viewer sees a live frame first: loss counts from there
+  ASSERT_TRUE(waitFor([&] { return caughtUp(*stalled) && caughtUp(*a) && caughtUp(*b); }));
   const std::int64_t lostBefore = a->stats().lost + b->stats().lost;
   stalled->setPaused(true);
   for (int step = 1; step <= 30; ++step) dragOnce(0.01 * step);
