@@ -29,8 +29,10 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
   if (kind == SubcommandKind::Mesh) {
     m_parser.addPositionalArgument(QStringLiteral("MESH"), QStringLiteral("mesh file (.off .obj .ply .stl)"));
     m_parser.addOptions({m_m, m_noCache, m_cacheDir, m_json, m_solver});
-  } else {
+  } else if (kind == SubcommandKind::Peer) {
     m_parser.addPositionalArgument(QStringLiteral("HOST:PORT"), QStringLiteral("address and TCP port of the host"));
+    m_parser.addOption(m_json);
+  } else {
     m_parser.addOption(m_json);
   }
 }
@@ -46,6 +48,15 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
     QTextStream(stdout) << m_parser.helpText();
     exitCode = kExitOk;
     return false;
+  }
+  if (m_kind == SubcommandKind::Relay) {
+    if (!m_parser.positionalArguments().isEmpty()) {
+      err << "shapecast-cli " << m_name << ": takes no positional argument\n\n" << m_parser.helpText();
+      return false;
+    }
+    m_basis.json = m_parser.isSet(m_json);
+    exitCode = kExitOk;
+    return true;
   }
   const QString positional = m_kind == SubcommandKind::Mesh ? QStringLiteral("MESH") : QStringLiteral("HOST:PORT");
   if (m_parser.positionalArguments().size() != 1) {

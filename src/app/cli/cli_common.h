@@ -38,8 +38,9 @@ struct BasisArguments {
 
 /// What a subcommand's one positional argument is.
 enum class SubcommandKind {
-  Mesh,  ///< MESH, plus the basis options --m, --no-cache, --cache-dir, --json and --solver
-  Peer,  ///< HOST:PORT of a running host, plus --json (no basis options: the host owns the basis)
+  Mesh,   ///< MESH, plus the basis options --m, --no-cache, --cache-dir, --json and --solver
+  Peer,   ///< HOST:PORT of a running host, plus --json (no basis options: the host owns the basis)
+  Relay,  ///< no positional argument (the broker and session are options), plus --json
 };
 
 /// A QCommandLineParser for one subcommand ("shapecast-cli NAME"), with --help, one positional argument (MESH or

@@ -1,9 +1,11 @@
 #include "app/cli/host_command.h"
 
 #include "app/cli/quit_on_signal.h"
+#include "app/cli/relay_arguments.h"
 #include "app/cli/session_setup.h"
 #include "app/common/password_memory.h"
 #include "model/decimating_level_builder.h"
+#include "session/net/relay_publisher.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"
 
@@ -44,6 +46,21 @@ void printPeerFigures(const session::SessionHost& host) {
   out.flush();
 }
 
+/// One line for the relay's viewers, aggregated.
+void printAudience(const session::RelayPublisher& publisher) {
+  const session::RelayAudienceSummary a = publisher.audience();
+  QTextStream(stdout) << QStringLiteral(
+                             "  relay: %1 frames published; %2 viewers reporting: loss median %3% max %4%, latency "
+                             "p99 median %5 ms max %6 ms, %7 forged frames dropped\n")
+                             .arg(publisher.counters().frames)
+                             .arg(a.viewers)
+                             .arg(100.0 * a.lossFraction.median, 0, 'f', 2)
+                             .arg(100.0 * a.lossFraction.max, 0, 'f', 2)
+                             .arg(a.latencyP99Ms.median, 0, 'f', 2)
+                             .arg(a.latencyP99Ms.max, 0, 'f', 2)
+                             .arg(a.badSignature);
+}
+
 }  // namespace
 
 int runHostCommand(const QStringList& arguments) {
@@ -68,8 +85,19 @@ int runHostCommand(const QStringList& arguments) {
                                    QStringLiteral("people who may drag at once, each their own handle (default 4)"),
                                    QStringLiteral("N"), QStringLiteral("4"));
   command.parser().addOptions({port, udpPort, passwordFile, name, mode, referenceEvery, seconds, editors});
+  const RelayArguments relayArguments;
+  relayArguments.addTo(command);
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
+  std::optional<session::RelayPublisherOptions> relay;
+  if (relayArguments.given(command)) {
+    auto read = relayArguments.read(command);
+    if (!read) return kExitUsage;
+    relay.emplace();
+    relay->nats = std::move(read->first);
+    relay->nats.name = QStringLiteral("shapecast host");
+    relay->sessionId = read->second;
+  }
 
   session::SessionHostOptions options;
   options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};
@@ -133,6 +161,20 @@ int runHostCommand(const QStringList& arguments) {
   out << QStringLiteral("join with: shapecast-cli join 127.0.0.1:%1 --name NAME --fingerprint %2\n")
              .arg(host.tcpPort())
              .arg(fingerprint);
+  std::unique_ptr<session::RelayPublisher> publisher;
+  if (relay) {
+    const QString sessionId = relay->sessionId;
+    const QString url = relay->nats.url;
+    publisher = std::make_unique<session::RelayPublisher>(host, std::move(*relay));
+    if (!publisher->start(&error)) {
+      command.error(QStringLiteral("cannot publish to the relay: %1").arg(error));
+      return kExitNetwork;
+    }
+    out << QStringLiteral(
+               "relaying session %1 through %2; watch with: shapecast-cli watch --nats %2 --session %1 "
+               "--nats-user USER --nats-password-file FILE --pin %3\n")
+               .arg(sessionId, url, fingerprint);
+  }
   out.flush();
 
   QObject::connect(&host, &session::SessionHost::logMessage, &host,
@@ -147,7 +189,10 @@ int runHostCommand(const QStringList& arguments) {
                                 : QStringLiteral("lock: held by %1\n").arg(holders.join(QStringLiteral(", "))));
   });
   QTimer figures;
-  QObject::connect(&figures, &QTimer::timeout, &host, [&host] { printPeerFigures(host); });
+  QObject::connect(&figures, &QTimer::timeout, &host, [&host, &publisher] {
+    printPeerFigures(host);
+    if (publisher) printAudience(*publisher);
+  });
   figures.start(5000);
 
   const auto stop = [&host] {
@@ -157,6 +202,13 @@ int runHostCommand(const QStringList& arguments) {
   quitOnSignal(stop);
   if (stopAfter) QTimer::singleShot(static_cast<int>(*stopAfter * 1000.0), &host, stop);
   QCoreApplication::exec();
+  if (publisher) {
+    out << QStringLiteral("relay: %1 frames, %2 keyframes, %3 bytes published\n")
+               .arg(publisher->counters().frames)
+               .arg(publisher->counters().keyframes)
+               .arg(publisher->counters().bytes);
+  }
+  publisher.reset();
   out << "host stopped\n";
   return kExitOk;
 }

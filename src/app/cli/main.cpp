@@ -6,6 +6,8 @@
 #include "app/cli/host_command.h"
 #include "app/cli/join_command.h"
 #include "app/cli/lab_alias.h"
+#include "app/cli/watch_command.h"
+#include "session/net/nats_client.h"
 
 #include <QCoreApplication>
 #include <QTextStream>
@@ -31,6 +33,8 @@ constexpr const char* kUsage =
     "      join a session headless and report loss, bandwidth, latency and Hausdorff distortion\n"
     "  drive HOST:PORT --script DRAG.json [--name N] [--password-file F]\n"
     "      take the edit lock, play a drag script, release\n"
+    "  watch --nats URL --session ID --nats-user U --nats-password-file F [--pin FINGERPRINT] [--seconds T]\n"
+    "      watch a session relayed through NATS (host --nats ...) headless: frames, loss, latency\n"
     "\n"
     "the paper's experiments and benchmarks, run by shapecast-lab (next to shapecast-cli; see 'shapecast-lab "
     "--help'):\n"
@@ -56,9 +60,18 @@ int main(int argc, char* argv[]) {
   const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();
   if (subcommand == QLatin1String("basis")) return sc::app::runBasisCommand(arguments);
   if (subcommand == QLatin1String("deform")) return sc::app::runDeformCommand(arguments);
-  if (subcommand == QLatin1String("host")) return sc::app::runHostCommand(arguments);
+  if (subcommand == QLatin1String("host")) {
+    const int code = sc::app::runHostCommand(arguments);
+    sc::session::natsShutdown();  // cnats' threads, if the relay was used (harmless otherwise)
+    return code;
+  }
   if (subcommand == QLatin1String("join")) return sc::app::runJoinCommand(arguments);
   if (subcommand == QLatin1String("drive")) return sc::app::runDriveCommand(arguments);
+  if (subcommand == QLatin1String("watch")) {
+    const int code = sc::app::runWatchCommand(arguments);
+    sc::session::natsShutdown();
+    return code;
+  }
   if (sc::app::isLabCommand(QStringList(subcommand) + arguments)) return sc::app::runLabAlias(given);
 
   QTextStream err(stderr);

@@ -209,6 +209,7 @@ void SessionHost::applyOne(const HostAction& action) {
     broadcast(all->message);
   } else if (const auto* frame = std::get_if<SendFrame>(&action)) {
     m_channel->sendFrame(frame->frame, *frame->Z, frame->stamp);
+    m_frameStamp = frame->stamp;
     emit frameSent(frame->frame);
   } else if (const auto* transfer = std::get_if<StartTransfer>(&action)) {
     startTransfer(*transfer);

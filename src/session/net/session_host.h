@@ -97,6 +97,10 @@ class SessionHost final : public QObject {
   /// (formatFingerprint()) and clients pin.
   [[nodiscard]] QByteArray fingerprint() const { return m_identity ? m_identity->fingerprint() : QByteArray(); }
   [[nodiscard]] const SessionHostOptions& options() const { return m_options; }
+  /// The TLS identity in use (null before start()): the relay signs its messages with its key.
+  [[nodiscard]] std::shared_ptr<const TlsIdentity> identity() const { return m_identity; }
+  /// The model this host serves (its m and vertex count are the session's facts).
+  [[nodiscard]] const HostModel& model() const { return *m_model; }
 
   /// The current PeerList (the host first).
   [[nodiscard]] PeerList peerList() const { return m_engine.peerList(); }
@@ -111,6 +115,8 @@ class SessionHost final : public QObject {
   /// Frame number of the latest frame sent (0 before the first) and its Z (m by 3).
   [[nodiscard]] std::uint32_t currentFrame() const { return m_engine.currentFrame(); }
   [[nodiscard]] const Eigen::MatrixXd& coefficients() const { return m_engine.coefficients(); }
+  /// The latest frame's timestamp (the drag's arrival, else the send time; session clock), valid in frameSent().
+  [[nodiscard]] Micros currentFrameStamp() const { return m_frameStamp; }
   [[nodiscard]] HostDatagramChannel& channel() { return *m_channel; }
   [[nodiscard]] LevelLibrary& levels() { return *m_levels; }
   /// The session rules this host adapts (read only: events go through the host).
@@ -190,6 +196,7 @@ class SessionHost final : public QObject {
   QThreadPool* m_solver = nullptr;                ///< one thread: members' constraint factorisations (child)
   std::map<PeerId, HostPeerConnection*> m_peers;  ///< every open connection, welcomed or not (children)
   HostEngine m_engine;
+  Micros m_frameStamp{0};
   bool m_started = false;
   bool m_reportingQueues = false;
 };

@@ -1,0 +1,36 @@
+#pragma once
+// The NATS relay options shared by `host` and `watch` (issue 18; README "Viewers through NATS"):
+//   --nats URL  --nats-user U  (--nats-password P | --nats-password-file F)  --session ID
+// A password on the command line shows in process lists: prefer --nats-password-file.
+
+#include "app/cli/cli_common.h"
+#include "session/net/nats_client.h"
+
+#include <QCommandLineOption>
+#include <QString>
+
+#include <optional>
+
+namespace sc::app {
+
+class RelayArguments {
+ public:
+  RelayArguments();
+  /// Adds the options to `command`'s parser (before parse()).
+  void addTo(SubcommandParser& command) const;
+  /// True when --nats was given.
+  [[nodiscard]] bool given(const SubcommandParser& command) const;
+  /// The connection options and session id; nullopt after command.error() (exit code kExitUsage) when one is missing
+  /// or invalid.
+  [[nodiscard]] std::optional<std::pair<session::NatsConnectOptions, QString>> read(
+      const SubcommandParser& command) const;
+
+ private:
+  QCommandLineOption m_url;
+  QCommandLineOption m_user;
+  QCommandLineOption m_password;
+  QCommandLineOption m_passwordFile;
+  QCommandLineOption m_session;
+};
+
+}  // namespace sc::app

@@ -1,0 +1,73 @@
+#pragma once
+// A local nats-server for tests, experiments and demos (issue 18; ../shared/design/scale-out.md, "Test fixture"):
+// writes a configuration into a temporary folder (loopback only, JetStream stored in that folder, one host user and one
+// viewer user with the relay's permissions: docs/security.md, "Relay credentials"), starts
+// `nats-server -c <dir>/nats.conf --ports_file_dir <dir>` as a child process, reads its URL from the ports file it
+// writes, and stops it by its PID. A plain `authorization { users = [...] }` block, never mixed with an `accounts`
+// block (advisory GHSA-fr2g-9hjm-wr23 for the Debian server 2.9.10).
+
+#include <QtCore/QByteArray>
+#include <QtCore/QString>
+
+#include <chrono>
+#include <memory>
+
+class QProcess;
+class QTemporaryDir;
+
+namespace sc::session {
+
+/// The nats-server binary: $SHAPECAST_NATS_SERVER when set, else `nats-server` on PATH, in /usr/sbin (Debian
+/// installs it there) or /usr/bin; empty when none.
+QString natsServerBinary();
+
+/// The users and the session whose subjects they may use.
+struct NatsServerConfig {
+  QString sessionId = QStringLiteral("test");
+  QString hostUser = QStringLiteral("host");
+  QString hostPassword = QStringLiteral("host-secret");
+  QString viewerUser = QStringLiteral("viewer");
+  QString viewerPassword = QStringLiteral("viewer-secret");
+};
+
+/// The configuration text: listen on 127.0.0.1:`port` (0: a random port, written as -1), JetStream under `storeDir`.
+/// Host: publish sc.<sid>.> and its bucket's KV and JetStream API subjects; subscribe its inboxes and the viewers'
+/// statistics. Viewer: subscribe sc.<sid>.z and its inboxes; publish only the bucket's read API subjects and
+/// sc.<sid>.stats.> (so a viewer's publish on the frame subject is refused by the server).
+QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir);
+
+class LocalNatsServer {
+ public:
+  explicit LocalNatsServer(NatsServerConfig config = {});
+  ~LocalNatsServer();  ///< stops the server
+  LocalNatsServer(const LocalNatsServer&) = delete;
+  LocalNatsServer& operator=(const LocalNatsServer&) = delete;
+
+  /// Starts the server on `port` (0: random, the first time; a restart reuses the port) and waits up to `wait`
+  /// for its ports file. False with `error` set when the binary is missing, it exits or the file never comes.
+  bool start(QString* error = nullptr, std::chrono::milliseconds wait = std::chrono::milliseconds(5000));
+  /// Stops the server by its PID (SIGTERM, then SIGKILL after 2 s). Idempotent.
+  void stop();
+  /// stop(), then start() on the same port with the same JetStream folder.
+  bool restart(QString* error = nullptr);
+
+  [[nodiscard]] bool running() const;
+  [[nodiscard]] QString url() const { return m_url; }  ///< nats://127.0.0.1:PORT
+  [[nodiscard]] int port() const { return m_port; }
+  [[nodiscard]] qint64 pid() const { return m_pid; }
+  [[nodiscard]] QString directory() const;
+  [[nodiscard]] const NatsServerConfig& config() const { return m_config; }
+
+ private:
+  NatsServerConfig m_config;
+  std::unique_ptr<QTemporaryDir> m_dir;
+  std::unique_ptr<QProcess> m_process;
+  QString m_url;
+  int m_port = 0;
+  qint64 m_pid = 0;
+};
+
+/// True when natsServerBinary() found one (tests skip otherwise).
+bool natsServerAvailable();
+
+}  // namespace sc::session

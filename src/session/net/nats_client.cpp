@@ -1,0 +1,199 @@
+#include "session/net/nats_client.h"
+
+#include <nats/nats.h>
+
+#include <future>
+#include <utility>
+
+namespace sc::session {
+namespace {
+
+QString statusText(natsStatus status) {
+  const char* last = nats_GetLastError(nullptr);
+  const QString text = QString::fromUtf8(natsStatus_GetText(status));
+  return last && *last ? text + QStringLiteral(": ") + QString::fromUtf8(last) : text;
+}
+
+void onReconnected(natsConnection* /*connection*/, void* closure) {
+  static_cast<std::atomic<int>*>(closure)->fetch_add(1);
+}
+
+struct OptionsDeleter {
+  void operator()(natsOptions* options) const { natsOptions_Destroy(options); }
+};
+
+}  // namespace
+
+struct NatsConnection::Handles {
+  natsConnection* connection = nullptr;
+  jsCtx* js = nullptr;
+  ~Handles() {
+    if (js) jsCtx_Destroy(js);
+    if (connection) natsConnection_Destroy(connection);  // closes it first
+  }
+};
+
+struct NatsSubscription::Handles {
+  natsSubscription* subscription = nullptr;
+  NatsConnection::Handler handler;
+  std::promise<void> completed;  ///< set by cnats once the subscription closed and its handler returned
+  bool completionArmed = false;
+  ~Handles() {
+    if (!subscription) return;
+    natsSubscription_Unsubscribe(subscription);
+    // A handler running now must return before `handler` is destroyed (natsSubscription_SetOnCompleteCB); bounded,
+    // in case the connection is already closed.
+    if (completionArmed) completed.get_future().wait_for(std::chrono::seconds(2));
+    natsSubscription_Destroy(subscription);
+  }
+};
+
+struct NatsKeyValue::Handles {
+  kvStore* kv = nullptr;
+  ~Handles() {
+    if (kv) kvStore_Destroy(kv);
+  }
+};
+
+NatsConnection::NatsConnection() : m_handles(std::make_unique<Handles>()), m_events(std::make_unique<Events>()) {}
+NatsConnection::~NatsConnection() = default;
+
+std::unique_ptr<NatsConnection> NatsConnection::connect(const NatsConnectOptions& options, QString* error) {
+  natsOptions* raw = nullptr;
+  if (natsOptions_Create(&raw) != NATS_OK) {
+    if (error) *error = QStringLiteral("cannot create NATS options");
+    return nullptr;
+  }
+  const std::unique_ptr<natsOptions, OptionsDeleter> opts(raw);
+  std::unique_ptr<NatsConnection> out(new NatsConnection());
+  out->m_timeout = options.timeout;
+  const QByteArray url = options.url.toUtf8();
+  const QByteArray user = options.user.toUtf8();
+  const QByteArray password = options.password.toUtf8();
+  const QByteArray name = options.name.toUtf8();
+  natsStatus s = natsOptions_SetURL(opts.get(), url.constData());
+  if (s == NATS_OK && !user.isEmpty()) s = natsOptions_SetUserInfo(opts.get(), user.constData(), password.constData());
+  if (s == NATS_OK && !name.isEmpty()) s = natsOptions_SetName(opts.get(), name.constData());
+  if (s == NATS_OK) s = natsOptions_SetTimeout(opts.get(), options.timeout.count());
+  if (s == NATS_OK) s = natsOptions_SetMaxReconnect(opts.get(), -1);
+  if (s == NATS_OK) s = natsOptions_SetReconnectWait(opts.get(), options.reconnectWait.count());
+  if (s == NATS_OK) s = natsOptions_SetReconnectJitter(opts.get(), 0, 0);
+  if (s == NATS_OK) s = natsOptions_SetReconnectedCB(opts.get(), onReconnected, &out->m_events->reconnected);
+  if (s == NATS_OK && options.retryOnFailedConnect) {
+    s = natsOptions_SetRetryOnFailedConnect(opts.get(), true, nullptr, nullptr);
+  }
+  if (s == NATS_OK) s = natsConnection_Connect(&out->m_handles->connection, opts.get());
+  if (s == NATS_NOT_YET_CONNECTED && options.retryOnFailedConnect) s = NATS_OK;
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  return out;
+}
+
+bool NatsConnection::publish(const std::string& subject, QByteArrayView data) {
+  return natsConnection_Publish(m_handles->connection, subject.c_str(), data.data(), static_cast<int>(data.size())) ==
+         NATS_OK;
+}
+
+bool NatsConnection::flush(std::chrono::milliseconds timeout) {
+  return natsConnection_FlushTimeout(m_handles->connection, timeout.count()) == NATS_OK;
+}
+
+QString NatsConnection::lastError() const {
+  const char* text = nullptr;
+  natsConnection_GetLastError(m_handles->connection, &text);
+  return text ? QString::fromUtf8(text) : QString();
+}
+
+bool NatsConnection::connected() const {
+  return natsConnection_Status(m_handles->connection) == NATS_CONN_STATUS_CONNECTED;
+}
+
+namespace {
+void onComplete(void* closure) { static_cast<std::promise<void>*>(closure)->set_value(); }
+
+void onMessage(natsConnection* /*connection*/, natsSubscription* /*subscription*/, natsMsg* message, void* closure) {
+  const auto& handler = *static_cast<const NatsConnection::Handler*>(closure);
+  handler(QByteArrayView(natsMsg_GetData(message), natsMsg_GetDataLength(message)));
+  natsMsg_Destroy(message);
+}
+}  // namespace
+
+NatsSubscription::NatsSubscription(NatsConnection::Handler handler) : m_handles(std::make_unique<Handles>()) {
+  m_handles->handler = std::move(handler);
+}
+NatsSubscription::~NatsSubscription() = default;
+
+std::int64_t NatsSubscription::dropped() const {
+  int64_t count = 0;
+  natsSubscription_GetDropped(m_handles->subscription, &count);
+  return count;
+}
+
+std::unique_ptr<NatsSubscription> NatsConnection::subscribe(const std::string& subject, int pendingMessages,
+                                                            Handler handler, QString* error) {
+  std::unique_ptr<NatsSubscription> out(new NatsSubscription(std::move(handler)));
+  natsStatus s = natsConnection_Subscribe(&out->m_handles->subscription, m_handles->connection, subject.c_str(),
+                                          onMessage, &out->m_handles->handler);
+  if (s == NATS_OK) {
+    s = natsSubscription_SetOnCompleteCB(out->m_handles->subscription, onComplete, &out->m_handles->completed);
+    out->m_handles->completionArmed = s == NATS_OK;
+  }
+  // Bytes: generous (a frame of kMaxRows rows is ≈ 98 kB); the message count is the limit that matters.
+  if (s == NATS_OK) s = natsSubscription_SetPendingLimits(out->m_handles->subscription, pendingMessages, 64 << 20);
+  if (s == NATS_OK) s = natsConnection_FlushTimeout(m_handles->connection, m_timeout.count());
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  return out;
+}
+
+NatsKeyValue::NatsKeyValue() : m_handles(std::make_unique<Handles>()) {}
+NatsKeyValue::~NatsKeyValue() = default;
+
+std::unique_ptr<NatsKeyValue> NatsConnection::createBucket(const std::string& bucket, QString* error) {
+  natsStatus s = m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  std::unique_ptr<NatsKeyValue> out(new NatsKeyValue());
+  kvConfig config;
+  if (s == NATS_OK) s = kvConfig_Init(&config);
+  config.Bucket = bucket.c_str();
+  config.History = 1;
+  if (s == NATS_OK) s = js_CreateKeyValue(&out->m_handles->kv, m_handles->js, &config);
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  return out;
+}
+
+std::unique_ptr<NatsKeyValue> NatsConnection::bindBucket(const std::string& bucket, QString* error) {
+  natsStatus s = m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  std::unique_ptr<NatsKeyValue> out(new NatsKeyValue());
+  if (s == NATS_OK) s = js_KeyValue(&out->m_handles->kv, m_handles->js, bucket.c_str());
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  return out;
+}
+
+bool NatsKeyValue::put(const std::string& key, QByteArrayView value) {
+  uint64_t revision = 0;
+  return kvStore_Put(&revision, m_handles->kv, key.c_str(), value.data(), static_cast<int>(value.size())) == NATS_OK;
+}
+
+std::optional<QByteArray> NatsKeyValue::get(const std::string& key) {
+  kvEntry* entry = nullptr;
+  if (kvStore_Get(&entry, m_handles->kv, key.c_str()) != NATS_OK || !entry) return std::nullopt;
+  QByteArray value(static_cast<const char*>(kvEntry_Value(entry)), kvEntry_ValueLen(entry));
+  kvEntry_Destroy(entry);
+  return value;
+}
+
+std::string natsKeySubject(const std::string& bucket, const std::string& key) { return "$KV." + bucket + "." + key; }
+
+void natsShutdown() { nats_Close(); }
+
+}  // namespace sc::session

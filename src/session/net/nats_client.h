@@ -1,0 +1,121 @@
+#pragma once
+// A small RAII wrapper over the NATS C client (cnats, <nats/nats.h>; issue 18): one connection with automatic
+// reconnection, publish, subscriptions with a pending limit, and a JetStream key-value bucket. Every cnats object
+// is destroyed by its owner here (natsConnection_Destroy, natsSubscription_Destroy, natsMsg_Destroy, kvStore_Destroy,
+// jsCtx_Destroy); call natsShutdown() once at process end, after every wrapper is gone (nats_Close: releases the
+// library's threads and memory, for LeakSanitizer).
+//
+// Threads: a subscription's handler and the connection's event counters run on cnats threads. The handler must not
+// touch engine or Qt object state: copy the bytes into a mutex-protected queue or post them with
+// QMetaObject::invokeMethod(…, Qt::QueuedConnection) (net/relay_viewer.cpp does the latter).
+
+#include <QtCore/QByteArray>
+#include <QtCore/QByteArrayView>
+#include <QtCore/QString>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace sc::session {
+
+struct NatsConnectOptions {
+  QString url;  ///< nats://host:port (several: comma-separated)
+  QString user;
+  QString password;
+  QString name;                                  ///< shown in the server's monitoring
+  std::chrono::milliseconds timeout{2000};       ///< connect and request timeout
+  std::chrono::milliseconds reconnectWait{100};  ///< between reconnection attempts (forever)
+  bool retryOnFailedConnect = false;             ///< connect() succeeds and keeps trying when the server is down
+};
+
+class NatsSubscription;
+class NatsKeyValue;
+
+/// One connection. Not copyable; destroying it closes the connection (its subscriptions must be gone first).
+class NatsConnection {
+ public:
+  /// Connects; nullptr with `error` set (cnats' text) on failure. Reconnects forever after a disconnection.
+  static std::unique_ptr<NatsConnection> connect(const NatsConnectOptions& options, QString* error = nullptr);
+  ~NatsConnection();
+  NatsConnection(const NatsConnection&) = delete;
+  NatsConnection& operator=(const NatsConnection&) = delete;
+
+  /// Publishes `data` on `subject` (buffered by cnats; also while reconnecting, up to its reconnect buffer). False
+  /// when cnats refused it. Cost: one copy into the connection's buffer.
+  bool publish(const std::string& subject, QByteArrayView data);
+  /// Waits until the server has processed everything published so far; false on timeout or disconnection.
+  bool flush(std::chrono::milliseconds timeout);
+  /// The server's last asynchronous error on this connection (e.g. "Permissions Violation for Publish to …").
+  [[nodiscard]] QString lastError() const;
+  /// True while connected (not reconnecting or closed).
+  [[nodiscard]] bool connected() const;
+  /// Times the connection came back after a disconnection.
+  [[nodiscard]] int reconnections() const { return m_events->reconnected.load(); }
+
+  using Handler = std::function<void(QByteArrayView data)>;
+  /// Subscribes to `subject`; `handler` runs on a cnats thread for every message, in order. At most
+  /// `pendingMessages` wait for the handler: newer ones are dropped by cnats (NatsSubscription::dropped()).
+  std::unique_ptr<NatsSubscription> subscribe(const std::string& subject, int pendingMessages, Handler handler,
+                                              QString* error = nullptr);
+  /// Creates (host) or updates the key-value bucket `bucket` with history 1; nullptr with `error` on failure.
+  std::unique_ptr<NatsKeyValue> createBucket(const std::string& bucket, QString* error = nullptr);
+  /// Binds to an existing bucket (viewer); nullptr with `error` when it does not exist or is not readable.
+  std::unique_ptr<NatsKeyValue> bindBucket(const std::string& bucket, QString* error = nullptr);
+
+ private:
+  struct Events {
+    std::atomic<int> reconnected{0};
+  };
+  struct Handles;
+  NatsConnection();
+  std::unique_ptr<Handles> m_handles;
+  std::unique_ptr<Events> m_events;  ///< stable address for the cnats callbacks
+  std::chrono::milliseconds m_timeout{2000};
+};
+
+/// One subscription; destroying it unsubscribes. The handler is not called any more once the destructor returned.
+class NatsSubscription {
+ public:
+  ~NatsSubscription();
+  NatsSubscription(const NatsSubscription&) = delete;
+  NatsSubscription& operator=(const NatsSubscription&) = delete;
+  /// Messages cnats dropped because `pendingMessages` were already waiting (a slow handler).
+  [[nodiscard]] std::int64_t dropped() const;
+
+ private:
+  friend class NatsConnection;
+  struct Handles;
+  explicit NatsSubscription(NatsConnection::Handler handler);
+  std::unique_ptr<Handles> m_handles;
+};
+
+/// A JetStream key-value bucket (history 1).
+class NatsKeyValue {
+ public:
+  ~NatsKeyValue();
+  NatsKeyValue(const NatsKeyValue&) = delete;
+  NatsKeyValue& operator=(const NatsKeyValue&) = delete;
+  /// Stores `value` under `key` and waits for the server's acknowledgement (a round trip).
+  bool put(const std::string& key, QByteArrayView value);
+  /// The latest value of `key`; nullopt when absent or unreadable. A round trip.
+  std::optional<QByteArray> get(const std::string& key);
+
+ private:
+  friend class NatsConnection;
+  struct Handles;
+  NatsKeyValue();
+  std::unique_ptr<Handles> m_handles;
+};
+
+/// The subject a key's updates go to: publishing on it (without waiting for an acknowledgement) stores the value.
+std::string natsKeySubject(const std::string& bucket, const std::string& key);
+
+/// Releases cnats' library threads and memory (nats_Close); once, at process end, after every wrapper is gone.
+void natsShutdown();
+
+}  // namespace sc::session

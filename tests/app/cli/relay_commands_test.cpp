@@ -1,0 +1,98 @@
+// End-to-end run of the relay (issue 18) as separate processes, the way a lecture would use it: a local nats-server
+// (LocalNatsServer, stopped by its PID), `shapecast-cli host … --nats`, a `watch` viewer and a `drive` editor. Also
+// the watch command's usage and connection errors.
+#include "cli_test_support.h"
+#include "host_process.h"
+#include "session/net/local_nats_server.h"
+
+#include <gtest/gtest.h>
+#include <QFile>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QProcess>
+#include <QTemporaryDir>
+#include <QThread>
+
+namespace sc::testing {
+namespace {
+
+class RelayCommandsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!session::natsServerAvailable()) GTEST_SKIP() << "nats-server is not installed";
+    ASSERT_TRUE(m_dir.isValid());
+    m_mesh = m_dir.filePath(QStringLiteral("torus.off"));
+    writeOff(m_mesh, torus(60, 24));
+    QString error;
+    ASSERT_TRUE(m_server.start(&error)) << error.toStdString();
+    write(path("host.pw"), m_server.config().hostPassword.toUtf8() + '\n');
+    write(path("viewer.pw"), m_server.config().viewerPassword.toUtf8() + '\n');
+  }
+  QString path(const char* name) const { return m_dir.filePath(QLatin1String(name)); }
+  static void write(const QString& file, const QByteArray& bytes) {
+    QFile f(file);
+    ASSERT_TRUE(f.open(QIODevice::WriteOnly));
+    f.write(bytes);
+  }
+  QStringList relay(const char* user, const char* passwordFile) const {
+    return {QStringLiteral("--nats"),
+            m_server.url(),
+            QStringLiteral("--session"),
+            m_server.config().sessionId,
+            QStringLiteral("--nats-user"),
+            QLatin1String(user),
+            QStringLiteral("--nats-password-file"),
+            path(passwordFile)};
+  }
+
+  QTemporaryDir m_dir;
+  QString m_mesh;
+  session::LocalNatsServer m_server;
+};
+
+TEST_F(RelayCommandsTest, AViewerWatchesWhatTheEditorDragsThroughTheServer) {
+  HostProcess host(m_mesh, relay("host", "host.pw"));
+  ASSERT_NE(host.port(), 0) << "the host did not print its port";
+  QThread::msleep(1000);  // the relay starts right after the port line
+  QProcess watch;
+  watch.start(QStringLiteral(SHAPECAST_CLI),
+              QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
+                  QStringList{QStringLiteral("--seconds"), QStringLiteral("7"), QStringLiteral("--json")});
+  ASSERT_TRUE(watch.waitForStarted());
+  QThread::msleep(1500);
+  write(path("drag.json"), R"({"handles":[{"sphere":{"vertex":0,"radius_pct":5}}],
+                               "anchors":{"farther_than_pct":40,"from_vertex":0},
+                               "frames":[{"t":0},{"t":1.5,"translate_pct":[0,10,0]},{"t":3}]})");
+  const CliRun drive = runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), path("drag.json")});
+  EXPECT_EQ(drive.exitCode, 0) << drive.err.toStdString();
+  ASSERT_TRUE(watch.waitForFinished(30000));
+  EXPECT_EQ(watch.exitCode(), 0) << watch.readAllStandardError().toStdString();
+  const QJsonObject s = QJsonDocument::fromJson(watch.readAllStandardOutput().trimmed()).object();
+  // The drag's 91 frames; the host merges drags that arrive less than 8 ms apart on a busy machine: half is the bound.
+  EXPECT_GE(s[QStringLiteral("applied")].toInteger(), 45);
+  EXPECT_EQ(s[QStringLiteral("lost")].toInteger(), 0);
+  EXPECT_EQ(s[QStringLiteral("bad_signature")].toInteger(), 0);
+  EXPECT_GT(s[QStringLiteral("latency_p99_ms")].toDouble(), 0.0);
+  const QString log = QString::fromUtf8(host.stop());
+  EXPECT_TRUE(log.contains(QStringLiteral("relaying session test"))) << log.toStdString();
+  EXPECT_TRUE(log.contains(QStringLiteral("relay: "))) << log.toStdString();
+}
+
+TEST_F(RelayCommandsTest, WatchErrorsHaveExitCodesAndMessages) {
+  const CliRun noServer = runCli({QStringLiteral("watch"), QStringLiteral("--session"), QStringLiteral("x")});
+  EXPECT_EQ(noServer.exitCode, 2);
+  EXPECT_TRUE(noServer.err.contains("--nats")) << noServer.err.toStdString();
+  const CliRun badSession = runCli({QStringLiteral("watch"), QStringLiteral("--nats"), m_server.url(),
+                                    QStringLiteral("--session"), QStringLiteral("a.b")});
+  EXPECT_EQ(badSession.exitCode, 2);
+  write(path("wrong.pw"), "not-the-password\n");
+  const CliRun wrongPassword = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "wrong.pw"));
+  EXPECT_EQ(wrongPassword.exitCode, 4);
+  EXPECT_TRUE(wrongPassword.err.contains("NATS")) << wrongPassword.err.toStdString();
+  const CliRun noSession = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw"));
+  EXPECT_EQ(noSession.exitCode, 4);  // no host published this session yet
+  EXPECT_TRUE(noSession.err.contains("no session")) << noSession.err.toStdString();
+}
+
+}  // namespace
+}  // namespace sc::testing
