@@ -2,13 +2,15 @@
 // format 2: K as int16) and the compressed one (session::compressLevelPayload: meshoptimizer for X̂' and F', zstd
 // for the tables and the mesh-predicted K), per level of the host's ladder and the full resolution, with the time
 // to compress and to decompress (one run each, one thread).
-// Usage: shapecast-bench-level-codec MESH [m = 100] [zstd level = 9] [K bits = 16: fewer requantise K, to measure]
+// Usage: shapecast-bench-level-codec MESH [m = 100] [zstd level = 9] [K bits = 13, the product's: fewer requantise K,
+//        to measure]
 
 #include "experiments/report/machine_info.h"
 #include "model/mesh_decimation.h"
 #include "model/mesh_loader.h"
 #include "session/wire/level_codec.h"
 #include "spectral/basis_pipeline.h"
+#include "spectral/quantized_basis.h"
 #include "spectral/resolution_level.h"
 
 #include <algorithm>
@@ -27,17 +29,21 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// K requantised to `bits` (< 16) significant bits, still int16 with a scale per column: what a coarser quantiser
-/// would send (measurement only; the product quantises to 16 bits).
+/// The product's significant bits of K: ±kQuantizedBasisLevels = ±(2¹² − 1), 13 bits with the sign.
+constexpr int kProductBits = 13;
+static_assert(sc::spectral::kQuantizedBasisLevels == (1 << (kProductBits - 1)) - 1);
+
+/// K requantised to `bits` (< kProductBits) significant bits, still int16 with a scale per column: what a coarser
+/// quantiser would send (measurement only).
 sc::spectral::ResolutionLevel coarser(sc::spectral::ResolutionLevel level, int bits) {
-  const float factor = static_cast<float>(1 << (16 - bits));
+  const float factor = static_cast<float>(1 << (kProductBits - bits));
   level.K.Q = (level.K.Q.cast<float>() / factor).array().round().cast<std::int16_t>();
   level.K.scale *= factor;
   return level;
 }
 
 void report(const sc::spectral::ResolutionLevel& original, int zstdLevel, int bits) {
-  const sc::spectral::ResolutionLevel level = bits < 16 ? coarser(original, bits) : original;
+  const sc::spectral::ResolutionLevel level = bits < kProductBits ? coarser(original, bits) : original;
   const std::vector<std::byte> bytes = sc::spectral::encodeResolutionLevel(level);
   const QByteArray canonical(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
   auto start = std::chrono::steady_clock::now();
@@ -70,7 +76,7 @@ int main(int argc, char** argv) {
   }
   const int m = argc > 2 ? std::atoi(argv[2]) : 100;
   const int zstdLevel = argc > 3 ? std::atoi(argv[3]) : 9;
-  const int bits = argc > 4 ? std::clamp(std::atoi(argv[4]), 8, 16) : 16;
+  const int bits = argc > 4 ? std::clamp(std::atoi(argv[4]), 8, kProductBits) : kProductBits;
   const sc::model::MeshLoadResult loaded = sc::model::loadMesh(argv[1]);
   if (const auto* error = std::get_if<sc::model::MeshError>(&loaded)) {
     std::fprintf(stderr, "%s\n", error->message.c_str());

@@ -1,6 +1,7 @@
 // `shapecast-lab join`: options, the run, and its one-line or JSON report (see join_experiment.h).
 
 #include "experiments/join/join_experiment.h"
+#include "experiments/load/host_child.h"
 #include "experiments/report/machine_info.h"
 
 #include <QCoreApplication>
@@ -43,16 +44,9 @@ int runJoinExperimentCommand(const QStringList& arguments) {
         "--rate-mbit takes Mbit/s ≥ 0, --delay-ms ms ≥ 0, --loss 0..1, --level full or N, --timeout T > 0"));
     return kExitUsage;
   }
-  QStringList basis{QStringLiteral("--m"), QString::number(command.basisArguments().m)};
-  if (command.basisArguments().cacheDir) {
-    basis << QStringLiteral("--cache-dir") << QString::fromStdString(command.basisArguments().cacheDir->string());
-  } else {
-    basis << QStringLiteral("--no-cache");
-  }
+  const QStringList basis = hostChildBasisArguments(command.basisArguments());
   const bool json = command.basisArguments().json;
-  const auto progress = [json](const QString& line) {
-    if (!json) QTextStream(stderr) << line << '\n';
-  };
+  const auto progress = progressPrinter(json);
   const std::variant<JoinResult, QString> outcome =
       runJoinExperiment(QCoreApplication::applicationFilePath(), command.meshPath(), basis, settings, progress);
   if (const QString* error = std::get_if<QString>(&outcome)) {

@@ -2,15 +2,37 @@
 // The load-host child process (load_experiment.h) seen from its parent: started, read line by line, given
 // commands on stdin. Shared by the load and join experiments.
 
+#include "app/cli/cli_common.h"
 #include "app/cli/session_setup.h"
 
 #include <QProcess>
 #include <QString>
 #include <QStringList>
 
+#include <QTextStream>
+
 #include <chrono>
+#include <functional>
 
 namespace sc::app {
+
+/// The basis options a host child starts with, from the experiment's own: --m M, then --cache-dir DIR or --no-cache.
+inline QStringList hostChildBasisArguments(const BasisArguments& basis) {
+  QStringList arguments{QStringLiteral("--m"), QString::number(basis.m)};
+  if (basis.cacheDir) {
+    arguments << QStringLiteral("--cache-dir") << QString::fromStdString(basis.cacheDir->string());
+  } else {
+    arguments << QStringLiteral("--no-cache");
+  }
+  return arguments;
+}
+
+/// An experiment's progress lines: on stderr, or nowhere when the report is JSON (stdout stays one object).
+inline std::function<void(const QString&)> progressPrinter(bool json) {
+  return [json](const QString& line) {
+    if (!json) QTextStream(stderr) << line << '\n';
+  };
+}
 
 /// The host child: started, and read line by line; closed (stdin) and reaped by the destructor.
 class HostChild {

@@ -1,5 +1,6 @@
 // `shapecast-cli experiment load`: options, the run, and its report (see load_experiment.h).
 
+#include "experiments/load/host_child.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/report/machine_info.h"
 #include "experiments/report/markdown_section.h"
@@ -46,16 +47,9 @@ int runLoadExperimentCommand(const QStringList& arguments) {
                       .arg(session::kMaxPeers - 1));
     return kExitUsage;
   }
-  QStringList basis{QStringLiteral("--m"), QString::number(command.basisArguments().m)};
-  if (command.basisArguments().cacheDir) {
-    basis << QStringLiteral("--cache-dir") << QString::fromStdString(command.basisArguments().cacheDir->string());
-  } else {
-    basis << QStringLiteral("--no-cache");
-  }
+  const QStringList basis = hostChildBasisArguments(command.basisArguments());
   const bool json = command.basisArguments().json;
-  const auto progress = [json](const QString& line) {
-    if (!json) QTextStream(stderr) << line << '\n';
-  };
+  const auto progress = progressPrinter(json);
   const std::variant<LoadResult, QString> outcome =
       runLoadExperiment(QCoreApplication::applicationFilePath(), command.meshPath(), basis, settings, progress);
   if (const QString* error = std::get_if<QString>(&outcome)) {

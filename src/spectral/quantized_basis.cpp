@@ -7,7 +7,7 @@
 namespace sc::spectral {
 
 namespace {
-constexpr double kMaxLevel = 32767.0;
+constexpr double kMaxLevel = kQuantizedBasisLevels;
 }  // namespace
 
 QuantizedBasis quantizeBasis(const Eigen::MatrixXd& K) {

@@ -1,10 +1,17 @@
 #pragma once
 // QuantizedBasis: a level's reduced basis K (n' by m) stored as 16-bit integers with one float scale per column,
-// K(i, j) ≈ scale(j)·Q(i, j) with scale(j) = max_i |K(i, j)| / 32767 and Q(i, j) = round(K(i, j) / scale(j)) in
-// [−32767, 32767]. Half the bytes of float32 K, in memory, on the wire and in the GPU's texture; the per-frame
-// kernel folds the scales into Z once (Z'(j, c) = scale(j)·Z(j, c)) and reads only Q (reconstruction_kernel.h).
+// K(i, j) ≈ scale(j)·Q(i, j) with scale(j) = max_i |K(i, j)| / L and Q(i, j) = round(K(i, j) / scale(j)) in
+// [−L, L], L = kQuantizedBasisLevels = 4095: 13 significant bits stored in int16. Half the bytes of float32 K, in
+// memory, on the wire and in the GPU's texture; the per-frame kernel folds the scales into Z once
+// (Z'(j, c) = scale(j)·Z(j, c)) and reads only Q (reconstruction_kernel.h).
 //
-// Error: |K − scale·Q| ≤ scale(j)/2 = max_i |K(i, j)| / 65534 per entry, so a reconstructed position is off by at
+// Why 13 bits and not 16: the level payload's K compresses to what its low bits cost (near-random residuals), and
+// the bound is 1e-4 of the diagonal. Measured over the loss experiment's drag at every level of the real
+// meshes (tests/spectral/quantized_basis_test.cpp): 16 bits gave at most 3.7e-6 of the diagonal, 13 bits stay
+// within the bound with room (the test's figure), and the 100k dragon's full level shrinks from 13.9 MB to about
+// 10 MB compressed (docs/benchmarks.md).
+//
+// Error: |K − scale·Q| ≤ scale(j)/2 = max_i |K(i, j)| / (2L) per entry, so a reconstructed position is off by at
 // most Σ_j |Z(j, c)|·scale(j)/2 per coordinate (bounded here by quantizationBound(); the real-mesh test in
 // tests/spectral/quantized_basis_test.cpp measures it over a drag against float32 K).
 
@@ -17,8 +24,11 @@ namespace sc::spectral {
 /// n' by m int16, row-major: the kernel streams one row (m values) per output vertex.
 using RowMatrixXs = Eigen::Matrix<std::int16_t, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+/// The largest |Q(i, j)|: 2¹² − 1, 13 significant bits (sign included) in each int16 entry.
+inline constexpr int kQuantizedBasisLevels = 4095;
+
 struct QuantizedBasis {
-  RowMatrixXs Q;             ///< n' by m quantised entries, each in [−32767, 32767].
+  RowMatrixXs Q;             ///< n' by m quantised entries, each in [−kQuantizedBasisLevels, kQuantizedBasisLevels].
   Eigen::RowVectorXf scale;  ///< 1 by m, ≥ 0 and finite: K(i, j) ≈ scale(j)·Q(i, j).
 
   [[nodiscard]] Eigen::Index rows() const { return Q.rows(); }
@@ -49,7 +59,8 @@ struct QuantizedBasis {
   }
 };
 
-/// Quantises K column by column (scale = max|K(:, j)|/32767; an all-zero column gets scale 0 and Q = 0).
+/// Quantises K column by column (scale = max|K(:, j)|/kQuantizedBasisLevels; an all-zero column gets scale 0 and
+/// Q = 0).
 /// @param[in] K  n' by m, finite. Cost: O(n'·m), two passes.
 [[nodiscard]] QuantizedBasis quantizeBasis(const Eigen::MatrixXd& K);
 

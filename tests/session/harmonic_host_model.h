@@ -13,4 +13,9 @@ namespace sc::session::testing {
 /// leaves the basis empty. Cost: one Laplacian and one eigensolve of `mesh`.
 std::shared_ptr<const HostModel> harmonicHostModel(const sc::testing::GeneratedMesh& mesh, int m);
 
+/// A HostModel of `mesh` whose m-column "basis" is uniform noise in [−1, 1] (seeded) with eigenvalues 0..1: a level
+/// payload that does not compress (the host then sends about 2·#V·m bytes of K), for tests that need a transfer of
+/// a known, large size. Not a harmonic basis: no deformation test should use it. Cost: one Laplacian of `mesh`.
+std::shared_ptr<const HostModel> incompressibleHostModel(const sc::testing::GeneratedMesh& mesh, int m, unsigned seed);
+
 }  // namespace sc::session::testing

@@ -34,6 +34,7 @@ using testing::kRawWaitMs;
 using testing::RawControlPeer;
 
 using testing::harmonicHostModel;
+using testing::incompressibleHostModel;
 
 /// Runs the event loop until `done()` holds or `timeoutMs` passed; returns done(). Unlike QTest::qWaitFor (which
 /// sleeps 10 ms between passes), it blocks only until the next event, so a join of many round trips takes
@@ -161,11 +162,7 @@ TEST_F(SessionFaults, ClientVanishingMidTransferFreesItsPeerAndTheLock) {
   // 7.4 MB: K alone is 40962 · 64 int16; a harmonic basis of this smooth sphere compresses to a fraction), far
   // above what a 4 KiB receive window, the host's kernel send buffer (on loopback its 64 KiB segments let it grow
   // past 1 MiB) and its 256 KiB transfer high-water mark hold, so the transfer is certainly unfinished.
-  auto noisy = std::make_shared<HostModel>(*harmonicHostModel(sc::testing::icosphere(6), 4));
-  std::srand(17);
-  noisy->basis.vectors = Eigen::MatrixXd::Random(noisy->V.rows(), 64);
-  noisy->basis.eigenvalues = Eigen::VectorXd::LinSpaced(64, 0.0, 1.0);
-  const std::shared_ptr<const HostModel> medium = noisy;
+  const std::shared_ptr<const HostModel> medium = incompressibleHostModel(sc::testing::icosphere(6), 64, 17);
   auto host = startHost(medium);
   auto bystander = join(host->tcpPort(), QStringLiteral("bystander"));
   ASSERT_EQ(host->counters().transfersCompleted, 1u);

@@ -30,7 +30,7 @@ double maxDifference(const std::vector<float>& a, const std::vector<float>& b) {
   return worst;
 }
 
-TEST(QuantizedBasis, EntriesSpanTheInt16RangePerColumnWithinHalfAStep) {
+TEST(QuantizedBasis, EntriesSpanTheLevelRangePerColumnWithinHalfAStep) {
   std::srand(3);
   Eigen::MatrixXd K = Eigen::MatrixXd::Random(500, 7);
   K.col(2) *= 1e-6;    // a tiny column keeps its own scale
@@ -41,13 +41,14 @@ TEST(QuantizedBasis, EntriesSpanTheInt16RangePerColumnWithinHalfAStep) {
   ASSERT_EQ(Q.cols(), 7);
   EXPECT_EQ(Q.scale(4), 0.0f);
   EXPECT_EQ(Q.Q.col(4).cwiseAbs().maxCoeff(), 0);
-  EXPECT_EQ(Q.Q(17, 5), -32767);
+  EXPECT_EQ(Q.Q(17, 5), -kQuantizedBasisLevels);
   for (Eigen::Index j = 0; j < K.cols(); ++j) {
     if (j == 4) continue;
-    EXPECT_EQ(Q.Q.col(j).cast<int>().cwiseAbs().maxCoeff(), 32767) << "column " << j << " uses the full range";
+    EXPECT_EQ(Q.Q.col(j).cast<int>().cwiseAbs().maxCoeff(), kQuantizedBasisLevels)
+        << "column " << j << " uses the full range";
     const double step = Q.scale(j);
     for (Eigen::Index i = 0; i < K.rows(); ++i)
-      ASSERT_LE(std::abs(Q(i, j) - K(i, j)), 0.5 * step + 2e-7 * 32767.0 * step)
+      ASSERT_LE(std::abs(Q(i, j) - K(i, j)), 0.5 * step + 2e-7 * kQuantizedBasisLevels * step)
           << "(" << i << ", " << j << ")";
   }
   EXPECT_EQ(dequantized(Q)(17, 5), Q(17, 5));

@@ -4,6 +4,7 @@
 #include "spectral/closest_point.h"
 #include "spectral/harmonic_basis.h"
 #include "spectral/level_vertex_map.h"
+#include "spectral/quantized_basis.h"
 #include "spectral/reconstruction_kernel.h"
 #include "spectral/vertex_ids.h"
 
@@ -100,7 +101,8 @@ TEST_F(ResolutionLevelTest, KIsPTimesHQuantisedPerColumn) {
   for (Eigen::Index j = 0; j < K.cols(); ++j) {
     const double top = expected.col(j).cwiseAbs().maxCoeff();
     // half a quantisation step, plus float32 rounding of scale·Q
-    EXPECT_LE((K.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), top / 65534.0 + 2e-7 * top) << "column " << j;
+    EXPECT_LE((K.col(j) - expected.col(j)).cwiseAbs().maxCoeff(), top / (2.0 * kQuantizedBasisLevels) + 2e-7 * top)
+        << "column " << j;
   }
 }
 
