@@ -14,6 +14,7 @@
 #include "session/wire/path_open.h"
 #include "spectral/basis_cache.h"
 #include "spectral/resolution_level.h"
+#include "test_levels.h"
 #include "test_meshes.h"
 
 #include <Eigen/Geometry>
@@ -99,19 +100,8 @@ void datagramSeeds(const fs::path& root) {
 
 /// A small level: an icosahedron, P mapping vertex i to full-resolution vertices i and (i + 1) mod n, K n by 4.
 sc::spectral::ResolutionLevel smallLevel() {
-  const sc::testing::GeneratedMesh mesh = sc::testing::icosphere(0);
-  sc::spectral::ResolutionLevel level;
-  level.restV = mesh.V;
-  level.F = mesh.F;
-  const auto n = static_cast<int>(mesh.V.rows());
-  level.P.resize(n, n);
-  for (int i = 0; i < n; ++i) {
-    level.P.insert(i, i) = 0.75;
-    level.P.insert(i, (i + 1) % n) = 0.25;
-  }
-  level.P.makeCompressed();
-  level.K = sc::spectral::quantizeBasis(Eigen::MatrixXd::Random(n, 4));
-  return level;
+  const auto n = static_cast<int>(sc::testing::icosphere(0).V.rows());
+  return sc::testing::icosphereLevel(0, Eigen::MatrixXd::Random(n, 4));
 }
 
 QByteArray levelBytes() {

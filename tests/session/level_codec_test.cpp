@@ -4,6 +4,7 @@
 #include "session/wire/level_codec.h"
 #include "session/wire/model_transfer.h"
 #include "spectral/resolution_level.h"
+#include "test_levels.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -17,21 +18,11 @@ namespace {
 
 /// An icosphere level with a smooth basis (sines of the coordinates), P a convex mix of two vertices per row.
 QByteArray canonicalLevel(int subdivisions = 3, int m = 12) {
-  const sc::testing::GeneratedMesh mesh = sc::testing::icosphere(subdivisions);
-  spectral::ResolutionLevel level;
-  level.restV = mesh.V;
-  level.F = mesh.F;
-  const auto n = static_cast<int>(mesh.V.rows());
-  level.P.resize(n, n);
-  for (int i = 0; i < n; ++i) {
-    level.P.insert(i, i) = 0.75;
-    level.P.insert(i, (i + 1) % n) = 0.25;
-  }
-  level.P.makeCompressed();
-  Eigen::MatrixXd K(n, m);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) K(i, j) = std::sin((j + 1) * mesh.V(i, j % 3) + 0.3 * j);
-  level.K = spectral::quantizeBasis(K);
+  const Eigen::MatrixXd V = sc::testing::icosphere(subdivisions).V;
+  Eigen::MatrixXd K(V.rows(), m);
+  for (Eigen::Index i = 0; i < V.rows(); ++i)
+    for (int j = 0; j < m; ++j) K(i, j) = std::sin((j + 1) * V(i, j % 3) + 0.3 * j);
+  const spectral::ResolutionLevel level = sc::testing::icosphereLevel(subdivisions, K);
   const std::vector<std::byte> bytes = spectral::encodeResolutionLevel(level);
   return QByteArray(reinterpret_cast<const char*>(bytes.data()), static_cast<qsizetype>(bytes.size()));
 }
