@@ -1,11 +1,13 @@
 // Fuzz target "relay": the relay decoders (src/session/wire/relay_message.h, engine/relay_receiver.h and
 // engine/relay_audience.h; issue 18), with one identity generated once per process.
 //
-// Input: one mode byte, then a message. Mode (mod 3):
+// Input: one mode byte, then a message. Mode (mod 4):
 //   0  the bytes as a frame message from the broker, as is (trailer, signature: almost always refused);
 //   1  the bytes as a frame body, signed by the harness's host key, so the fuzzer reaches the post-signature parsing
 //      (header, row count, finiteness) and the receiver's rules (latest wins, loss, stale);
-//   2  the bytes as a viewer's Stats message to the host's RelayAudience.
+//   2  the bytes as a viewer's Stats message to the host's RelayAudience;
+//   3  the bytes as a verified Levels body (relay_level_list.h): accepted only when it re-encodes to the same bytes,
+//      with ascending indices below `total` and chunkBytes in range.
 // Invariants checked: the receiver's Z is m by 3 (m = the facts' m) and finite once a frame applied; its counters
 // never go negative; a Stats message is accepted only at exactly kRelayStatsSize bytes.
 
@@ -13,9 +15,12 @@
 #include "session/engine/relay_audience.h"
 #include "session/engine/relay_receiver.h"
 #include "session/net/tls_identity.h"
+#include "session/wire/relay_level_list.h"
 #include "session/wire/relay_message.h"
 
 #include <QtCore/QByteArray>
+
+#include <optional>
 
 namespace {
 
@@ -63,13 +68,25 @@ void fuzzFrame(const QByteArray& message) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const sc::fuzz::Input input = sc::fuzz::splitMode(data, size);
   const QByteArray bytes(reinterpret_cast<const char*>(input.rest.data()), static_cast<qsizetype>(input.rest.size()));
-  switch (input.mode % 3) {
+  switch (input.mode % 4) {
     case 0:
       fuzzFrame(bytes);
       break;
     case 1:
       fuzzFrame(signer().sign(bytes));
       break;
+    case 3: {
+      const std::optional<RelayLevelList> list = decodeRelayLevelListBody(bytes);
+      if (!list) break;
+      sc::fuzz::check(encodeRelayLevelListBody(*list) == bytes, "a level list round-trips");
+      sc::fuzz::check(
+          list->levels.size() <= list->total && list->chunkBytes >= 1 && list->chunkBytes <= kMaxRelayChunkBytes,
+          "level list bounds");
+      for (std::size_t i = 1; i < list->levels.size(); ++i) {
+        sc::fuzz::check(list->levels[i - 1].index < list->levels[i].index, "ascending");
+      }
+      break;
+    }
     default: {
       RelayAudience audience;
       const bool accepted = audience.onStats(bytes, Micros{1});

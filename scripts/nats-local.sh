@@ -16,6 +16,7 @@ umask 077
 head -c 18 /dev/urandom | base64 | tr -d '/+=' > "$dir/host.pw"
 head -c 18 /dev/urandom | base64 | tr -d '/+=' > "$dir/viewer.pw"
 stream="KV_sc_$sid"
+levels="SC_${sid}_LEVELS"  # the level payloads (read-only for viewers)
 cat > "$dir/nats.conf" << CONF
 listen: 127.0.0.1:-1
 jetstream { store_dir: "$dir/js" }
@@ -25,11 +26,12 @@ authorization {
   users = [
     { user: "host", password: "$(cat "$dir/host.pw")", permissions: {
         publish: ["sc.$sid.>", "\$KV.sc_$sid.>", "\$JS.API.STREAM.CREATE.$stream", "\$JS.API.STREAM.UPDATE.$stream",
-                  "\$JS.API.STREAM.INFO.$stream"],
+                  "\$JS.API.STREAM.INFO.$stream", "\$JS.API.STREAM.CREATE.$levels",
+                  "\$JS.API.STREAM.UPDATE.$levels", "\$JS.API.STREAM.INFO.$levels"],
         subscribe: ["_INBOX.>", "sc.$sid.stats.>"] } }
     { user: "viewer", password: "$(cat "$dir/viewer.pw")", permissions: {
         publish: ["\$JS.API.STREAM.INFO.$stream", "\$JS.API.STREAM.MSG.GET.$stream",
-                  "\$JS.API.DIRECT.GET.$stream.>", "sc.$sid.stats.>"],
+                  "\$JS.API.DIRECT.GET.$stream.>", "sc.$sid.stats.>", "\$JS.API.STREAM.MSG.GET.$levels"],
         subscribe: ["sc.$sid.z", "_INBOX.>"] } }
   ]
 }

@@ -156,6 +156,61 @@ TEST_F(LaunchOptionsTest, UnknownOptionsAndMissingValuesAreErrors) {
   EXPECT_FALSE(error({QStringLiteral("--join")}).message.isEmpty());
 }
 
+TEST_F(LaunchOptionsTest, WatchThroughNats) {
+  const QString pin = QStringLiteral("ab").repeated(32);
+  const QString passwordFile = m_dir.filePath(QStringLiteral("viewer.password"));
+  QFile file(passwordFile);
+  ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+  file.write("viewer-secret\nignored\n");
+  file.close();
+  const LaunchOptions watch =
+      options({QStringLiteral("--watch"), QStringLiteral("nats://127.0.0.1:4222"), QStringLiteral("--session"),
+               QStringLiteral("lecture-1"), QStringLiteral("--nats-user"), QStringLiteral("viewer"),
+               QStringLiteral("--nats-password-file"), passwordFile, QStringLiteral("--pin"), pin,
+               QStringLiteral("--level"), QStringLiteral("20%")});
+  ASSERT_TRUE(watch.watch.has_value());
+  EXPECT_FALSE(watch.firstStart());
+  EXPECT_FALSE(watch.host || watch.join || watch.demo);
+  EXPECT_EQ(watch.watch->url, QStringLiteral("nats://127.0.0.1:4222"));
+  EXPECT_EQ(watch.watch->sessionId, QStringLiteral("lecture-1"));
+  EXPECT_EQ(watch.watch->user, QStringLiteral("viewer"));
+  EXPECT_EQ(watch.watch->password, QStringLiteral("viewer-secret"));  // the first line only
+  EXPECT_EQ(watch.watch->pin, QByteArray::fromHex(pin.toLatin1()));
+  ASSERT_TRUE(watch.watch->levelFraction.has_value());
+  EXPECT_DOUBLE_EQ(*watch.watch->levelFraction, 0.2);
+  // The defaults: full level, trust on first use; a password on the command line is taken as well.
+  const LaunchOptions plain =
+      options({QStringLiteral("--watch"), QStringLiteral("nats://h:1"), QStringLiteral("--session"),
+               QStringLiteral("s"), QStringLiteral("--nats-password"), QStringLiteral("pw")});
+  ASSERT_TRUE(plain.watch.has_value());
+  EXPECT_EQ(plain.watch->level, 0u);
+  EXPECT_FALSE(plain.watch->levelFraction);
+  EXPECT_TRUE(plain.watch->pin.isEmpty());
+  EXPECT_EQ(plain.watch->password, QStringLiteral("pw"));
+}
+
+TEST_F(LaunchOptionsTest, WatchErrorsAreReadable) {
+  const QStringList base = {QStringLiteral("--watch"), QStringLiteral("nats://127.0.0.1:4222"),
+                            QStringLiteral("--session"), QStringLiteral("s1")};
+  EXPECT_TRUE(error({QStringLiteral("--watch"), QStringLiteral("127.0.0.1:4222"), QStringLiteral("--session"),
+                     QStringLiteral("s1")})
+                  .message.contains(QStringLiteral("NATS URL")));
+  EXPECT_TRUE(
+      error({QStringLiteral("--watch"), QStringLiteral("nats://h:1")}).message.contains(QStringLiteral("--session")));
+  EXPECT_TRUE(error({QStringLiteral("--watch"), QStringLiteral("nats://h:1"), QStringLiteral("--session"),
+                     QStringLiteral("a.b")})
+                  .message.contains(QStringLiteral("--session")));
+  EXPECT_TRUE(error(base + QStringList{QStringLiteral("--pin"), QStringLiteral("xyz")})
+                  .message.contains(QStringLiteral("--pin")));
+  EXPECT_TRUE(error(base + QStringList{QStringLiteral("--level"), QStringLiteral("lots")})
+                  .message.contains(QStringLiteral("--level")));
+  EXPECT_TRUE(error(base + QStringList{QStringLiteral("--nats-password-file"), m_dir.filePath(QStringLiteral("none"))})
+                  .message.contains(QStringLiteral("--nats-password-file")));
+  EXPECT_TRUE(error(base + QStringList{QStringLiteral("--join"), QStringLiteral("127.0.0.1:47100")})
+                  .message.contains(QStringLiteral("--watch")));
+  EXPECT_TRUE(error(base + QStringList{QStringLiteral("--demo")}).message.contains(QStringLiteral("--watch")));
+}
+
 TEST(ShieldedArguments, NameWithASpaceIsJoinedToItsValueAndTheRestIsKept) {
   std::vector<std::string> given = {"shapecast", "--join", "127.0.0.1:47100", "--name", "bob", "--level", "full"};
   std::vector<char*> argv;

@@ -37,6 +37,7 @@ class RelayNats : public ::testing::Test {
     SessionHostOptions options;
     options.address = QHostAddress::LocalHost;
     options.identity = std::make_shared<const TlsIdentity>(*generateTlsIdentity(QStringLiteral("relay-test")));
+    configureHost(options);
     m_host = std::make_unique<SessionHost>(s_model, std::move(options));
     ASSERT_TRUE(m_host->start(&error)) << error.toStdString();
     m_publisher = std::make_unique<RelayPublisher>(*m_host, publisherOptions());
@@ -51,6 +52,9 @@ class RelayNats : public ::testing::Test {
     set.handles.push_back({handle});
     ASSERT_TRUE(m_host->setConstraints(set));
   }
+
+  /// A derived fixture's changes to the host's options (relay_level_nats_test.cpp: a ladder of levels).
+  virtual void configureHost(SessionHostOptions& /*options*/) {}
 
   void TearDown() override {
     m_viewers.clear();

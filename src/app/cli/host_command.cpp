@@ -5,6 +5,7 @@
 #include "app/cli/session_setup.h"
 #include "app/common/password_memory.h"
 #include "model/decimating_level_builder.h"
+#include "session/net/relay_level_publisher.h"
 #include "session/net/relay_publisher.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"
@@ -162,6 +163,7 @@ int runHostCommand(const QStringList& arguments) {
              .arg(host.tcpPort())
              .arg(fingerprint);
   std::unique_ptr<session::RelayPublisher> publisher;
+  std::unique_ptr<session::RelayLevelPublisher> levelPublisher;
   if (relay) {
     const QString sessionId = relay->sessionId;
     const QString url = relay->nats.url;
@@ -170,6 +172,26 @@ int runHostCommand(const QStringList& arguments) {
       command.error(QStringLiteral("cannot publish to the relay: %1").arg(error));
       return kExitNetwork;
     }
+    // Every level payload once, on the session's level stream (viewers' `watch --level`).
+    levelPublisher = std::make_unique<session::RelayLevelPublisher>(host, *publisher->connection(),
+                                                                    session::RelayLevelPublisherOptions{sessionId});
+    if (!levelPublisher->start(&error)) {
+      command.error(QStringLiteral("cannot publish the levels to the relay: %1").arg(error));
+      return kExitNetwork;
+    }
+    QObject::connect(levelPublisher.get(), &session::RelayLevelPublisher::levelPublished, &host,
+                     [&levelPublisher](std::uint8_t index) {
+                       const session::RelayLevelEntry* entry = levelPublisher->list().find(index);
+                       QTextStream(stdout) << QStringLiteral("relay: level %1 published (%2 vertices, %3 bytes)\n")
+                                                  .arg(index)
+                                                  .arg(entry ? entry->vertexCount : 0)
+                                                  .arg(entry ? entry->payloadBytes : 0);
+                     });
+    QObject::connect(levelPublisher.get(), &session::RelayLevelPublisher::levelFailed, &host,
+                     [](std::uint8_t index, const QString& reason) {
+                       QTextStream(stdout)
+                           << QStringLiteral("relay: level %1 not published: %2\n").arg(index).arg(reason);
+                     });
     out << QStringLiteral(
                "relaying session %1 through %2; watch with: shapecast-cli watch --nats %2 --session %1 "
                "--nats-user USER --nats-password-file FILE --pin %3\n")
@@ -207,7 +229,12 @@ int runHostCommand(const QStringList& arguments) {
                .arg(publisher->counters().frames)
                .arg(publisher->counters().keyframes)
                .arg(publisher->counters().bytes);
+    out << QStringLiteral("relay: %1 levels, %2 chunks, %3 level bytes published\n")
+               .arg(levelPublisher->counters().levels)
+               .arg(levelPublisher->counters().chunks)
+               .arg(levelPublisher->counters().bytes);
   }
+  levelPublisher.reset();
   publisher.reset();
   out << "host stopped\n";
   return kExitOk;

@@ -2,13 +2,24 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/relay_arguments.h"
+#include "session/net/relay_level_fetcher.h"
 #include "session/net/relay_viewer.h"
 #include "session/net/tls_identity.h"
+#include "session/wire/wire_format.h"
+#include "spectral/display_level.h"
+
+#include <Eigen/Core>
 
 #include <QCoreApplication>
 #include <QJsonObject>
 #include <QTextStream>
 #include <QTimer>
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
 
 namespace sc::app {
 namespace {
@@ -41,6 +52,63 @@ QString watchLine(const QJsonObject& r) {
       .arg(r.value(QStringLiteral("latency_p99_ms")).toDouble(), 0, 'f', 2);
 }
 
+/// The shape a viewer shows at its level: X̂' + K·Z (the CPU kernel), summarised. `checksum` is the sum of every
+/// coordinate; `extent` the bounding box's sides.
+struct ShownShape {
+  std::uint32_t vertices = 0;
+  double checksum = 0;
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();
+};
+
+ShownShape shownShape(const spectral::DisplayLevel& level, const Eigen::MatrixXd& Z) {
+  spectral::DisplayFrame frame;
+  if (Z.rows() == level.basisSize()) frame.Z = Z.cast<float>();
+  const std::vector<float> positions = spectral::reconstructed(level, frame);
+  ShownShape out;
+  out.vertices = level.vertexCount();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::max());
+  Eigen::Vector3d hi = -lo;
+  for (std::size_t i = 0; i + 2 < positions.size(); i += 3) {
+    for (int c = 0; c < 3; ++c) {
+      const double v = positions[i + static_cast<std::size_t>(c)];
+      out.checksum += v;
+      lo[c] = std::min(lo[c], v);
+      hi[c] = std::max(hi[c], v);
+    }
+  }
+  if (out.vertices > 0) out.extent = hi - lo;
+  return out;
+}
+
+void addLevelReport(QJsonObject& report, const session::RelayLevelFetch& fetch, const session::RelayViewer& viewer) {
+  report.insert(QStringLiteral("level"), fetch.index);
+  if (!fetch.level) {
+    report.insert(QStringLiteral("level_error"), fetch.error);
+    return;
+  }
+  const ShownShape shape = shownShape(*fetch.level, viewer.receiver().coefficients());
+  report.insert(QStringLiteral("level_vertices"), static_cast<qint64>(shape.vertices));
+  report.insert(QStringLiteral("level_faces"), static_cast<qint64>(fetch.entry.faceCount));
+  report.insert(QStringLiteral("level_bytes"), static_cast<qint64>(fetch.entry.payloadBytes));
+  report.insert(QStringLiteral("level_chunks"), static_cast<qint64>(fetch.chunks));
+  report.insert(QStringLiteral("level_fetch_ms"), fetch.fetchMs);
+  report.insert(QStringLiteral("level_decode_ms"), fetch.decodeMs);
+  report.insert(QStringLiteral("shape_checksum"), shape.checksum);
+  report.insert(QStringLiteral("shape_extent"), QStringLiteral("%1 %2 %3")
+                                                    .arg(shape.extent.x(), 0, 'g', 9)
+                                                    .arg(shape.extent.y(), 0, 'g', 9)
+                                                    .arg(shape.extent.z(), 0, 'g', 9));
+}
+
+QString shapeLine(const QJsonObject& r) {
+  if (!r.contains(QStringLiteral("level_vertices"))) return {};
+  return QStringLiteral("shown: level %1, %2 vertices, checksum %3, extent %4\n")
+      .arg(r.value(QStringLiteral("level")).toInteger())
+      .arg(r.value(QStringLiteral("level_vertices")).toInteger())
+      .arg(r.value(QStringLiteral("shape_checksum")).toDouble(), 0, 'g', 12)
+      .arg(r.value(QStringLiteral("shape_extent")).toString());
+}
+
 }  // namespace
 
 int runWatchCommand(const QStringList& arguments) {
@@ -59,7 +127,14 @@ int runWatchCommand(const QStringList& arguments) {
   const QCommandLineOption pending(QStringLiteral("pending"),
                                    QStringLiteral("frames waiting at most before older ones are dropped (default 8)"),
                                    QStringLiteral("N"), QStringLiteral("8"));
-  command.parser().addOptions({pin, seconds, frames, pending});
+  const QCommandLineOption level(
+      QStringLiteral("level"),
+      QStringLiteral("fetch level L from the session's level stream (0 = full model) and show X' + K·Z"),
+      QStringLiteral("L"));
+  const QCommandLineOption maxLevel(QStringLiteral("max-level-mb"),
+                                    QStringLiteral("refuse a level above this many MB (default 256)"),
+                                    QStringLiteral("MB"), QStringLiteral("256"));
+  command.parser().addOptions({pin, seconds, frames, pending, level, maxLevel});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
   auto read = relayArguments.read(command);
@@ -92,6 +167,21 @@ int runWatchCommand(const QStringList& arguments) {
     return kExitUsage;
   }
 
+  std::optional<std::uint8_t> levelIndex;
+  if (command.parser().isSet(level)) {
+    const int value = command.parser().value(level).toInt(&ok);
+    if (!ok || value < 0 || value >= session::kMaxLevels) {
+      command.error(QStringLiteral("--level takes an integer in [0, %1)").arg(session::kMaxLevels));
+      return kExitUsage;
+    }
+    levelIndex = static_cast<std::uint8_t>(value);
+  }
+  const double maxLevelMb = command.parser().value(maxLevel).toDouble(&ok);
+  if (!ok || maxLevelMb <= 0.0 || maxLevelMb > 4096.0) {
+    command.error(QStringLiteral("--max-level-mb takes a number in (0, 4096]"));
+    return kExitUsage;
+  }
+
   session::RelayViewer viewer(options);
   QString error;
   if (!viewer.start(&error)) {
@@ -109,9 +199,47 @@ int runWatchCommand(const QStringList& arguments) {
                     options.pin ? QStringLiteral(" (pinned)") : QStringLiteral(" (trusted on first use)"));
     out.flush();
   }
+  std::unique_ptr<session::RelayLevelFetcher> fetcher;
+  if (levelIndex) {
+    session::RelayLevelFetcherOptions fetchOptions;
+    fetchOptions.sessionId = options.sessionId;
+    fetchOptions.facts = viewer.receiver().facts();
+    fetchOptions.maxLevelBytes = static_cast<std::uint64_t>(maxLevelMb * 1e6);
+    fetcher = std::make_unique<session::RelayLevelFetcher>(*viewer.connection(), fetchOptions);
+    if (!fetcher->start(&error)) {
+      command.error(QStringLiteral("cannot fetch levels: %1").arg(error));
+      return kExitNetwork;
+    }
+    QObject::connect(fetcher.get(), &session::RelayLevelFetcher::levelReady, &viewer, [&fetcher, json] {
+      const session::RelayLevelFetch& f = fetcher->last();
+      if (json) return;
+      QTextStream(stdout) << QStringLiteral(
+                                 "level %1: %2 vertices, %3 faces, %4 bytes in %5 chunks from the stream (fetched in "
+                                 "%6 ms, checked and decoded in %7 ms)\n")
+                                 .arg(f.index)
+                                 .arg(f.entry.vertexCount)
+                                 .arg(f.entry.faceCount)
+                                 .arg(f.entry.payloadBytes)
+                                 .arg(f.chunks)
+                                 .arg(f.fetchMs, 0, 'f', 1)
+                                 .arg(f.decodeMs, 0, 'f', 1);
+    });
+    QObject::connect(fetcher.get(), &session::RelayLevelFetcher::levelRefused, &viewer,
+                     [](std::uint8_t index, const QString& reason) {
+                       QTextStream(stderr) << QStringLiteral("level %1 refused: %2\n").arg(index).arg(reason);
+                     });
+    fetcher->fetch(*levelIndex);
+  }
+  const auto report = [&viewer, &fetcher] {
+    QJsonObject r = watchReport(viewer);
+    if (fetcher && !fetcher->busy()) addLevelReport(r, fetcher->last(), viewer);
+    return r;
+  };
   QTimer figures;
-  QObject::connect(&figures, &QTimer::timeout, &viewer, [&viewer, json] {
-    if (!json) QTextStream(stdout) << watchLine(watchReport(viewer)) << '\n';
+  QObject::connect(&figures, &QTimer::timeout, &viewer, [&report, json] {
+    if (json) return;
+    const QJsonObject r = report();
+    QTextStream(stdout) << watchLine(r) << '\n' << shapeLine(r);
   });
   figures.start(1000);
   const auto stop = [] { QCoreApplication::quit(); };
@@ -123,9 +251,12 @@ int runWatchCommand(const QStringList& arguments) {
   quitOnSignal(stop);
   if (stopAfter > 0) QTimer::singleShot(static_cast<int>(stopAfter * 1000.0), &viewer, stop);
   QCoreApplication::exec();
-  printReport(command, watchReport(viewer),
-              [&out](const QJsonObject& r) { out << "watch ended: " << watchLine(r) << '\n'; });
-  return kExitOk;
+  const QJsonObject last = report();
+  printReport(command, last, [&out](const QJsonObject& r) {
+    out << "watch ended: " << watchLine(r) << '\n' << shapeLine(r);
+  });
+  fetcher.reset();  // joins a fetch in flight
+  return levelIndex && !last.contains(QStringLiteral("level_vertices")) ? kExitNetwork : kExitOk;
 }
 
 }  // namespace sc::app

@@ -4,6 +4,9 @@
 #include "app/gui/host_dialog.h"
 #include "app/gui/join_dialog.h"
 #include "session/net/tls_identity.h"
+#include "session/wire/relay_message.h"
+
+#include <QFile>
 
 #include <QRegularExpression>
 
@@ -48,7 +51,20 @@ LaunchParser::LaunchParser()
                              "exit.",
                              "dir")),
       m_after(option("after", "With --screenshot-dir: seconds of dragging before the images (default 20).", "seconds",
-                     "20")) {
+                     "20")),
+      m_watch(option("watch",
+                     "Watch a session relayed through the NATS server at <url> (read-only; no host "
+                     "connection).",
+                     "url")),
+      m_session(option("session", "With --watch: the relayed session's id.", "id")),
+      m_natsUser(option("nats-user", "With --watch: the NATS viewer user.", "user")),
+      m_natsPassword(option("nats-password",
+                            "With --watch: the NATS password (visible in process lists: prefer --nats-password-file).",
+                            "password")),
+      m_natsPasswordFile(
+          option("nats-password-file", "With --watch: the NATS password, the first line of <file>.", "file")),
+      m_pin(option("pin", "With --watch: the host's SHA-256 certificate fingerprint (default: trust the first).",
+                   "hex")) {
   m_parser.setApplicationDescription(
       QStringLiteral("ShapeCast: deform a triangle mesh (OFF, OBJ, PLY, STL) together with others, live, over the "
                      "network: host a session, join one, or open MESH on its own."));
@@ -57,7 +73,8 @@ LaunchParser::LaunchParser()
   m_parser.addPositionalArgument(QStringLiteral("mesh"), QStringLiteral("Mesh file to open."),
                                  QStringLiteral("[MESH]"));
   m_parser.addOptions({m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
-                       m_screenshotDir, m_after});
+                       m_screenshotDir, m_after, m_watch, m_session, m_natsUser, m_natsPassword, m_natsPasswordFile,
+                       m_pin});
 }
 
 std::optional<LaunchOptions> LaunchParser::processApplication(const QCoreApplication& app, const QString& version) {
@@ -95,14 +112,15 @@ std::variant<LaunchOptions, LaunchError> LaunchParser::options() const {
   std::optional<LaunchError> problem = readDemo(options);
   if (!problem && m_parser.isSet(m_host)) problem = readHost(options);
   if (!problem && m_parser.isSet(m_join)) problem = readJoin(options);
+  if (!problem && m_parser.isSet(m_watch)) problem = readWatch(options);
   if (problem) return *problem;
   return options;
 }
 
 std::optional<LaunchError> LaunchParser::readDemo(LaunchOptions& options) const {
   if (!m_parser.isSet(m_demo)) return std::nullopt;
-  if (m_parser.isSet(m_host) || m_parser.isSet(m_join) || m_parser.isSet(m_screenshot))
-    return usage("--demo cannot be used with --host, --join or --screenshot");
+  if (m_parser.isSet(m_host) || m_parser.isSet(m_join) || m_parser.isSet(m_watch) || m_parser.isSet(m_screenshot))
+    return usage("--demo cannot be used with --host, --join, --watch or --screenshot");
   options.demo = true;
   if (m_parser.isSet(m_screenshotDir)) options.screenshotDirectory = m_parser.value(m_screenshotDir);
   bool ok = false;
@@ -145,6 +163,36 @@ std::optional<LaunchError> LaunchParser::readJoin(LaunchOptions& options) const 
   const QString problem = validateJoinSettings(settings);
   if (!problem.isEmpty()) return LaunchError{problem, false};
   options.join = settings;
+  return std::nullopt;
+}
+
+std::optional<LaunchError> LaunchParser::readWatch(LaunchOptions& options) const {
+  if (m_parser.isSet(m_host) || m_parser.isSet(m_join) || m_parser.isSet(m_demo))
+    return usage("--watch cannot be used with --host, --join or --demo");
+  WatchSettings settings;
+  settings.url = m_parser.value(m_watch);
+  settings.sessionId = m_parser.value(m_session);
+  settings.user = m_parser.value(m_natsUser);
+  if (m_parser.isSet(m_natsPasswordFile)) {
+    QFile file(m_parser.value(m_natsPasswordFile));
+    if (!file.open(QIODevice::ReadOnly)) return usage("--nats-password-file cannot be read");
+    settings.password = QString::fromUtf8(file.readLine(4096)).trimmed();
+  } else {
+    settings.password = m_parser.value(m_natsPassword);
+  }
+  if (m_parser.isSet(m_pin)) {
+    const std::optional<QByteArray> pinned = session::parseFingerprint(m_parser.value(m_pin));
+    if (!pinned) return usage("--pin takes 64 hex digits (colons or spaces allowed)");
+    settings.pin = *pinned;
+  }
+  JoinSettings level;
+  if (!parseLevel(m_parser.value(m_level), level))
+    return usage("--level takes full, a vertex count or a percentage such as 20%");
+  settings.level = level.level;
+  settings.levelFraction = level.levelFraction;
+  const QString problem = validateWatchSettings(settings);
+  if (!problem.isEmpty()) return LaunchError{problem, false};
+  options.watch = settings;
   return std::nullopt;
 }
 

@@ -8,12 +8,15 @@
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
 //   shapecast --host MESH|SESSION.shapecast [--port P] [--name N] [--m M]
 //   shapecast --join HOST:PORT [--name N] [--level full|N|P%] [--fingerprint HEX]
+//   shapecast --watch nats://HOST:PORT --session ID --nats-user U (--nats-password P | --nats-password-file F)
+//             [--pin HEX] [--level full|N|P%]          (watch a relayed session read-only, watch_settings.h)
 //
 // A password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
 // Parsing needs no QApplication and opens nothing: main() then builds the windows from a LaunchOptions.
 
 #include "app/gui/demo.h"
 #include "app/gui/session_controller.h"
+#include "app/gui/watch_settings.h"
 
 #include <QCommandLineOption>
 #include <QCommandLineParser>
@@ -44,6 +47,7 @@ struct LaunchOptions {
   QString name;                           ///< --name, trimmed (empty: not given; host/join hold the default used)
   std::optional<HostSettings> host;       ///< --host: host at once (validateHostSettings() passed)
   std::optional<JoinSettings> join;       ///< --join: join at once (validateJoinSettings() passed)
+  std::optional<WatchSettings> watch;     ///< --watch: watch through NATS at once (validateWatchSettings() passed)
   std::optional<QString> screenshotFile;  ///< --screenshot: save the first frame there and exit
   QSize viewportSize{1024, 768};          ///< --size, for --screenshot
   bool demo = false;                      ///< --demo (never with host, join or screenshotFile)
@@ -51,7 +55,9 @@ struct LaunchOptions {
   double afterSeconds = 20.0;                  ///< --after: seconds of dragging before the demo's screenshots, 1..600
 
   /// No mesh, session or screenshot asked for: host the default mesh, ready to drag (first_start.h).
-  [[nodiscard]] bool firstStart() const { return meshPath.isEmpty() && !host && !join && !screenshotFile && !demo; }
+  [[nodiscard]] bool firstStart() const {
+    return meshPath.isEmpty() && !host && !join && !watch && !screenshotFile && !demo;
+  }
 };
 
 /// A command line that cannot run: exit code kLaunchExitUsage after printing `message` ("shapecast: " before it), or
@@ -74,7 +80,9 @@ class LaunchParser {
   /// Interprets what commandLine() has parsed (process() or parse()). Checks, in this order: the argument count
   /// and --size; --host with --join; --screenshot-dir without --demo; --demo with --host, --join or --screenshot;
   /// --after; then the host's (--port 0..65535, --m a number, validateHostSettings()) and the join's (HOST:PORT
-  /// as parseHostAddress() takes it, --level, --fingerprint, validateJoinSettings()). The first problem wins.
+  /// as parseHostAddress() takes it, --level, --fingerprint, validateJoinSettings()), then the watch's (--watch with
+  /// --host, --join or --demo; --session, the password file, --pin, --level, validateWatchSettings()). The first
+  /// problem wins.
   [[nodiscard]] std::variant<LaunchOptions, LaunchError> options() const;
 
   /// For main(), once the QApplication exists: names it (organisation "ShapeCast", application "shapecast": the
@@ -91,10 +99,11 @@ class LaunchParser {
   [[nodiscard]] std::optional<LaunchError> readDemo(LaunchOptions& options) const;
   [[nodiscard]] std::optional<LaunchError> readHost(LaunchOptions& options) const;
   [[nodiscard]] std::optional<LaunchError> readJoin(LaunchOptions& options) const;
+  [[nodiscard]] std::optional<LaunchError> readWatch(LaunchOptions& options) const;
 
   QCommandLineParser m_parser;
   QCommandLineOption m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
-      m_screenshotDir, m_after;
+      m_screenshotDir, m_after, m_watch, m_session, m_natsUser, m_natsPassword, m_natsPasswordFile, m_pin;
 };
 
 /// argv for QApplication with the options of ours that a Qt platform plugin would take first joined to their

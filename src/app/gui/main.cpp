@@ -117,6 +117,7 @@ int runWindow(const sc::app::LaunchOptions& options) {
   }
   if (options.host) window.hostSession(*options.host, std::move(*hostPort));
   if (options.join) window.joinSession(*options.join);
+  if (options.watch) window.watchSession(*options.watch);
   if (!options.screenshotFile) {
     window.show();
     return QApplication::exec();

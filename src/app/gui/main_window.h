@@ -9,6 +9,7 @@
 #include "app/gui/port_reservation.h"
 #include "app/gui/session_life.h"
 #include "app/gui/session_settings.h"
+#include "app/gui/watch_settings.h"
 
 #include <QMainWindow>
 #include <QPointer>
@@ -99,6 +100,9 @@ class MainWindow : public QMainWindow {
   /// connects beside it (pendingJoin(); its progress and Cancel in the status bar) and replaces it only once live:
   /// a join that fails or is cancelled leaves the session you were in as it was (sessionFailed() says both).
   void joinSession(const JoinSettings& settings);
+  /// Watches a session relayed through NATS, read-only (viewer_controller.h): the current session leaves; the
+  /// lock and the editing tools stay disabled and the lock label says "Watching SESSION through NATS".
+  void watchSession(const WatchSettings& settings);
   /// A join still connecting beside the current session (nullptr when none).
   [[nodiscard]] SessionController* pendingJoin() const { return m_pendingJoin; }
   /// Leaves the current session, and drops a pending join (the last shape stays displayed).

@@ -292,6 +292,12 @@ void MainWindow::showSessionSelection() {
 
 void MainWindow::updateLockControls() {
   const bool live = m_session != nullptr && m_session->state() == SessionController::State::Live;
+  if (const std::optional<QString> readOnly = m_session ? m_session->readOnlyText() : std::nullopt) {
+    ui->actionLock->setEnabled(false);  // a viewer through NATS: nothing to lock, nothing to edit
+    m_lockLabel->setText(*readOnly);
+    ui->viewport->setDragAllowed(false, *readOnly);
+    return;
+  }
   ui->actionLock->setEnabled(live);
   ui->actionLock->setText(live ? m_session->lockActionText() : tr("Request lock"));
   m_lockLabel->setText(live ? m_session->lockText() : tr("Not in a session"));

@@ -8,6 +8,7 @@
 #include "app/gui/host_controller.h"
 #include "app/gui/session_docks.h"
 #include "app/gui/session_presence.h"
+#include "app/gui/viewer_controller.h"
 
 #include <QFileInfo>
 
@@ -38,6 +39,16 @@ void MainWindow::joinSession(const JoinSettings& settings) {
   });
   session->join(settings);
   updateSessionActions();
+}
+
+void MainWindow::watchSession(const WatchSettings& settings) {
+  dropPendingJoin();
+  auto* session = new ViewerController(this);
+  adoptSession(session);  // a current session leaves: a viewer is never a member
+  setWindowTitle(tr("%1 through NATS — ShapeCast").arg(settings.sessionId));
+  session->watch(settings);
+  updateSessionActions();
+  updateLockControls();
 }
 
 void MainWindow::adoptPendingJoin(const QString& title) {

@@ -187,6 +187,9 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] virtual HostTrust hostTrust() const { return HostTrust::None; }
   /// Client: true when the join failed because the host's certificate did not match the pinned or remembered one.
   [[nodiscard]] virtual bool fingerprintRefused() const { return false; }
+  /// A viewer through NATS (viewer_controller.h): the status text of a read-only session ("Watching S through
+  /// NATS"); nullopt for a host or a client, which may edit.
+  [[nodiscard]] virtual std::optional<QString> readOnlyText() const { return std::nullopt; }
 
  signals:
   void stateChanged(sc::app::SessionController::State state);

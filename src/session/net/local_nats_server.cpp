@@ -31,14 +31,20 @@ QString list(const QStringList& items) {
 QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir) {
   const QString sid = config.sessionId;
   const QString stream = QStringLiteral("KV_sc_") + sid;
-  const QStringList hostPublish = {QStringLiteral("sc.%1.>").arg(sid), QStringLiteral("$KV.sc_%1.>").arg(sid),
+  const QString levels = QStringLiteral("SC_%1_LEVELS").arg(sid);  // relay_level_list.h: read-only for viewers
+  const QStringList hostPublish = {QStringLiteral("sc.%1.>").arg(sid),
+                                   QStringLiteral("$KV.sc_%1.>").arg(sid),
                                    QStringLiteral("$JS.API.STREAM.CREATE.") + stream,
                                    QStringLiteral("$JS.API.STREAM.UPDATE.") + stream,
-                                   QStringLiteral("$JS.API.STREAM.INFO.") + stream};
+                                   QStringLiteral("$JS.API.STREAM.INFO.") + stream,
+                                   QStringLiteral("$JS.API.STREAM.CREATE.") + levels,
+                                   QStringLiteral("$JS.API.STREAM.UPDATE.") + levels,
+                                   QStringLiteral("$JS.API.STREAM.INFO.") + levels};
   const QStringList hostSubscribe = {QStringLiteral("_INBOX.>"), QStringLiteral("sc.%1.stats.>").arg(sid)};
   const QStringList viewerPublish = {
       QStringLiteral("$JS.API.STREAM.INFO.") + stream, QStringLiteral("$JS.API.STREAM.MSG.GET.") + stream,
-      QStringLiteral("$JS.API.DIRECT.GET.") + stream + QStringLiteral(".>"), QStringLiteral("sc.%1.stats.>").arg(sid)};
+      QStringLiteral("$JS.API.DIRECT.GET.") + stream + QStringLiteral(".>"), QStringLiteral("sc.%1.stats.>").arg(sid),
+      QStringLiteral("$JS.API.STREAM.MSG.GET.") + levels};
   const QStringList viewerSubscribe = {QStringLiteral("sc.%1.z").arg(sid), QStringLiteral("_INBOX.>")};
   auto user = [](const QString& name, const QString& password, const QStringList& pub, const QStringList& sub) {
     return QStringLiteral("    { user: %1, password: %2, permissions: { publish: %3, subscribe: %4 } }\n")

@@ -31,9 +31,10 @@ struct NatsServerConfig {
 };
 
 /// The configuration text: listen on 127.0.0.1:`port` (0: a random port, written as -1), JetStream under `storeDir`.
-/// Host: publish sc.<sid>.> and its bucket's KV and JetStream API subjects; subscribe its inboxes and the viewers'
-/// statistics. Viewer: subscribe sc.<sid>.z and its inboxes; publish only the bucket's read API subjects and
-/// sc.<sid>.stats.> (so a viewer's publish on the frame subject is refused by the server).
+/// Host: publish sc.<sid>.> and its bucket's KV and JetStream API subjects, create/update/info of the level stream
+/// SC_<sid>_LEVELS; subscribe its inboxes and the viewers' statistics. Viewer: subscribe sc.<sid>.z and its inboxes;
+/// publish only the bucket's read API subjects, the level stream's message-get API and sc.<sid>.stats.> (so a
+/// viewer's publish on the frame or a level subject is refused by the server).
 QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir);
 
 class LocalNatsServer {

@@ -192,6 +192,86 @@ std::optional<QByteArray> NatsKeyValue::get(const std::string& key) {
   return value;
 }
 
+struct NatsStream::Handles {
+  jsCtx* js = nullptr;  ///< the connection's, not owned
+  std::string name;
+};
+
+NatsStream::NatsStream() : m_handles(std::make_unique<Handles>()) {}
+NatsStream::~NatsStream() = default;
+
+std::int64_t NatsConnection::maxPayload() const { return natsConnection_GetMaxPayload(m_handles->connection); }
+
+std::unique_ptr<NatsStream> NatsConnection::bindStream(const std::string& name, QString* error) {
+  const natsStatus s =
+      m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  std::unique_ptr<NatsStream> out(new NatsStream());
+  out->m_handles->js = m_handles->js;
+  out->m_handles->name = name;
+  return out;
+}
+
+std::unique_ptr<NatsStream> NatsConnection::createStream(const std::string& name, const std::string& subjects,
+                                                         QString* error) {
+  std::unique_ptr<NatsStream> out = bindStream(name, error);
+  if (!out) return nullptr;
+  jsStreamConfig config;
+  natsStatus s = jsStreamConfig_Init(&config);
+  const char* subjectList[] = {subjects.c_str()};
+  config.Name = name.c_str();
+  config.Subjects = subjectList;
+  config.SubjectsLen = 1;
+  config.MaxMsgsPerSubject = 1;
+  config.Storage = js_FileStorage;
+  jsStreamInfo* info = nullptr;
+  jsErrCode code = static_cast<jsErrCode>(0);
+  if (s == NATS_OK) s = js_AddStream(&info, m_handles->js, &config, nullptr, &code);
+  if (s != NATS_OK && code == JSStreamNameExistErr) s = js_UpdateStream(&info, m_handles->js, &config, nullptr, &code);
+  if (info) jsStreamInfo_Destroy(info);
+  if (s != NATS_OK) {
+    if (error) *error = statusText(s);
+    return nullptr;
+  }
+  return out;
+}
+
+bool NatsStream::publish(const std::string& subject, QByteArrayView data, QString* error) {
+  jsPubAck* ack = nullptr;
+  const natsStatus s =
+      js_Publish(&ack, m_handles->js, subject.c_str(), data.data(), static_cast<int>(data.size()), nullptr, nullptr);
+  if (ack) jsPubAck_Destroy(ack);
+  if (s != NATS_OK && error) *error = statusText(s);
+  return s == NATS_OK;
+}
+
+std::optional<QByteArray> NatsStream::lastMessage(const std::string& subject, qsizetype maxBytes, Miss* miss,
+                                                  QString* error) {
+  natsMsg* message = nullptr;
+  jsErrCode code = static_cast<jsErrCode>(0);
+  const natsStatus s = js_GetLastMsg(&message, m_handles->js, m_handles->name.c_str(), subject.c_str(), nullptr, &code);
+  if (s != NATS_OK || !message) {
+    if (message) natsMsg_Destroy(message);
+    if (miss) *miss = s == NATS_NOT_FOUND || code == JSNoMessageFoundErr ? Miss::Absent : Miss::Failed;
+    if (error) *error = statusText(s);
+    return std::nullopt;
+  }
+  const int size = natsMsg_GetDataLength(message);
+  std::optional<QByteArray> out;
+  if (size <= maxBytes) {
+    out.emplace(natsMsg_GetData(message), size);
+    if (miss) *miss = Miss::None;
+  } else {
+    if (miss) *miss = Miss::TooLarge;
+    if (error) *error = QStringLiteral("%1 bytes, at most %2 expected").arg(size).arg(maxBytes);
+  }
+  natsMsg_Destroy(message);
+  return out;
+}
+
 std::string natsKeySubject(const std::string& bucket, const std::string& key) { return "$KV." + bucket + "." + key; }
 
 void natsShutdown() { nats_Close(); }

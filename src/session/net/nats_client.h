@@ -35,6 +35,7 @@ struct NatsConnectOptions {
 
 class NatsSubscription;
 class NatsKeyValue;
+class NatsStream;
 
 /// One connection. Not copyable; destroying it closes the connection (its subscriptions must be gone first).
 class NatsConnection {
@@ -66,6 +67,14 @@ class NatsConnection {
   std::unique_ptr<NatsKeyValue> createBucket(const std::string& bucket, QString* error = nullptr);
   /// Binds to an existing bucket (viewer); nullptr with `error` when it does not exist or is not readable.
   std::unique_ptr<NatsKeyValue> bindBucket(const std::string& bucket, QString* error = nullptr);
+  /// Creates (or updates) the JetStream stream `name` over `subjects` (one pattern), file storage, one message kept
+  /// per subject (a republished chunk replaces the old one); nullptr with `error` on failure (host).
+  std::unique_ptr<NatsStream> createStream(const std::string& name, const std::string& subjects,
+                                           QString* error = nullptr);
+  /// A reader of the existing stream `name` (viewer: only the stream's message-get API is needed). No round trip.
+  std::unique_ptr<NatsStream> bindStream(const std::string& name, QString* error = nullptr);
+  /// The server's max_payload (bytes per message), 0 when unknown.
+  [[nodiscard]] std::int64_t maxPayload() const;
 
  private:
   struct Events {
@@ -109,6 +118,28 @@ class NatsKeyValue {
   friend class NatsConnection;
   struct Handles;
   NatsKeyValue();
+  std::unique_ptr<Handles> m_handles;
+};
+
+/// A JetStream stream, used from any thread (cnats' JetStream context is thread-safe); the connection must outlive it.
+class NatsStream {
+ public:
+  ~NatsStream();
+  NatsStream(const NatsStream&) = delete;
+  NatsStream& operator=(const NatsStream&) = delete;
+  /// Publishes `data` on `subject` (one of the stream's) and waits for the stream's acknowledgement (a round trip).
+  bool publish(const std::string& subject, QByteArrayView data, QString* error = nullptr);
+  /// Why lastMessage() returned nothing.
+  enum class Miss { None, Absent, TooLarge, Failed };
+  /// The stream's last message on `subject` (a round trip), refused (TooLarge) when it holds more than `maxBytes`.
+  /// The message is bounded by the server's max_payload before it is copied.
+  std::optional<QByteArray> lastMessage(const std::string& subject, qsizetype maxBytes, Miss* miss = nullptr,
+                                        QString* error = nullptr);
+
+ private:
+  friend class NatsConnection;
+  struct Handles;
+  NatsStream();
   std::unique_ptr<Handles> m_handles;
 };
 

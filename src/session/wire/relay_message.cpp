@@ -207,6 +207,7 @@ std::optional<RelayKind> relayKind(QByteArrayView message) {
   if (kind == static_cast<std::uint8_t>(RelayKind::Frame)) return RelayKind::Frame;
   if (kind == static_cast<std::uint8_t>(RelayKind::Facts)) return RelayKind::Facts;
   if (kind == static_cast<std::uint8_t>(RelayKind::Stats)) return RelayKind::Stats;
+  if (kind == static_cast<std::uint8_t>(RelayKind::Levels)) return RelayKind::Levels;
   return std::nullopt;
 }
 

@@ -55,7 +55,8 @@ inline constexpr int kMaxRelaySignatureBytes = 72;  ///< DER ECDSA P-256 signatu
 inline constexpr int kRelayFrameHeaderSize = 18;
 inline constexpr int kMaxSessionIdBytes = 32;
 
-enum class RelayKind : std::uint8_t { Frame = 1, Facts = 2, Stats = 3 };
+/// Levels (4): the signed level list, KV key `levels` (relay_level_list.h).
+enum class RelayKind : std::uint8_t { Frame = 1, Facts = 2, Stats = 3, Levels = 4 };
 inline constexpr int kRelayStatsSize = 60;
 
 /// Why a relay message was dropped (None = accepted); `Count` sizes counter arrays.

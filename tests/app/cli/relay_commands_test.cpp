@@ -13,6 +13,8 @@
 #include <QTemporaryDir>
 #include <QThread>
 
+#include <cmath>
+
 namespace sc::testing {
 namespace {
 
@@ -76,6 +78,45 @@ TEST_F(RelayCommandsTest, AViewerWatchesWhatTheEditorDragsThroughTheServer) {
   const QString log = QString::fromUtf8(host.stop());
   EXPECT_TRUE(log.contains(QStringLiteral("relaying session test"))) << log.toStdString();
   EXPECT_TRUE(log.contains(QStringLiteral("relay: "))) << log.toStdString();
+}
+
+TEST_F(RelayCommandsTest, AViewerFetchesItsLevelFromTheStreamAndShowsTheDeformedShape) {
+  HostProcess host(m_mesh, relay("host", "host.pw"));
+  ASSERT_NE(host.port(), 0) << "the host did not print its port";
+  QThread::msleep(1000);  // the relay starts right after the port line
+  write(path("drag.json"), R"({"handles":[{"sphere":{"vertex":0,"radius_pct":8}}],
+                               "anchors":{"farther_than_pct":40,"from_vertex":0},
+                               "frames":[{"t":0},{"t":1.0,"translate_pct":[0,15,0]},{"t":1.5,"translate_pct":[0,15,0]}]})");
+  const CliRun drive = runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), path("drag.json")});
+  EXPECT_EQ(drive.exitCode, 0) << drive.err.toStdString();
+  // A late viewer: the drag is over; it starts from the keyframe and fetches the full level (0) from the stream.
+  const CliRun full = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
+                             QStringList{QStringLiteral("--level"), QStringLiteral("0"), QStringLiteral("--seconds"),
+                                         QStringLiteral("4"), QStringLiteral("--json")});
+  ASSERT_EQ(full.exitCode, 0) << full.err.toStdString();
+  const QJsonObject f = QJsonDocument::fromJson(full.out.trimmed()).object();
+  EXPECT_EQ(f[QStringLiteral("level")].toInteger(), 0);
+  EXPECT_EQ(f[QStringLiteral("level_vertices")].toInteger(), 60 * 24);
+  EXPECT_GE(f[QStringLiteral("level_chunks")].toInteger(), 1);
+  EXPECT_GT(f[QStringLiteral("level_bytes")].toInteger(), 0);
+  // At rest the torus is symmetric about the origin: its coordinates sum to about 0. The drag moved a cap of
+  // vertices by 15% of the diagonal (≈ 0.56) along y: the sum grows by about that times the cap's vertex count.
+  EXPECT_GT(std::abs(f[QStringLiteral("shape_checksum")].toDouble()), 1.0) << full.out.toStdString();
+  // A coarser level (the last of the ladder) has fewer vertices; an unlisted one is refused with a reason.
+  const CliRun coarse = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
+                               QStringList{QStringLiteral("--level"), QStringLiteral("3"), QStringLiteral("--seconds"),
+                                           QStringLiteral("3"), QStringLiteral("--json")});
+  ASSERT_EQ(coarse.exitCode, 0) << coarse.err.toStdString();
+  const QJsonObject c = QJsonDocument::fromJson(coarse.out.trimmed()).object();
+  EXPECT_GT(c[QStringLiteral("level_vertices")].toInteger(), 0);
+  EXPECT_LT(c[QStringLiteral("level_vertices")].toInteger(), 60 * 24 / 5);
+  const CliRun unlisted =
+      runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
+             QStringList{QStringLiteral("--level"), QStringLiteral("9"), QStringLiteral("--seconds"),
+                         QStringLiteral("3"), QStringLiteral("--json")});
+  EXPECT_EQ(unlisted.exitCode, 4);
+  EXPECT_TRUE(unlisted.err.contains("not published")) << unlisted.err.toStdString();
+  host.stop();
 }
 
 TEST_F(RelayCommandsTest, WatchErrorsHaveExitCodesAndMessages) {
