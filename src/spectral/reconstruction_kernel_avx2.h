@@ -4,7 +4,7 @@
 //
 // Loop: four rows of K per pass. For each 8-column chunk the three coordinates' 8 values of Z sit in 3 ymm registers
 // and serve the 4 rows: 4 loads of K (int16 → int32 → float, or float), 12 FMAs into 12 accumulators (4 rows × xyz);
-// at the end of the 4 rows the 12 accumulators are summed horizontally together (6 vhaddps, 2 lane permutes, 2 adds)
+// at the end of the 4 rows the 12 accumulators are summed horizontally together (9 vhaddps, 3 lane moves, 2 adds)
 // into the 12 contiguous output floats. Columns past the last multiple of 8 are one more chunk: the row's last 8
 // entries (loaded in bounds) against a copy of Z whose lanes already counted are zero, so K is never read past a row
 // and there is no scalar tail. Rows left over by a thread's range (count mod 4), and every row when m < 8, go through
