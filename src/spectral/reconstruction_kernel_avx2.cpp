@@ -145,8 +145,8 @@ SC_TARGET_AVX2 void reconstructRange(const T* K, std::ptrdiff_t m, const Chunked
 }
 
 template <class T>
-void reconstructAll(const T* K, Eigen::Index n, Eigen::Index m, const float* rest, const Eigen::MatrixXf& Z, float* out,
-                    int threads) {
+void reconstructAllRows(const T* K, Eigen::Index n, Eigen::Index m, const float* rest, const Eigen::MatrixXf& Z,
+                        float* out, int threads) {
   assert(avx2KernelAvailable() && "the CPU must have AVX2 and FMA");
   assert(Z.rows() == m && Z.cols() == 3 && "Z must be m by 3");
   const ChunkedCoefficients chunks = chunked(Z);
@@ -164,12 +164,12 @@ bool avx2KernelAvailable() {
 
 void reconstructAvx2(const float* K, Eigen::Index n, Eigen::Index m, const float* rest, const Eigen::MatrixXf& Z,
                      float* out, int threads) {
-  reconstructAll(K, n, m, rest, Z, out, threads);
+  reconstructAllRows(K, n, m, rest, Z, out, threads);
 }
 
 void reconstructAvx2(const std::int16_t* K, Eigen::Index n, Eigen::Index m, const float* rest, const Eigen::MatrixXf& Z,
                      float* out, int threads) {
-  reconstructAll(K, n, m, rest, Z, out, threads);
+  reconstructAllRows(K, n, m, rest, Z, out, threads);
 }
 
 #else  // not x86-64: never available, never called
