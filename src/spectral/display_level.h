@@ -38,7 +38,7 @@ struct DisplayFrame {
 };
 
 /// out = X̂' + K·Z for `level` and `frame` (the rest positions when frame.Z is empty). out.size() == 3·n'.
-/// Cost: reconstructInterleaved(): 6·n'·m flops, memory-bound on K.
+/// Cost: reconstructInterleaved(): 6·n'·m flops and one read of K (docs/benchmarks.md has the measured time).
 void reconstruct(const DisplayLevel& level, const DisplayFrame& frame, std::span<float> out, int threads = 1);
 
 /// The same into a new buffer. Cost: as reconstruct() plus one allocation of 3·n' floats.

@@ -64,15 +64,17 @@ TEST(QuantizedBasis, Int16KernelEqualsTheDoubleReferenceOfTheDequantisedBasis) {
     const Eigen::MatrixXd Kd = K.Q.cast<double>() * K.scale.cast<double>().asDiagonal();
     const Eigen::MatrixXd expected = rest.cast<float>().cast<double>() + Kd * Z.cast<double>();
     const double scale = (Kd.cwiseAbs() * Z.cast<double>().cwiseAbs()).maxCoeff();
-    for (const int threads : {1, 2}) {
-      std::vector<float> out(3 * 301);
-      reconstructInterleaved(K, interleavedPositions(rest), Z, out, threads);
-      double error = 0.0;
-      for (Eigen::Index i = 0; i < expected.rows(); ++i)
-        for (int c = 0; c < 3; ++c)
-          error = std::max(error, std::abs(out[static_cast<std::size_t>(3 * i + c)] - expected(i, c)));
-      EXPECT_LE(error, 1e-5 * scale) << "m = " << m << ", threads = " << threads;
-    }
+    for (const KernelLoop loop : {KernelLoop::Fastest, KernelLoop::Portable})
+      for (const int threads : {1, 2}) {
+        std::vector<float> out(3 * 301);
+        reconstructInterleaved(K, interleavedPositions(rest), Z, out, threads, loop);
+        double error = 0.0;
+        for (Eigen::Index i = 0; i < expected.rows(); ++i)
+          for (int c = 0; c < 3; ++c)
+            error = std::max(error, std::abs(out[static_cast<std::size_t>(3 * i + c)] - expected(i, c)));
+        EXPECT_LE(error, 1e-5 * scale) << "m = " << m << ", threads = " << threads << ", "
+                                       << kernelLoopDescription(loop);
+      }
   }
 }
 
