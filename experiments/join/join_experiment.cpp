@@ -27,7 +27,8 @@ double secondsSince(session::Micros start) {
 
 /// What the client's signals marked, in seconds since start.
 struct JoinMarks {
-  std::optional<double> firstProgress, transferDone, levelReady, firstFrame;
+  std::optional<double> transferStart, firstProgress, transferDone, firstLevel, levelReady, firstFrame;
+  std::uint32_t firstLevelVertices = 0;
   quint64 transferBytes = 0;
 };
 
@@ -64,6 +65,7 @@ std::variant<JoinResult, QString> runJoinExperiment(const QString& executable, c
   options.port = static_cast<quint16>(hello[2].toUInt());
   options.name = QStringLiteral("join experiment");
   options.level = settings.level;
+  options.progressive = settings.progressive;
   session::ImpairmentSettings impairment;
   impairment.loss = settings.loss;
   impairment.delay = std::chrono::milliseconds(settings.delayMs);
@@ -74,17 +76,25 @@ std::variant<JoinResult, QString> runJoinExperiment(const QString& executable, c
   session::SessionClient client(options);
   JoinMarks marks;
   const session::Micros start = session::sessionNow();
+  // Each transfer starts with a progress of 0 (its ModelBegin) and ends at received == total: the last one is the
+  // requested level's.
   QObject::connect(&client, &session::SessionClient::modelProgress, &client, [&](quint64 received, quint64 total) {
-    if (!marks.firstProgress) marks.firstProgress = secondsSince(start);
-    if (received == total) {
+    if (received == 0) marks.transferStart = secondsSince(start);
+    if (received == total && marks.transferStart) {
+      marks.firstProgress = marks.transferStart;
       marks.transferDone = secondsSince(start);
       marks.transferBytes = total;
     }
   });
-  QObject::connect(&client, &session::SessionClient::levelReady, &client,
-                   [&] { marks.levelReady = secondsSince(start); });
+  QObject::connect(&client, &session::SessionClient::levelReady, &client, [&](std::uint32_t vertices) {
+    if (!marks.firstLevel) {
+      marks.firstLevel = secondsSince(start);
+      marks.firstLevelVertices = vertices;
+    }
+    if (!client.levelPending()) marks.levelReady = secondsSince(start);
+  });
   QObject::connect(&client, &session::SessionClient::frameUpdated, &client, [&] {
-    if (marks.levelReady && !marks.firstFrame && client.channel().hasFrame()) marks.firstFrame = secondsSince(start);
+    if (marks.firstLevel && !marks.firstFrame && client.channel().hasFrame()) marks.firstFrame = secondsSince(start);
   });
   say(QStringLiteral("joining over %1 Mbit/s, %2 ms, %3 loss")
           .arg(settings.rateMbit)
@@ -94,7 +104,7 @@ std::variant<JoinResult, QString> runJoinExperiment(const QString& executable, c
   const bool joined = waitUntil(
       [&] {
         const auto state = client.state();
-        return marks.firstFrame.has_value() || (!result.hostDrags && marks.levelReady.has_value()) ||
+        return (marks.levelReady.has_value() && (marks.firstFrame.has_value() || !result.hostDrags)) ||
                state == session::SessionClient::State::Failed || state == session::SessionClient::State::Left;
       },
       std::chrono::milliseconds(static_cast<std::int64_t>(settings.timeoutSeconds * 1000.0)));
@@ -118,6 +128,8 @@ std::variant<JoinResult, QString> runJoinExperiment(const QString& executable, c
   }
   result.levelReadySeconds = *marks.levelReady;
   result.firstFrameSeconds = marks.firstFrame.value_or(-1.0);
+  result.firstLevelSeconds = marks.firstLevel.value_or(-1.0);
+  result.firstLevelVertices = marks.firstLevelVertices;
   if (marks.firstProgress && marks.transferDone && *marks.transferDone > *marks.firstProgress) {
     result.transferMbit =
         static_cast<double>(marks.transferBytes) * 8e-6 / (*marks.transferDone - *marks.firstProgress);
@@ -140,6 +152,9 @@ QJsonObject joinResultJson(const JoinResult& r) {
           {QStringLiteral("first_frame_s"), r.hostDrags ? QJsonValue(r.firstFrameSeconds) : QJsonValue()},
           {QStringLiteral("host_drags"), r.hostDrags},
           {QStringLiteral("level_ready_s"), r.levelReadySeconds},
+          {QStringLiteral("first_level_s"), r.firstLevelSeconds},
+          {QStringLiteral("first_level_vertices"), static_cast<qint64>(r.firstLevelVertices)},
+          {QStringLiteral("progressive"), r.settings.progressive},
           {QStringLiteral("transfer_mbit"), r.transferMbit},
           {QStringLiteral("peak_rss_mb"), r.peakRssMb},
           {QStringLiteral("baseline_rss_mb"), r.baselineRssMb}};

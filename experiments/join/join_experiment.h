@@ -6,9 +6,12 @@
 //     drag in a loop from before the client joins, so every frame the client gets is a deformed one.
 //   - One SessionClient runs in this process with the emulated link (session::ImpairmentSettings: rate, delay,
 //     loss; the rate throttles the TLS level transfer and the datagrams alike, link_rate.h).
-//   - Times are from client.start() (TCP connect) to: the level installed (level_ready_s: the whole requested
-//     level received, SHA-256 checked and decoded) and the first displayed frame that came from the host after
-//     that (first_frame_s: a Keyframe or a datagram frame; with today's protocol it follows the level).
+//   - The client joins progressively (issue 17 item 4; --no-progressive: the requested level only): the host's
+//     smallest level first, then the requested one in the background.
+//   - Times are from client.start() (TCP connect) to: the first level installed (first_level_s, of
+//     first_level_vertices: the preview when progressive), the requested level installed (level_ready_s: the whole
+//     requested level received, SHA-256 checked and decoded) and the first displayed frame that came from the host
+//     after the first level (first_frame_s: a Keyframe or a datagram frame, on the preview when progressive).
 //   - bytes_received: TLS plaintext read (control messages + level transfer) + datagram payloads.
 //   - peak_rss_mb: this process's getrusage(RUSAGE_SELF) ru_maxrss at the end. This process holds only the client
 //     (the mesh, basis and host are in the child), plus the Qt libraries and the experiment's own code;
@@ -33,6 +36,7 @@ struct JoinExperimentSettings {
   double loss = 0.0;        ///< datagram loss ratio
   std::uint32_t level = 0;  ///< requested level in vertices (0 = full)
   double timeoutSeconds = 1800.0;
+  bool progressive = true;  ///< the smallest level first (SessionClientOptions::progressive)
 };
 
 struct JoinResult {
@@ -42,7 +46,9 @@ struct JoinResult {
   std::uint32_t levelVertices = 0;
   std::uint64_t streamBytes = 0, datagramBytes = 0;
   double levelReadySeconds = 0.0, firstFrameSeconds = 0.0;
-  double transferMbit = 0.0;  ///< stream bytes · 8 / (level ready − first byte of the transfer), Mbit/s
+  double firstLevelSeconds = 0.0;  ///< the first level installed (the preview when progressive)
+  std::uint32_t firstLevelVertices = 0;
+  double transferMbit = 0.0;  ///< the requested level's bytes · 8 / (its last chunk − its ModelBegin), Mbit/s
   double peakRssMb = 0.0, baselineRssMb = 0.0;
   /// False when the host child refused its scripted drag (it does on the 100k dragon): no deformed frame comes,
   /// firstFrameSeconds is −1 (null in JSON) and only the level is timed.
@@ -61,7 +67,7 @@ int runJoinExperimentCommand(const QStringList& arguments);
 
 /// {"mesh", "vertices", "rows", "level_vertices", "rate_mbit", "delay_ms", "loss", "bytes_received",
 ///  "stream_bytes", "datagram_bytes", "first_frame_s" (null without a host drag), "host_drags", "level_ready_s",
-///  "transfer_mbit", "peak_rss_mb", "baseline_rss_mb"}
+///  "first_level_s", "first_level_vertices", "progressive", "transfer_mbit", "peak_rss_mb", "baseline_rss_mb"}
 QJsonObject joinResultJson(const JoinResult& result);
 
 }  // namespace sc::app

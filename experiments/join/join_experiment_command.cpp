@@ -27,7 +27,9 @@ int runJoinExperimentCommand(const QStringList& arguments) {
   const QCommandLineOption timeout(QStringLiteral("timeout"),
                                    QStringLiteral("give up after T seconds without a deformed frame (default 1800)"),
                                    QStringLiteral("T"), QStringLiteral("1800"));
-  p.addOptions({rate, delay, loss, level, timeout});
+  const QCommandLineOption direct(QStringLiteral("no-progressive"),
+                                  QStringLiteral("ask for the requested level only (no smallest level first)"));
+  p.addOptions({rate, delay, loss, level, timeout, direct});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
 
@@ -44,6 +46,7 @@ int runJoinExperimentCommand(const QStringList& arguments) {
         "--rate-mbit takes Mbit/s ≥ 0, --delay-ms ms ≥ 0, --loss 0..1, --level full or N, --timeout T > 0"));
     return kExitUsage;
   }
+  settings.progressive = !p.isSet(direct);
   const QStringList basis = hostChildBasisArguments(command.basisArguments());
   const bool json = command.basisArguments().json;
   const auto progress = progressPrinter(json);
@@ -62,8 +65,8 @@ int runJoinExperimentCommand(const QStringList& arguments) {
   }
   QTextStream(stdout) << QStringLiteral(
                              "%1 (%2 vertices, m = %3), level %4 vertices, %5 Mbit/s, %6 ms, loss %7: %8 MB "
-                             "received, level ready %9 s (transfer at %10 Mbit/s), first deformed frame %11 s, peak "
-                             "RSS %12 MiB (%13 MiB before joining)\n")
+                             "received, level ready %9 s (transfer at %10 Mbit/s), first deformed frame %11 s (on "
+                             "%14 vertices, shown at %15 s), peak RSS %12 MiB (%13 MiB before joining)\n")
                              .arg(r.mesh)
                              .arg(r.vertices)
                              .arg(r.rows)
@@ -76,7 +79,9 @@ int runJoinExperimentCommand(const QStringList& arguments) {
                              .arg(r.transferMbit, 0, 'f', 2)
                              .arg(r.firstFrameSeconds, 0, 'f', 2)
                              .arg(r.peakRssMb, 0, 'f', 0)
-                             .arg(r.baselineRssMb, 0, 'f', 0);
+                             .arg(r.baselineRssMb, 0, 'f', 0)
+                             .arg(r.firstLevelVertices)
+                             .arg(r.firstLevelSeconds, 0, 'f', 2);
   return kExitOk;
 }
 

@@ -36,10 +36,13 @@ using State = SessionController::State;
 constexpr int kLiveTimeoutMs = 30000;
 
 bool waitLive(MainWindow* window) {
+  // A client's join is progressive: it is Live on the host's smallest level, then gets the requested one.
   return QTest::qWaitFor(
              [window] {
                const SessionController* s = window->session();
-               return s != nullptr && (s->state() == State::Live || s->state() == State::Failed);
+               const auto* client = qobject_cast<const ClientController*>(s);
+               return s != nullptr && ((s->state() == State::Live && (client == nullptr || !client->levelPending())) ||
+                                       s->state() == State::Failed);
              },
              kLiveTimeoutMs) &&
          window->session()->state() == State::Live;

@@ -48,8 +48,12 @@ app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSetti
   const QPointer<app::ClientController> session =
       qobject_cast<app::ClientController*>(window.pendingJoin() != nullptr ? window.pendingJoin() : window.session());
   // The caller checks the state reached: a timeout leaves it Connecting (or Transferring).
+  // Joins are progressive (the host's smallest level first): Live counts once the requested level is shown.
   static_cast<void>(QTest::qWaitFor(
-      [session] { return !session || session->state() == State::Live || session->state() == State::Failed; },
+      [session] {
+        return !session || (session->state() == State::Live && !session->levelPending()) ||
+               session->state() == State::Failed;
+      },
       kSessionLiveTimeoutMs));
   return session.data();
 }

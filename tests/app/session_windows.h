@@ -36,7 +36,8 @@ app::JoinSettings loopbackJoinSettings(quint16 port, const QString& knownHostsFi
 /// says why) when it did not, still Preparing after the timeout. Asserts nothing: the caller checks the state.
 app::HostController* hostAndWait(app::MainWindow& window, const app::HostSettings& settings);
 
-/// Joins with `settings` in `window` and processes events until the session is Live or Failed, at most
+/// Joins with `settings` in `window` and processes events until the session is Live with its requested level (a
+/// progressive join shows the smallest one first) or Failed, at most
 /// kSessionLiveTimeoutMs. Returns the joining client in the state it reached (window.session() unless the window
 /// was in a session: then its pendingJoin(), nullptr once a failed one was deleted). Asserts nothing.
 app::ClientController* joinAndWait(app::MainWindow& window, const app::JoinSettings& settings);

@@ -58,7 +58,10 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
                                    QStringLiteral("T"));
   const QCommandLineOption statsJson(QStringLiteral("stats-json"), QStringLiteral("write the final figures here"),
                                      QStringLiteral("file"));
-  p.addOptions({level, loss, burst, delay, rate, seed, zeroFill, concealment, seconds, statsJson});
+  const QCommandLineOption direct(QStringLiteral("no-progressive"),
+                                  QStringLiteral("download the requested level only (by default the host's smallest "
+                                                 "level comes first and shows the live shape meanwhile)"));
+  p.addOptions({level, loss, burst, delay, rate, seed, zeroFill, concealment, seconds, statsJson, direct});
   if (!command.parse(arguments, exitCode)) return std::nullopt;
   exitCode = kExitUsage;
 
@@ -128,6 +131,7 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
     }
   }
   args.statsJson = p.value(statsJson);
+  args.client.progressive = !p.isSet(direct);
   exitCode = kExitOk;
   return args;
 }
@@ -205,6 +209,16 @@ int runJoinCommand(const QStringList& arguments) {
     QTextStream(progress)
         << QStringLiteral("asking for the closest exact level: %1 vertices\n").arg(closest->vertexCount);
     client.requestResolution(closest->vertexCount);
+  });
+  // Each level as it arrives (a progressive join shows the host's smallest level first, then the requested one).
+  const session::Micros joinStart = session::sessionNow();
+  QObject::connect(&client, &session::SessionClient::levelReady, &client, [&, progress](std::uint32_t vertices) {
+    QTextStream(progress) << QStringLiteral("level of %1 vertices shown after %2 s%3\n")
+                                 .arg(vertices)
+                                 .arg(1e-6 * static_cast<double>((session::sessionNow() - joinStart).count()), 0, 'f',
+                                      2)
+                                 .arg(client.levelPending() ? QStringLiteral(" (preview; the requested level follows)")
+                                                            : QString());
   });
   // Under an emulated link rate a large level takes as long as it takes (46 MB at 1 Mbit/s: 6 minutes).
   const bool rated = args->client.impairment && args->client.impairment->rate.bitsPerSecond > 0.0;

@@ -36,6 +36,7 @@ bool ClientController::join(const JoinSettings& settings) {
   options.fingerprint = settings.fingerprint;
   options.trustOnFirstUse = true;  // as shapecast-cli join: remember the first fingerprint, refuse a change
   options.knownHostsFile = settings.knownHostsFile;
+  options.progressive = true;  // the smallest level first, live, then the requested one (issue 17 item 4)
   m_joinFraction = settings.levelFraction;
   if (!settings.fingerprint.isEmpty()) {
     m_joinTrust = HostTrust::Pinned;
@@ -61,11 +62,20 @@ void ClientController::connectClient() {
   connect(m_client, &SessionClient::frameUpdated, this,
           [this](const spectral::DisplayFrame& frame) { showFrame(frame); });
   connect(m_client, &SessionClient::levelReady, this, &ClientController::onLevelReady);
-  connect(m_client, &SessionClient::levelFailed, this,
-          [this](const QString& reason) { emit failed(tr("The new resolution could not be loaded: %1").arg(reason)); });
+  connect(m_client, &SessionClient::levelFailed, this, [this](const QString& reason) {
+    emit levelDownload(-1, QString());
+    emit failed(tr("The new resolution could not be loaded: %1").arg(reason));
+  });
   connect(m_client, &SessionClient::modelProgress, this, [this](quint64 received, quint64 total) {
     const int percent = total == 0 ? 0 : static_cast<int>(100 * received / total);
-    emit progress(percent, tr("Downloading the model"));
+    if (state() != State::Live) {
+      emit progress(percent, tr("Downloading the model"));
+      return;
+    }
+    // Behind the shown level: the requested one of a progressive join, or a resolution switch.
+    const std::uint32_t vertices = m_client->transferVertexCount();
+    const bool full = m_client->session() && vertices == m_client->session()->vertexCount;
+    emit levelDownload(percent, full ? tr("Full detail") : tr("%L1 vertices").arg(vertices));
   });
   connect(m_client, &SessionClient::lockChanged, this, &ClientController::onLockChanged);
   connect(m_client, &SessionClient::editLogChanged, this, &ClientController::editLogChanged);
@@ -98,6 +108,7 @@ void ClientController::onLevelReady() {
     emit progress(100, tr("Joined"));
     changeState(State::Live);
   }
+  if (!m_client->levelPending()) emit levelDownload(-1, QString());  // the requested level is in
   emit statsChanged();
   emit meshChanged();
   emit peersChanged();

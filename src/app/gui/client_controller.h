@@ -9,6 +9,9 @@
 //
 // Lifecycle: Idle --join()--> Connecting (TCP, TLS, handshake, model download; progress()) --> Live once the
 // first level is displayed; the host leaving or going silent, a refusal or cancel() --> Failed.
+// Joins are progressive (session::SessionClientOptions::progressive): Live on the host's smallest level, with the
+// live deformation, while the requested level streams in (levelDownload(percent, "Full detail"), then
+// levelDownload(-1) once it is shown; the same for a later resolution switch).
 
 #include "app/gui/session_controller.h"
 
@@ -78,6 +81,8 @@ class ClientController final : public SessionController {
   /// The impairment the datagram channel applies now (nullopt: none).
   [[nodiscard]] std::optional<session::ImpairmentSettings> impairmentInEffect() const;
   [[nodiscard]] FrameReception reception() const;
+  /// The join's requested level is still to come behind the smallest one shown (progressive join, issue 17 item 4).
+  [[nodiscard]] bool levelPending() const;
 
  protected:
   [[nodiscard]] const session::LockClient* lockClient() const override;

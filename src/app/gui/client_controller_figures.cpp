@@ -38,6 +38,8 @@ std::vector<LevelChoice> ClientController::levels() const {
   return out;
 }
 
+bool ClientController::levelPending() const { return m_client != nullptr && m_client->levelPending(); }
+
 bool ClientController::setLevel(std::uint32_t target) {
   if (state() != State::Live || !m_client->requestResolution(target)) return false;
   setLevelTarget(target);

@@ -242,6 +242,8 @@ class MainWindow : public QMainWindow {
   /// (nullptr: a failure before any controller, e.g. a busy port).
   void reportSessionFailure(const SessionController* controller, const QString& message);
   void onProgress(int percent, const QString& what);
+  /// SessionController::levelDownload: the status bar's progress bar shows "<name> N%" (percent < 0: hidden).
+  void onLevelDownload(int percent, const QString& name);
 
   Ui::MainWindow* ui;
   QLabel* m_meshSizeLabel = nullptr;
@@ -249,6 +251,7 @@ class MainWindow : public QMainWindow {
   QComboBox* m_levelCombo = nullptr;
   QLabel* m_timingLabel = nullptr;
   QProgressBar* m_progressBar = nullptr;
+  bool m_levelDownloading = false;  ///< m_progressBar shows a level streaming behind the shown one
   QToolButton* m_cancelButton = nullptr;
   SessionController* m_session = nullptr;
   SessionController* m_pendingJoin = nullptr;  ///< a join connecting beside m_session (joinSession())

@@ -215,10 +215,14 @@ void MainWindow::adoptSession(SessionController* controller) {
     updateSessionActions();
     updateLockControls();
     const SessionController::State state = m_session->state();
-    if (state == SessionController::State::Left || state == SessionController::State::Failed) onSessionEnded();
+    if (state == SessionController::State::Left || state == SessionController::State::Failed) {
+      m_levelDownloading = false;
+      onSessionEnded();
+    }
   });
   connect(m_session, &SessionController::failed, this, &MainWindow::onSessionFailed);
   connect(m_session, &SessionController::progress, this, &MainWindow::onProgress);
+  connect(m_session, &SessionController::levelDownload, this, &MainWindow::onLevelDownload);
   connect(m_session, &SessionController::hostingStarted, this, [this](quint16 port) {
     statusBar()->showMessage(
         tr("Hosting on port %1. Others join with Session → Join and this computer's address.").arg(port),
@@ -332,7 +336,7 @@ void MainWindow::updateSessionActions() {
   ui->actionLeaveSession->setEnabled(active);
   const bool busy = meshLoadRunning() || m_pendingJoin != nullptr || state == SessionController::State::Preparing ||
                     state == SessionController::State::Connecting;
-  m_progressBar->setVisible(busy);
+  m_progressBar->setVisible(busy || (m_levelDownloading && state == SessionController::State::Live));
   m_cancelButton->setVisible(busy);
   if (!active) m_levelCombo->setEnabled(false);
 }
@@ -389,6 +393,17 @@ void MainWindow::reportSessionFailure(const SessionController* controller, const
   box.setTextFormat(Qt::PlainText);
   box.setObjectName(QStringLiteral("sessionFailedBox"));
   box.exec();
+}
+
+void MainWindow::onLevelDownload(int percent, const QString& name) {
+  m_levelDownloading = percent >= 0;
+  if (m_levelDownloading) {
+    m_progressBar->setRange(0, 100);
+    m_progressBar->setValue(percent);
+    m_progressBar->setFormat(name + QStringLiteral(" %p%"));  // "Full detail 43%" (names hold no '%')
+    m_progressBar->setToolTip(tr("Downloading %1 in the background; the shape stays live meanwhile").arg(name));
+  }
+  updateSessionActions();
 }
 
 void MainWindow::onProgress(int percent, const QString& what) {

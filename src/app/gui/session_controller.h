@@ -211,6 +211,9 @@ class SessionController : public QObject, protected EditTarget {
   void networkConditionsChanged();
   /// Long work: percent 0..100 and what is being done.
   void progress(int percent, const QString& what);
+  /// Client, live: a level streams in behind the shown one (a progressive join's requested level, or a resolution
+  /// switch): percent 0..100 and its name ("Full detail", "5,231 vertices"); percent < 0: it is shown (or failed).
+  void levelDownload(int percent, const QString& name);
   /// Client: the host's level list changed (levels() may have changed).
   void levelsChanged();
   /// Hosting from a session file: its shape and edit history were restored and, when it had constraints, the lock

@@ -29,11 +29,12 @@ enum class ClientState : std::uint8_t { Idle, Connecting, Handshaking, Loading, 
 
 /// Changes the adapter only announces (the data is in the engine's accessors).
 enum class ClientNotice : std::uint8_t {
-  PeersChanged,    ///< peers()
-  LevelsChanged,   ///< levels()
-  LockChanged,     ///< lock()
-  LevelInstalled,  ///< displayLevel() is a new level (announced before its first PublishFrame)
-  EditLogChanged,  ///< editLog()
+  PeersChanged,     ///< peers()
+  LevelsChanged,    ///< levels()
+  LockChanged,      ///< lock()
+  LevelInstalled,   ///< displayLevel() is a new level (announced before its first PublishFrame)
+  EditLogChanged,   ///< editLog()
+  LevelChoiceKept,  ///< requestResolution() during a progressive join's preview: asked for once the preview is in
 };
 
 namespace client_action {

@@ -69,7 +69,12 @@ ClientActions ClientEngine::onDatagramsOpened(Micros now) {
     const double wanted = fraction >= 1.0 || !(fraction > 0.0) ? 0.0 : std::round(fraction * m_session->vertexCount);
     m_config.level = static_cast<std::uint32_t>(std::max(0.0, wanted));
   }
-  send(ResolutionRequest{m_config.level}, out);
+  if (m_config.progressive && m_config.level != kSmallestLevel) {  // the smallest level first, the wanted one next
+    m_deferredLevel = m_config.level;
+    send(ResolutionRequest{kSmallestLevel}, out);
+  } else {
+    send(ResolutionRequest{m_config.level}, out);
+  }
   m_nextSecond = now + kSecond;
   return out;
 }
@@ -123,6 +128,10 @@ void ClientEngine::onHostLeave(const Leave& leave, ClientActions& out) {
 void ClientEngine::changeState(ClientState next, ClientActions& out) {
   if (next == m_state) return;
   m_state = next;
+  if (next == ClientState::Left || next == ClientState::Failed) {  // nothing more will come
+    m_deferredLevel.reset();
+    m_wantedInFlight = false;
+  }
   out.emplace_back(client_action::StateChanged{next});
 }
 
@@ -220,7 +229,13 @@ void ClientEngine::dispatch(const ControlMessage& message, Micros now, ClientAct
 
 ClientActions ClientEngine::requestResolution(std::uint32_t wantedVertices) {
   ClientActions out;
-  if (live()) send(ResolutionRequest{wantedVertices}, out);
+  if (!live()) return out;
+  if (m_deferredLevel) {  // the preview is still on its way: the newest choice replaces the deferred one
+    m_deferredLevel = wantedVertices;
+    out.emplace_back(client_action::Notify{ClientNotice::LevelChoiceKept});
+    return out;
+  }
+  send(ResolutionRequest{wantedVertices}, out);
   return out;
 }
 

@@ -14,6 +14,16 @@
 // Rules
 //   - Welcome: OpenDatagrams; once opened, Loading and a ResolutionRequest{level} (levelFraction, when set,
 //     overrides level with round(fraction · n); ≥ 1 or not > 0 means full, 0).
+//   - Progressive join (ClientEngineConfig::progressive, issue 17 item 4): the first request is
+//     ResolutionRequest{kSmallestLevel} instead (the host serves its smallest rung, or its full model when it has no
+//     ladder) and the wanted level is deferred. When that preview transfer completes (or fails), the wanted level is
+//     requested, so it streams while the preview decodes and shows, unless the preview already is it (the full model
+//     for a full request; the LevelList's closest level when the list is complete; a ladder of one level). A
+//     requestResolution() while the preview is still on its way replaces the deferred choice (the newest choice
+//     wins; nothing is sent until the preview completes). The preview's decoded result is installed even when the
+//     wanted level's transfer completed meanwhile (then that one decodes next). Frames keep applying to the shown
+//     level; installing the wanted one publishes the latest Z on it (no return to rest). levelPending() tells
+//     whether the requested level is still to come (the GUI's progress bar, the CLI's and lab's "level ready").
 //   - While Loading or Ready, every second from the join: the host-silence check (nothing heard for hostTimeout
 //     fails the session, "host lost: not responding for <t> s"), else a Heartbeat (sequence 0, 1, …) and a
 //     StatsReport (the sampler's figures, the displayed level's vertex count, setDistortion()'s figures; figures
@@ -68,6 +78,8 @@ struct ClientEngineConfig {
   /// Keep the installed level's wire payload (levelPayload()) for tests and diagnostics; by default it is freed once
   /// the level is decoded (the DisplayLevel is what the client shows).
   bool keepLevelPayload = false;
+  /// Progressive join (see the rules above): the smallest level first, then the wanted one in the background.
+  bool progressive = false;
 };
 
 /// The datagram receiver's figures for a StatsReport (ReceiverStatistics::report() starts a new loss interval:
@@ -82,6 +94,8 @@ using ReceiverSampler = std::function<ReceiverSample(Micros now)>;
 class ClientEngine {
  public:
   static constexpr Micros kSecond{1'000'000};  ///< heartbeat, StatsReport and host-silence cadence
+  /// The ResolutionRequest of a progressive join's preview: the host's pick() of 1 vertex is its smallest rung.
+  static constexpr std::uint32_t kSmallestLevel = 1;
 
   explicit ClientEngine(ClientEngineConfig config);
 
@@ -160,6 +174,13 @@ class ClientEngine {
   /// Frames not shown for absurd coefficients (admitFrame(), Keyframes): counted with the dropped datagrams in
   /// the StatsReport.
   [[nodiscard]] std::uint64_t framesRefused() const { return m_framesRefused; }
+  /// True while the level the user asked for is still to come after a progressive join's preview: the preview is
+  /// on its way or shown and the wanted level not yet installed (a failed one ends it).
+  [[nodiscard]] bool levelPending() const { return m_deferredLevel.has_value() || m_wantedInFlight; }
+  /// The vertex count of the level being received (the ModelBegin's), 0 when no transfer is in flight.
+  [[nodiscard]] std::uint32_t transferVertexCount() const {
+    return m_receiver.active() && m_receiver.current() ? m_receiver.current()->vertexCount : 0;
+  }
   /// The StatsReport the engine would send with `sample`: the displayed level's vertex count, setDistortion()'s
   /// figures; every double that is not finite and > 0 reads 0 (the wire's rule). Pure.
   [[nodiscard]] StatsReport statsReport(const ReceiverSample& sample) const;
@@ -184,8 +205,11 @@ class ClientEngine {
   // levels and frames (client_engine_levels.cpp)
   void onModelBegin(const ModelBegin& begin, ClientActions& out);
   void onModelChunk(const ModelChunk& chunk, ClientActions& out);
-  void startDecode(LevelJob job, ClientActions& out);
-  void install(DecodedLevel& decoded, ClientActions& out);
+  void startDecode(LevelJob job, bool preview, ClientActions& out);
+  /// A progressive join's preview transfer ended (`arrived`: its vertex count, 0 when it failed): requests the
+  /// deferred wanted level unless the preview already is it.
+  void requestDeferredLevel(std::uint32_t arrived, ClientActions& out);
+  void install(DecodedLevel& decoded, bool preview, ClientActions& out);
   void onKeyframe(const Keyframe& keyframe, ClientActions& out);
   void publishFrame(ClientActions& out);
   // cadence (client_engine_cadence.cpp)
@@ -208,6 +232,10 @@ class ClientEngine {
   QString m_levelError;
   bool m_decoding = false;
   std::optional<LevelJob> m_nextDecode;  ///< completed while another decodes: supersedes it
+  bool m_nextIsPreview = false;          ///< m_nextDecode is the progressive preview
+  bool m_decodingPreview = false;        ///< the running decode is the progressive preview (installed regardless)
+  std::optional<std::uint32_t> m_deferredLevel;  ///< progressive: the wanted level, asked once the preview is in
+  bool m_wantedInFlight = false;                 ///< progressive: the wanted level was asked, not yet installed
   std::uint64_t m_keyframes = 0;
   std::uint64_t m_framesRefused = 0;
   // frames

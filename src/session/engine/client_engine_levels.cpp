@@ -17,6 +17,7 @@ void ClientEngine::onModelBegin(const ModelBegin& begin, ClientActions& out) {
     return;
   }
   m_nextDecode.reset();
+  m_nextIsPreview = false;
   m_receiver.begin(begin);
   out.emplace_back(client_action::ModelProgress{0, begin.totalSize});
 }
@@ -30,8 +31,12 @@ void ClientEngine::onModelChunk(const ModelChunk& chunk, ClientActions& out) {
     case ModelReceiver::Status::Complete: {
       out.emplace_back(client_action::ModelProgress{m_receiver.totalBytes(), m_receiver.totalBytes()});
       QByteArray expected = m_receiver.current() ? m_receiver.current()->sha256 : QByteArray();
+      const std::uint32_t arrived = m_receiver.current() ? m_receiver.current()->vertexCount : 0;
       QByteArray payload = m_receiver.take();
-      startDecode(LevelJob{std::move(payload), std::move(expected), m_session->rowCount, m_session->vertexCount}, out);
+      const bool preview = m_deferredLevel.has_value();
+      startDecode(LevelJob{std::move(payload), std::move(expected), m_session->rowCount, m_session->vertexCount},
+                  preview, out);
+      if (preview) requestDeferredLevel(arrived, out);  // streams while the preview decodes and shows
       return;
     }
     case ModelReceiver::Status::UnknownTransfer:
@@ -40,39 +45,67 @@ void ClientEngine::onModelChunk(const ModelChunk& chunk, ClientActions& out) {
     case ModelReceiver::Status::BadChecksum:
       m_levelError = QStringLiteral("model transfer failed: %1").arg(QString::fromLatin1(toString(status)));
       out.emplace_back(client_action::LevelFailed{m_levelError});
+      if (m_deferredLevel) {
+        requestDeferredLevel(0, out);  // no preview: the wanted level at once
+      } else {
+        m_wantedInFlight = false;
+      }
       return;
   }
 }
 
-void ClientEngine::startDecode(LevelJob job, ClientActions& out) {
+void ClientEngine::requestDeferredLevel(std::uint32_t arrived, ClientActions& out) {
+  const std::uint32_t wanted = *m_deferredLevel;
+  m_deferredLevel.reset();
+  const std::uint32_t n = m_session->vertexCount;
+  bool served = false;  // the preview already is the wanted level: nothing more to ask
+  if (arrived != 0) {
+    const LevelInfo* closest = m_levels.complete() ? closestLevel(m_levels, wanted) : nullptr;
+    served = (arrived == n && (wanted == 0 || wanted >= n)) || m_levels.total == 1 ||
+             (closest != nullptr && closest->vertexCount == arrived);
+  }
+  if (served) return;
+  m_wantedInFlight = true;
+  send(ResolutionRequest{wanted}, out);
+}
+
+void ClientEngine::startDecode(LevelJob job, bool preview, ClientActions& out) {
   if (m_decoding) {  // one decode at a time: this transfer supersedes the one being decoded
     m_nextDecode = std::move(job);
+    m_nextIsPreview = preview;
     return;
   }
   m_decoding = true;
+  m_decodingPreview = preview;
   out.emplace_back(client_action::StartDecode{std::move(job)});
 }
 
 ClientActions ClientEngine::onLevelDecoded(DecodedLevel result) {
   ClientActions out;
   m_decoding = false;
+  const bool preview = std::exchange(m_decodingPreview, false);
   if (m_nextDecode) {  // superseded by a transfer completed meanwhile: decode that one instead
     LevelJob next = std::move(*m_nextDecode);
     m_nextDecode.reset();
-    if (live()) startDecode(std::move(next), out);
+    const bool nextIsPreview = std::exchange(m_nextIsPreview, false);
+    // A progressive join's preview is shown all the same: something to look at while the wanted level decodes.
+    if (preview && live() && result.level) install(result, true, out);
+    if (live()) startDecode(std::move(next), nextIsPreview, out);
     return out;
   }
   if (!live()) return out;  // left or failed meanwhile
   if (!result.level) {
     m_levelError = result.error;
+    if (!preview) m_wantedInFlight = false;
     out.emplace_back(client_action::LevelFailed{m_levelError});
     return out;
   }
-  install(result, out);
+  install(result, preview, out);
   return out;
 }
 
-void ClientEngine::install(DecodedLevel& decoded, ClientActions& out) {
+void ClientEngine::install(DecodedLevel& decoded, bool preview, ClientActions& out) {
+  if (!preview) m_wantedInFlight = false;
   m_level = std::move(decoded.level);
   // The payload is not needed once decoded: freed here unless kept for diagnostics (it is the size of the level).
   m_levelPayload = m_config.keepLevelPayload ? std::move(decoded.payload) : QByteArray();

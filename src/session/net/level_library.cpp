@@ -45,7 +45,9 @@ void LevelLibrary::request(std::uint32_t target) {
 }
 
 void LevelLibrary::prefetchAll() {
-  std::vector<std::uint32_t> rungs{fullTarget()};
+  // The smallest rung first (a progressive join's preview, issue 17 item 4), then the full model, then the rest
+  // largest first (duplicates are skipped below).
+  std::vector<std::uint32_t> rungs{smallestTarget(), fullTarget()};
   rungs.insert(rungs.end(), ladder().begin(), ladder().end());
   for (const std::uint32_t target : rungs) {
     if (m_levels.contains(target) || m_failed.contains(target) || m_building == target ||

@@ -67,8 +67,9 @@ class LevelLibrary final : public QObject {
   /// `target` must come from pick().
   void request(std::uint32_t target);
 
-  /// Queues every rung not built, building, queued or failed (the full model first, then largest first) behind
-  /// the explicit requests; levelReady() follows for each as above. Cost: O(ladder).
+  /// Queues every rung not built, building, queued or failed (the smallest rung first: a progressive join's
+  /// preview; then the full model, then largest first) behind the explicit requests; levelReady() follows for each
+  /// as above. Cost: O(ladder).
   void prefetchAll();
 
   /// The built levels as a LevelList (level id 0 = full, i = ladder()[i − 1], total = ladder size + 1), ids
@@ -78,6 +79,8 @@ class LevelLibrary final : public QObject {
   /// The ladder targets (excluding the full model), largest first.
   [[nodiscard]] const std::vector<std::uint32_t>& ladder() const { return m_ladder.ladder(); }
   [[nodiscard]] std::uint32_t fullTarget() const { return m_ladder.fullTarget(); }
+  /// The smallest rung's target (what pick(1) serves before any level is built), the full model without a ladder.
+  [[nodiscard]] std::uint32_t smallestTarget() const { return ladder().empty() ? fullTarget() : ladder().back(); }
   /// The figures of a built level (what HostEngine::onLevelReady() takes).
   [[nodiscard]] static LevelFigures figures(const Level& level);
 

@@ -37,7 +37,8 @@ ClientEngineConfig engineConfig(const SessionClientOptions& options) {
                             options.levelFraction,
                             std::chrono::duration_cast<Millis>(options.hostTimeout),
                             options.minPbkdf2Iterations,
-                            options.keepLevelPayload};
+                            options.keepLevelPayload,
+                            options.progressive};
 }
 
 }  // namespace

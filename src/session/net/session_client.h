@@ -105,6 +105,10 @@ struct SessionClientOptions {
   bool trustOnFirstUse = false;   ///< remember the first fingerprint per host:port (KnownHosts), refuse a change
   QString knownHostsFile;         ///< KnownHosts store; empty: the application's QSettings
   bool keepLevelPayload = false;  ///< keep the installed level's wire payload (levelPayload()): tests, diagnostics
+  /// Progressive join (ClientEngine's rules, issue 17 item 4): the host's smallest level first, shown live, then
+  /// the wanted one streamed in the background (levelPending(), transferVertexCount()). The app's joins (GUI, CLI,
+  /// lab) turn it on.
+  bool progressive = false;
 };
 
 class SessionClient final : public QObject {
@@ -187,6 +191,10 @@ class SessionClient final : public QObject {
   [[nodiscard]] const QString& levelError() const { return m_engine.levelError(); }
   /// True while a completed transfer is being checked and decoded off-thread (the previous level is still shown).
   [[nodiscard]] bool levelDecoding() const { return m_engine.levelDecoding(); }
+  /// A progressive join's wanted level is still to come (the preview is on its way or shown).
+  [[nodiscard]] bool levelPending() const { return m_engine.levelPending(); }
+  /// The vertex count of the level being received, 0 when no transfer is in flight.
+  [[nodiscard]] std::uint32_t transferVertexCount() const { return m_engine.transferVertexCount(); }
   /// X̂' + K·Z for Z = positionsCoefficients(), 3·n' floats (empty before a level). Reconstructed here on the first
   /// call after an update (O(n'·m), spectral::reconstruct), then cached. For headless users: views take
   /// displayLevel() and frameUpdated instead.

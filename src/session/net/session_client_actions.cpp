@@ -87,6 +87,8 @@ void SessionClient::execute(client_action::Notify notify) {
     case ClientNotice::EditLogChanged:
       emit editLogChanged();
       return;
+    case ClientNotice::LevelChoiceKept:
+      return;  // sent once the preview is in
     case ClientNotice::LevelInstalled:
       m_positions.assign(displayLevel()->rest.size(), 0.0f);
       emit displayLevelChanged(displayLevel());

@@ -73,6 +73,9 @@ bool SessionHost::start(QString* error) {
     return fail(QStringLiteral("TCP listen failed: %1").arg(m_server->errorString()));
   }
   m_started = true;
+  // The smallest level is prepared from the start, so that a progressive join's preview (issue 17 item 4) never
+  // waits for a decimation, nor behind the full model's build.
+  m_levels->request(m_levels->smallestTarget());
   apply(m_engine.start(sessionNow()));
   static_cast<HostEngineOptions&>(m_options) = m_engine.options();  // the limits as clamped
   emit logMessage(QStringLiteral("hosting on TCP %1, UDP %2").arg(tcpPort()).arg(udpPort()));

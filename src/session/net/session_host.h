@@ -8,7 +8,8 @@
 // at the engine's next wake-up. It translates socket events into engine events (with sessionNow()) and carries
 // out the HostActions the engine returns, in order; it emits its signals when the engine says so.
 //
-//   - start() resolves the TLS identity, derives the password secret, binds UDP and listens on TCP.
+//   - start() resolves the TLS identity, derives the password secret, binds UDP and listens on TCP, and has the
+//     LevelLibrary build the smallest level at once (a progressive join's preview waits for no decimation).
 //   - A connection over the engine's admission limits is aborted at accept, before any byte is read or sent; a
 //     pending connection the engine evicts to make room is aborted.
 //   - After carrying out the engine's actions (and at every timer) it reports each connection's outgoing queue to

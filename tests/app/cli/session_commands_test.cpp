@@ -153,7 +153,7 @@ TEST_F(SessionCommandsTest, BadAddressesAreUsageErrors) {
 
 TEST_F(SessionCommandsTest, JoinExperimentWaitsForTheLinkRate) {
   // Issue 17: a host process and a client over a 2 Mbit/s emulated link. The level (about 90 kB compressed) cannot
-  // arrive sooner than its bytes beyond the bucket's 32 KiB burst take at 2 Mbit/s.
+  // arrive sooner than the bytes beyond the bucket's 32 KiB burst take at 2 Mbit/s.
   const CliRun run =
       runCli({QStringLiteral("experiment"), QStringLiteral("join"), QStringLiteral("--mesh"), m_mesh,
               QStringLiteral("--rate-mbit"), QStringLiteral("2"), QStringLiteral("--delay-ms"), QStringLiteral("20"),
@@ -167,7 +167,13 @@ TEST_F(SessionCommandsTest, JoinExperimentWaitsForTheLinkRate) {
   EXPECT_GT(stream, 2 * 32768.0);  // well past the bucket's burst: the rate, not the burst, decides the time
   EXPECT_GE(r[QStringLiteral("bytes_received")].toDouble(), stream);
   EXPECT_GE(r[QStringLiteral("level_ready_s")].toDouble(), (stream - 32768.0) * 8.0 / 2e6);
-  EXPECT_GE(r[QStringLiteral("first_frame_s")].toDouble(), r[QStringLiteral("level_ready_s")].toDouble());
+  // Progressive join (issue 17 item 4): the host's smallest level first, the deformed frames on it, then the
+  // requested full level.
+  EXPECT_TRUE(r[QStringLiteral("progressive")].toBool());
+  EXPECT_LT(r[QStringLiteral("first_level_vertices")].toInt(), 1440);
+  EXPECT_GT(r[QStringLiteral("first_level_vertices")].toInt(), 0);
+  EXPECT_GE(r[QStringLiteral("first_frame_s")].toDouble(), r[QStringLiteral("first_level_s")].toDouble());
+  EXPECT_LT(r[QStringLiteral("first_level_s")].toDouble(), r[QStringLiteral("level_ready_s")].toDouble());
   EXPECT_GT(r[QStringLiteral("peak_rss_mb")].toDouble(), 0.0);
 }
 
