@@ -117,7 +117,7 @@ for mesh in "$@"; do
   frames=$(json "$out/drive.out" frames_sent 2> /dev/null || echo 0)
   tick=$(getconf CLK_TCK)
   row "drag (host)" "$(python3 -c "print('%.1f' % ($d1 - $d0))")" "$(hwm_mb "$host_pid") host, $(peak_mb drive) driver" \
-    "$frames frames sent; host main thread $(python3 -c "f=max($frames,1); print('%.2f ms CPU per frame, whole process %.0f%% of a core (level builds included)' % (1e3*($m1-$m0)/$tick/f, 100*($c1-$c0)/$tick/max($d1-$d0,1e-9)))"); $(grep -o 'keeping every [0-9]*th anchor ([0-9]*)' "$out/drive.err" || echo 'anchors as given'); watcher applied $(json "$out/watch.out" frames_applied) frames"
+    "$frames frames sent; host main thread $(python3 -c "f=max($frames,1); print('%.2f ms CPU per frame, whole process %.0f%% of a core (level builds included)' % (1e3*($m1-$m0)/$tick/f, 100*($c1-$c0)/$tick/max($d1-$d0,1e-9)))"); $(grep -o 'keeping one anchor in [0-9]* ([0-9]*)' "$out/drive.err" || echo 'anchors as given'); watcher applied $(json "$out/watch.out" frames_applied) frames"
   if [[ -n $gui ]]; then
     for p in $(pgrep -P "$(pgrep -P $gui)"); do [[ $(cat "/proc/$p/comm" 2> /dev/null) == shapecast ]] && kill -TERM "$p"; done
     wait $gui 2> /dev/null

@@ -57,7 +57,7 @@ int runDriveCommand(const QStringList& arguments) {
       session::thinAnchors(constraints.anchors, handleIds, session::maxConstraintIds(client.session()->rowCount));
   if (stride != 1) {
     out << QStringLiteral(
-               "%1 handle and %2 anchor vertices: keeping every %3th anchor (%4) within the host's work "
+               "%1 handle and %2 anchor vertices: keeping one anchor in %3 (%4) within the host's work "
                "bound\n")
                .arg(handleIds)
                .arg(anchorsGiven)
