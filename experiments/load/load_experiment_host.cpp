@@ -5,6 +5,7 @@
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_experiment.h"
 #include "model/decimating_level_builder.h"
+#include "session/engine/constraint_work.h"
 #include "session/engine/host_engine.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
@@ -49,15 +50,9 @@ void say(const QString& line) {
 /// of the diagonal) pass it on the 23k dragon; on the 100k dragon they are about twice too many and the host refused
 /// the drag. A thinned far region still holds the smooth spectral deformation in place.
 void fitWorkLimit(spectral::ConstraintSet& set, int m) {
-  const double maxIds = session::HostEngineOptions{}.maxConstraintWork / (static_cast<double>(m) * m);
   std::size_t handleIds = 0;
   for (const spectral::HandleGroup& group : set.handles) handleIds += group.vertices.size();
-  const double room = maxIds - static_cast<double>(handleIds);
-  if (room <= 0.0 || static_cast<double>(set.anchors.size()) <= room) return;
-  const auto step = static_cast<std::size_t>(std::ceil(static_cast<double>(set.anchors.size()) / room));
-  std::vector<int> kept;
-  for (std::size_t i = 0; i < set.anchors.size(); i += step) kept.push_back(set.anchors[i]);
-  set.anchors = std::move(kept);
+  session::thinAnchors(set.anchors, handleIds, session::maxConstraintIds(m));
 }
 
 /// The scripted drag played by the host's own user, and what it measured.

@@ -36,6 +36,9 @@ T get(const std::vector<std::byte>& in, std::size_t offset) {
   return value;
 }
 
+/// The header's solver field (the reserved 0 of older files is Lanczos).
+std::uint32_t solverCode(BasisSolver solver) { return solver == BasisSolver::Hierarchical ? 1u : 0u; }
+
 std::vector<std::byte> serialize(const BasisCacheKey& key, const HarmonicBasis& basis) {
   std::vector<std::byte> out;
   out.reserve(fileSizeFor(key.n, key.m));
@@ -43,7 +46,7 @@ std::vector<std::byte> serialize(const BasisCacheKey& key, const HarmonicBasis& 
   put(out, kBasisCacheVersion);
   put(out, key.n);
   put(out, key.m);
-  put(out, std::uint32_t{0});
+  put(out, solverCode(key.solver));
   put(out, key.meshHash);
   put(out, key.shift);
   const auto* values = reinterpret_cast<const std::byte*>(basis.eigenvalues.data());
@@ -84,7 +87,8 @@ std::uint64_t meshContentHash(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
 
 std::filesystem::path basisCacheFileName(const BasisCacheKey& key) {
   char name[64];
-  std::snprintf(name, sizeof name, "%016llx-n%u-m%u.mhb", static_cast<unsigned long long>(key.meshHash), key.n, key.m);
+  std::snprintf(name, sizeof name, "%016llx-n%u-m%u%s.mhb", static_cast<unsigned long long>(key.meshHash), key.n, key.m,
+                key.solver == BasisSolver::Hierarchical ? "-hierarchical" : "");
   return name;
 }
 
@@ -100,8 +104,10 @@ CacheReadStatus readBasisCache(const std::filesystem::path& file, const BasisCac
 
   if (std::memcmp(in.data(), kMagic.data(), kMagic.size()) != 0) return CacheReadStatus::Corrupt;
   if (get<std::uint32_t>(in, 8) != kBasisCacheVersion) return CacheReadStatus::Corrupt;
+  const std::uint32_t solver = get<std::uint32_t>(in, 20);
+  if (solver > 1) return CacheReadStatus::Corrupt;
   const BasisCacheKey key{get<std::uint64_t>(in, 24), get<std::uint32_t>(in, 12), get<std::uint32_t>(in, 16),
-                          get<double>(in, 32)};
+                          get<double>(in, 32), solver == 1 ? BasisSolver::Hierarchical : BasisSolver::Lanczos};
   if (size != fileSizeFor(key.n, key.m)) return CacheReadStatus::Corrupt;
   if (get<std::uint64_t>(in, size - 8) != checksum64(std::span(in.data(), size - 8))) return CacheReadStatus::Corrupt;
   if (!(key == expected)) return CacheReadStatus::Mismatch;

@@ -25,7 +25,7 @@ BasisComputation basisForMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F
   // === step 2: cache look-up
   const BasisCacheKey key{meshContentHash(V, F), static_cast<std::uint32_t>(V.rows()),
                           static_cast<std::uint32_t>(options.m),
-                          -options.shiftFactor * 4.0 * std::numbers::pi / out.operators.totalArea};
+                          -options.shiftFactor * 4.0 * std::numbers::pi / out.operators.totalArea, options.solver};
   if (cacheDir) {
     out.cacheFile = *cacheDir / basisCacheFileName(key);
     out.cacheStatus = readBasisCache(out.cacheFile, key, out.result.basis);

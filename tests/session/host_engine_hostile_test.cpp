@@ -3,8 +3,12 @@
 // proof, pending slots, wrong-password waits, the lock's maximum hold while others wait, display names. Fake clock,
 // no sockets.
 #include "host_engine_fixture.h"
+#include "session/engine/constraint_work.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
 
 namespace sc::session::testing {
 namespace {
@@ -137,6 +141,22 @@ TEST_F(HostEngineConstraints, DuplicateIdsIdsOutOfRangeAndTooMuchWorkAreRejected
   EXPECT_TRUE(send(epoch, {{0, 1, 2, 3, 4}}, {5, 6, 7, 8, 9})) << "10 ids: at the work bound";
   EXPECT_FALSE(send(epoch, {{0, 1, 2, 3, 4}}, {5, 6, 7, 8, 9, 10})) << "11 ids: over it";
   EXPECT_EQ(engine().counters().constraintsRejected, 6u);
+}
+
+TEST_F(HostEngineConstraints, AnchorsThinnedByTheClientsRuleFitTheWorkBound) {
+  HostEngineOptions options;
+  options.constraintsRate = RateLimit{};
+  const int m = s_model->rowCount();
+  options.maxConstraintWork = 12.0 * m * m;  // 12 ids at most
+  startEngine(options);
+  const LockEpoch epoch = memberHoldsTheLock();
+  const std::vector<std::uint32_t> handle{1, 2, 3};
+  std::vector<std::uint32_t> anchors(40);
+  std::iota(anchors.begin(), anchors.end(), 10u);
+  EXPECT_FALSE(send(epoch, {handle}, anchors)) << "43 ids: a dense selection over the bound";
+  EXPECT_EQ(thinAnchors(anchors, handle.size(), maxConstraintIds(m, options.maxConstraintWork)), 5u);
+  EXPECT_EQ(anchors, (std::vector<std::uint32_t>{10, 15, 20, 25, 30, 35, 40, 45}));
+  EXPECT_TRUE(send(epoch, {handle}, anchors)) << "3 + 8 ids";
 }
 
 TEST_F(HostEngineConstraints, ConstraintsAreRateLimitedAndTheLatestIsServedLater) {

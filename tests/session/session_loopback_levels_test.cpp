@@ -51,6 +51,20 @@ TEST_F(SessionLoopback, LevelLibraryPicksTheClosestTargetAndBuildsOnce) {
   EXPECT_EQ(ready.size(), 2u);
 }
 
+// Issue 19 item 3: the prefetch starts at the first Welcome, before the client says which level it wants; the
+// smallest level comes first, so that a low-resolution joiner of a large mesh does not wait for the full model.
+TEST_F(SessionLoopback, PrefetchBuildsTheSmallestLevelFirstAndTheFullModelLast) {
+  LevelLibrary library(s_model, LevelBuilder{model::levelTargetList, model::decimatedLevel});
+  const std::vector<int> targets = model::levelTargets(static_cast<int>(n()));  // 81, 32, 8
+  std::vector<std::uint32_t> ready;
+  QObject::connect(&library, &LevelLibrary::levelReady, &library, [&](std::uint32_t t) { ready.push_back(t); });
+  library.prefetchAll();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return ready.size() == 4; }, kWaitMs));
+  EXPECT_EQ(ready,
+            (std::vector<std::uint32_t>{static_cast<std::uint32_t>(targets[2]), static_cast<std::uint32_t>(targets[1]),
+                                        static_cast<std::uint32_t>(targets[0]), n()}));
+}
+
 TEST_F(SessionLoopback, FullModelTransferIsBitExact) {
   auto host = startHost();
   auto client = join(*host, QStringLiteral("full"));

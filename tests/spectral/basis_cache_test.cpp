@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -44,6 +45,34 @@ TEST_F(BasisCache, MissThenWriteThenHitRoundTripsExactly) {
   EXPECT_EQ(read.eigenvalues, m_basis.eigenvalues);
   EXPECT_EQ(read.shift, m_basis.shift);
   EXPECT_FALSE(std::filesystem::exists(file().string() + ".tmp")) << "the temporary file must be renamed away";
+}
+
+// Issue 19: the file records the solver that computed the basis, and the solver is part of the key and of the file
+// name, so that a basis asked for from one solver is never another's; Lanczos files keep the name and the header field
+// (0) they had before the solver was recorded.
+TEST_F(BasisCache, TheSolverIsRecordedAndPartOfTheKeyAndTheName) {
+  BasisCacheKey hierarchical = m_key;
+  hierarchical.solver = BasisSolver::Hierarchical;
+  const std::filesystem::path lanczosFile = file();
+  const std::filesystem::path hierarchicalFile = m_dir / basisCacheFileName(hierarchical);
+  EXPECT_EQ(lanczosFile.filename().string(), "000000001234abcd-n50-m5.mhb");
+  EXPECT_EQ(hierarchicalFile.filename().string(), "000000001234abcd-n50-m5-hierarchical.mhb");
+  ASSERT_TRUE(writeBasisCache(hierarchicalFile, hierarchical, m_basis));
+  ASSERT_TRUE(writeBasisCache(lanczosFile, m_key, m_basis));
+  const auto solverField = [](const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(20);
+    std::uint32_t value = 99;
+    in.read(reinterpret_cast<char*>(&value), sizeof value);
+    return value;
+  };
+  EXPECT_EQ(solverField(lanczosFile), 0u);
+  EXPECT_EQ(solverField(hierarchicalFile), 1u);
+  HarmonicBasis read;
+  EXPECT_EQ(readBasisCache(hierarchicalFile, m_key, read), CacheReadStatus::Mismatch) << "asked for Lanczos";
+  EXPECT_EQ(readBasisCache(lanczosFile, hierarchical, read), CacheReadStatus::Mismatch) << "asked for hierarchical";
+  EXPECT_EQ(readBasisCache(hierarchicalFile, hierarchical, read), CacheReadStatus::Hit);
+  EXPECT_EQ(read.vectors, m_basis.vectors);
 }
 
 // Issue 14, item 11: the temporary file has a unique name, created exclusively. A file or link already at the old

@@ -4,6 +4,7 @@
 #include "app/cli/peer_arguments.h"
 #include "app/cli/session_setup.h"
 #include "app/common/password_memory.h"
+#include "session/engine/constraint_work.h"
 #include "session/wire/handle_transforms.h"
 #include "spectral/hausdorff.h"
 
@@ -45,9 +46,24 @@ int runDriveCommand(const QStringList& arguments) {
     client.leave();
     return kExitUsage;
   }
-  const spectral::ConstraintSet& constraints = std::get<spectral::ConstraintSet>(resolved);
+  spectral::ConstraintSet constraints = std::get<spectral::ConstraintSet>(resolved);
 
   QTextStream out(stderr);  // progress; stdout carries only the report (one JSON line with --json)
+  // Within the host's work bound (constraint_work.h): on a dense mesh the script's anchors are thinned evenly.
+  std::size_t handleIds = 0;
+  for (const spectral::HandleGroup& group : constraints.handles) handleIds += group.vertices.size();
+  const std::size_t anchorsGiven = constraints.anchors.size();
+  const std::size_t stride =
+      session::thinAnchors(constraints.anchors, handleIds, session::maxConstraintIds(client.session()->rowCount));
+  if (stride != 1) {
+    out << QStringLiteral(
+               "%1 handle and %2 anchor vertices: keeping one anchor in %3 (%4) within the host's work "
+               "bound\n")
+               .arg(handleIds)
+               .arg(anchorsGiven)
+               .arg(stride)
+               .arg(constraints.anchors.size());
+  }
   out << "waiting for the lock\n";
   out.flush();
   client.requestLock();

@@ -1,5 +1,6 @@
 #include "app/cli/join_command.h"
 
+#include "app/cli/peak_memory.h"
 #include "app/cli/peer_arguments.h"
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/session_setup.h"
@@ -8,6 +9,7 @@
 #include "session/net/distortion_meter.h"
 
 #include <QCoreApplication>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -136,10 +138,20 @@ std::optional<JoinArguments> parseJoinArguments(SubcommandParser& command, const
   return args;
 }
 
-QJsonObject figures(session::SessionClient& client, const session::DistortionMeter& meter) {
+/// When the first level became ready: seconds from client.start(), and the stream bytes read by then.
+struct JoinTiming {
+  double levelReadySeconds = 0.0;
+  std::uint64_t levelReadyBytes = 0;
+};
+
+QJsonObject figures(session::SessionClient& client, const session::DistortionMeter& meter, const JoinTiming& timing) {
   const session::ReceiverReport r = client.channel().peek(session::sessionNow());
   const session::DistortionSummary& hd = meter.summary();
-  return {{QStringLiteral("state"), QString::fromLatin1(QMetaEnum::fromType<session::SessionClient::State>().valueToKey(
+  return {{QStringLiteral("level_ready_s"), timing.levelReadySeconds},
+          {QStringLiteral("level_ready_stream_bytes"), static_cast<qint64>(timing.levelReadyBytes)},
+          {QStringLiteral("stream_bytes"), static_cast<qint64>(client.streamBytesRead())},
+          {QStringLiteral("peak_rss_mb"), peakResidentMegabytes()},
+          {QStringLiteral("state"), QString::fromLatin1(QMetaEnum::fromType<session::SessionClient::State>().valueToKey(
                                         static_cast<int>(client.state())))},
           {QStringLiteral("level_vertices"), static_cast<qint64>(client.levelVertexCount())},
           {QStringLiteral("frames_applied"), static_cast<qint64>(client.channel().framesApplied())},
@@ -222,15 +234,33 @@ int runJoinCommand(const QStringList& arguments) {
   });
   // Under an emulated link rate a large level takes as long as it takes (46 MB at 1 Mbit/s: 6 minutes).
   const bool rated = args->client.impairment && args->client.impairment->rate.bitsPerSecond > 0.0;
-  if (!joinAndWait(command, client, rated ? std::chrono::seconds(3600) : std::chrono::seconds(120))) {
-    return kExitNetwork;
+  QElapsedTimer sinceStart;
+  sinceStart.start();
+  const std::chrono::milliseconds levelWait = rated ? std::chrono::seconds(3600) : std::chrono::seconds(120);
+  if (!joinAndWait(command, client, levelWait)) return kExitNetwork;
+  // A progressive join is Ready on the host's smallest level; the figures below are those of the requested one.
+  if (client.levelPending()) {
+    const session::Welcome& welcome = *client.session();
+    const bool arrived = waitUntil(
+        [&client] { return !client.levelPending() || client.state() != session::SessionClient::State::Ready; },
+        levelWaitTimeout(welcome.vertexCount, welcome.rowCount, levelWait));
+    if (!arrived || client.state() != session::SessionClient::State::Ready) {
+      command.error(QStringLiteral("the requested level did not arrive: %1").arg(client.errorText()));
+      return kExitNetwork;
+    }
   }
-  QTextStream(progress) << QStringLiteral("joined as peer %1, displaying %2 vertices\n")
+  const JoinTiming timing{static_cast<double>(sinceStart.nsecsElapsed()) / 1e9, client.streamBytesRead()};
+  QTextStream(progress) << QStringLiteral(
+                               "joined as peer %1, displaying %2 vertices: level ready in %3 s, %4 bytes "
+                               "read, peak RSS %5 MB\n")
                                .arg(client.peerId())
-                               .arg(client.levelVertexCount());
+                               .arg(client.levelVertexCount())
+                               .arg(timing.levelReadySeconds, 0, 'f', 2)
+                               .arg(timing.levelReadyBytes)
+                               .arg(peakResidentMegabytes(), 0, 'f', 0);
 
   QTimer ticker;
-  QObject::connect(&ticker, &QTimer::timeout, &client, [&] { printLine(figures(client, meter), progress); });
+  QObject::connect(&ticker, &QTimer::timeout, &client, [&] { printLine(figures(client, meter, timing), progress); });
   ticker.start(1000);
   const auto stop = [&client] {
     client.leave();
@@ -244,7 +274,7 @@ int runJoinCommand(const QStringList& arguments) {
   if (args->seconds) QTimer::singleShot(static_cast<int>(*args->seconds * 1000.0), &client, stop);
   QCoreApplication::exec();
 
-  const QJsonObject final = figures(client, meter);
+  const QJsonObject final = figures(client, meter, timing);
   if (client.leaveReason()) {  // the host ended the session or removed us: no error, but say so
     QTextStream(progress) << QStringLiteral("session ended: %1\n").arg(client.errorText());
   }

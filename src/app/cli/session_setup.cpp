@@ -8,7 +8,10 @@
 #include <QEventLoop>
 #include <QTimer>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
 
 namespace sc::app {
 
@@ -41,18 +44,33 @@ bool waitUntil(const std::function<bool()>& done, std::chrono::milliseconds time
   return done();
 }
 
+std::chrono::milliseconds levelWaitTimeout(std::uint32_t vertices, std::uint16_t rows,
+                                           std::chrono::milliseconds floor) {
+  constexpr double kFloorSize = 1e7;  // n·m of the 100k dragon at m = 100
+  const double scale = std::max(1.0, static_cast<double>(vertices) * static_cast<double>(rows) / kFloorSize);
+  return std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(static_cast<double>(floor.count()) * scale)));
+}
+
 bool joinAndWait(const SubcommandParser& command, session::SessionClient& client, std::chrono::milliseconds timeout) {
   using State = session::SessionClient::State;
   client.start();
-  const bool finished = waitUntil(
-      [&client] {
-        const State s = client.state();
-        return s == State::Ready || s == State::Failed || s == State::Left;
-      },
-      timeout);
+  QElapsedTimer clock;
+  clock.start();
+  const auto limit = [&client, timeout] {
+    const std::optional<session::Welcome>& welcome = client.session();
+    return welcome ? levelWaitTimeout(welcome->vertexCount, welcome->rowCount, timeout) : timeout;
+  };
+  const auto ended = [&client] {
+    const State s = client.state();
+    return s == State::Ready || s == State::Failed || s == State::Left;
+  };
+  // The deadline grows once the Welcome tells the session's size: the predicate reads it at every turn.
+  const bool finished =
+      waitUntil([&] { return ended() || clock.elapsed() > limit().count(); }, std::chrono::hours(24 * 365)) && ended();
   if (client.state() == State::Ready) return true;
   if (!finished) {
-    command.error(QStringLiteral("no model from the host within %1 s").arg(timeout.count() / 1000.0));
+    command.error(
+        QStringLiteral("no model from the host within %1 s").arg(static_cast<double>(limit().count()) / 1000.0));
   } else {
     command.error(QStringLiteral("session failed: %1").arg(client.errorText()));
   }

@@ -10,6 +10,7 @@
 #include <QString>
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -26,8 +27,16 @@ std::shared_ptr<const session::HostModel> loadHostModel(const SubcommandParser& 
 /// `timeout` passed. Returns done(). For the command's own sequential steps (join, wait for a level, …).
 bool waitUntil(const std::function<bool()>& done, std::chrono::milliseconds timeout);
 
-/// Starts `client` and waits until it is Ready (a level is displayed) or failed/left/timed out; on failure prints
-/// the client's reason through `command.error()`. Returns true when Ready.
+/// How long a client waits for its first level, from its start, once the Welcome has told the session's shape (n
+/// vertices, m rows): `floor` up to n·m = 10⁷ (the 100k dragon at m = 100, the size the floors were set for), and
+/// proportionally longer above, since the host builds, compresses and sends the full level, and the client decodes
+/// it, in time ∝ n·m (1M vertices at m = 100: 10 × floor). O(1).
+[[nodiscard]] std::chrono::milliseconds levelWaitTimeout(std::uint32_t vertices, std::uint16_t rows,
+                                                         std::chrono::milliseconds floor);
+
+/// Starts `client` and waits until it is Ready (a level is displayed) or failed/left/timed out (`timeout` until the
+/// Welcome, then levelWaitTimeout(n, m, timeout) from the start); on failure prints the client's reason through
+/// `command.error()`. Returns true when Ready.
 bool joinAndWait(const SubcommandParser& command, session::SessionClient& client, std::chrono::milliseconds timeout);
 
 /// A constraint set as the Constraints message carries it: full-resolution vertex ids per handle group, anchors.

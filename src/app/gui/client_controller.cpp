@@ -4,12 +4,14 @@
 #include "app/gui/client_controller.h"
 
 #include "app/gui/vertex_id_lists.h"
+#include "session/engine/constraint_work.h"
 #include "session/net/distortion_meter.h"
 #include "session/net/session_client.h"
 #include "session/net/tls_known_hosts.h"
 #include "session/wire/handle_transforms.h"
 
 #include <cmath>
+#include <vector>
 
 namespace sc::app {
 
@@ -157,8 +159,11 @@ spectral::DisplayVertexIds ClientController::displayedVertices(const spectral::L
 }
 
 bool ClientController::sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) {
-  return m_client->sendConstraints({spectral::plainIndices<spectral::FullVertexTag>(handle)},
-                                   spectral::plainIndices<spectral::FullVertexTag>(anchors));
+  if (!m_client->session()) return false;
+  // Within the host's work bound (constraint_work.h): a brush on a dense mesh anchors more ids than it allows.
+  std::vector<std::uint32_t> held = spectral::plainIndices<spectral::FullVertexTag>(anchors);
+  session::thinAnchors(held, handle.size(), session::maxConstraintIds(m_client->session()->rowCount));
+  return m_client->sendConstraints({spectral::plainIndices<spectral::FullVertexTag>(handle)}, std::move(held));
 }
 
 bool ClientController::sendPose(const spectral::HandleTransform& pose) {

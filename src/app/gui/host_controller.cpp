@@ -8,6 +8,7 @@
 #include "app/gui/vertex_id_lists.h"
 #include "model/decimating_level_builder.h"
 #include "model/session_file.h"
+#include "session/engine/constraint_work.h"
 #include "session/engine/host_model.h"
 #include "session/net/host_datagram_channel.h"
 #include "session/net/session_host.h"
@@ -254,7 +255,10 @@ spectral::DisplayVertexIds HostController::displayedVertices(const spectral::Loc
 }
 
 bool HostController::sendConstraints(const spectral::FullVertexIds& handle, const spectral::FullVertexIds& anchors) {
-  return m_host->setConstraints(constraintSet(handle, anchors));
+  // The same bound as a member's (constraint_work.h), so the host's own drag costs what a member's may.
+  spectral::FullVertexIds held = anchors;
+  if (m_model) session::thinAnchors(held, handle.size(), session::maxConstraintIds(m_model->rowCount()));
+  return m_host->setConstraints(constraintSet(handle, held));
 }
 
 bool HostController::sendPose(const spectral::HandleTransform& pose) {

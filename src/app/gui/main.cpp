@@ -17,6 +17,7 @@
 #include "app/common/sibling_executable.h"
 #include "app/gui/app_theme.h"
 #include "app/gui/demo.h"
+#include "app/gui/event_loop_stalls.h"
 #include "app/gui/first_start.h"
 #include "app/gui/launch_options.h"
 #include "app/gui/main_window.h"
@@ -31,6 +32,7 @@
 #include <QTimer>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <optional>
 #include <span>
@@ -162,6 +164,11 @@ int main(int argc, char* argv[]) {
     return kLaunchExitNoOpenGl;
   }
   sc::app::applySystemColorScheme();
+  // SHAPECAST_STALL_MS=N: say on stderr each time the window's event loop stood still for N ms or more.
+  bool stallsAsked = false;
+  const int stallMs = qEnvironmentVariableIntValue("SHAPECAST_STALL_MS", &stallsAsked);
+  std::optional<sc::app::EventLoopStalls> stalls;
+  if (stallsAsked && stallMs > 0) stalls.emplace(std::chrono::milliseconds(stallMs), true);
   if (options.screenshotDirectory) {
     printError(sc::app::execSibling(QStringLiteral("shapecast-screenshots"), given) +
                QStringLiteral(" (--screenshot-dir: build the target shapecast-screenshots, tools/screenshots/)"));

@@ -52,6 +52,7 @@
 // Network input never asserts (style.md item 6). Cost: O(peers) per event, plus a deformer solve per drag frame.
 // Not thread-safe: one thread drives it.
 
+#include "session/engine/constraint_work.h"
 #include "session/engine/edit_history.h"
 #include "session/engine/handshake_host.h"
 #include "session/engine/host_engine_actions.h"
@@ -116,7 +117,7 @@ struct HostEngineOptions {
   RateLimit presenceRate{30.0, 30.0};                ///< Presence relayed per peer; over it: dropped, never closed
   /// Constraints whose (handle + anchor ids) · m² exceeds this are rejected: bounds the refactoring's work and its
   /// ids × m temporary (30000 ids at m = 128: 90–150 ms on one core, off the network thread; 31 MB).
-  double maxConstraintWork = 30000.0 * 128.0 * 128.0;
+  double maxConstraintWork = kMaxConstraintWork;
   /// The lock holder is revoked after holding this long while others wait (from the grant, or from when the queue
   /// became non-empty, whichever is later); 0 = never.
   std::chrono::milliseconds maxLockHoldWhileWaited = kMaxLockHoldWhileWaited;

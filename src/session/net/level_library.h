@@ -11,8 +11,9 @@
 // digest (ModelSender's precomputed-digest constructor), so no transfer encodes or hashes on the network thread. The
 // result is handed back through a queued call, so levelReady()/levelFailed() are emitted on the owner's thread. The
 // destructor joins a running build (it waits for it to finish). Each target is built at most once; a failure is cached
-// too. Explicit request()s are built first (in order); prefetchAll() queues the rest of the ladder behind them, so that
-// levelList() soon holds every level's exact figures (the LevelList message).
+// too. Explicit request()s are built first (in order); prefetchAll() queues the rest of the ladder behind them
+// (smallest first, the full model last), so that levelList() soon holds every level's exact figures (the LevelList
+// message).
 
 #include "session/engine/host_model.h"
 #include "session/engine/level_builder.h"
@@ -44,8 +45,9 @@ class LevelLibrary final : public QObject {
     std::uint32_t vertexCount = 0;  ///< the level's actual vertex count n' (decimation may miss the target)
     std::uint32_t faceCount = 0;    ///< the level's face count
     TransferKind kind = TransferKind::FullModel;
-    QByteArray payload;  ///< encodeResolutionLevel() bytes, 1..kMaxTransferSize
-    QByteArray sha256;   ///< sha256(payload), computed once on the worker (ModelBegin::sha256 of every transfer)
+    QByteArray payload;         ///< encodeResolutionLevel() bytes, 1..kMaxTransferSize
+    QByteArray sha256;          ///< sha256(payload), computed once on the worker (ModelBegin::sha256 of every transfer)
+    double buildSeconds = 0.0;  ///< wall time of the worker's build, encoding, hashing and compression
   };
 
   /// @param model    non-null, with #V ≥ 3 and a basis of #V rows.

@@ -96,6 +96,12 @@ void SessionHost::onClosed(HostPeerConnection* connection) {
 void SessionHost::onLevelReady(std::uint32_t target) {
   const LevelLibrary::Level* level = m_levels->find(target);
   if (level == nullptr) return;
+  // One line per built level (shapecast-cli host prints it; scripts/large-mesh-e2e.sh reads it).
+  emit logMessage(QStringLiteral("level built: %1 vertices, %2 faces, %3 bytes to send, in %4 s")
+                      .arg(level->vertexCount)
+                      .arg(level->faceCount)
+                      .arg(level->payload.size())
+                      .arg(level->buildSeconds, 0, 'f', 2));
   apply(m_engine.onLevelReady(target, LevelLibrary::figures(*level), sessionNow()));
 }
 
