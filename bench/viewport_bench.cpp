@@ -6,7 +6,8 @@
 // synchronous repaint() and glFinish(). This file is the viewport's timing probe: the widget only exposes frameTimes(),
 // paintCount() and a stage hook (MeshViewport::setStageHook()) that --profile fills with glFinish(). Prints median and
 // p90 of every stage (FrameTimes) and of the whole frame, with "compose" = frame − host stages − paintGL stages (the
-// QOpenGLWidget composition into the window and the swap, i.e. the Xvfb blit). Baselines: "empty" (no mesh: background
+// swap of the viewport's window surface, ViewportSurface, i.e. the Xvfb blit; a QOpenGLWidget's composition into the
+// window before issue 16 item 5). Baselines: "empty" (no mesh: background
 // only) and "static" (mesh, no new positions).
 //
 // Usage: shapecast-bench-viewport [--frames 30] [--size 1024x768] [--m 100] [--profile] [--proxy-only] [MESH ...]

@@ -21,7 +21,6 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
-#include <QPainter>
 #include <QProcess>
 #include <QStatusBar>
 #include <QTest>
@@ -246,13 +245,9 @@ TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople)
   if (const QByteArray path = qgetenv("SHAPECAST_COEDITING_SCREENSHOT"); !path.isEmpty()) {
     hostWindow.viewport()->lookFrom(QVector3D(0.0f, -5.5f, 3.2f), QVector3D(0.0f, 0.0f, 0.0f));
     QTest::qWait(300);
+    // The window with the viewport's own frame in it (MainWindow::grabWindow()).
     hostWindow.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
-    QImage shot = hostWindow.grab().toImage();  // the overlay's QPainter, then the viewport's framebuffer under it
-    {
-      QPainter painter(&shot);
-      const QPoint at = hostWindow.viewport()->mapTo(&hostWindow, QPoint(0, 0));
-      painter.drawImage(QRect(at, hostWindow.viewport()->size()), hostWindow.viewport()->grabFramebuffer());
-    }
+    const QImage shot = hostWindow.grabWindow();
     EXPECT_TRUE(shot.save(QString::fromLocal8Bit(path)));
   }
 

@@ -133,7 +133,7 @@ TEST_F(DemoTest, ThreeWindowsBothClientsLive) {
                                                          {demo.fullClientWindow(), "demo-client-full.png"},
                                                          {demo.lowClientWindow(), "demo-client-low.png"}};
     for (const auto& [window, file] : files) {
-      const QImage image = window->grab().toImage();
+      const QImage image = window->grabWindow();
       EXPECT_FALSE(image.isNull());
       EXPECT_TRUE(image.save(QDir(shots).filePath(QString::fromLatin1(file)), "PNG")) << file;
     }

@@ -191,14 +191,9 @@ TEST_F(PresenceWindows, TheClientsCameraAndPointerShowOnTheHost) {
     const QVector3D between(0.9f, 0.5f, 0.6f);
     hostWindow.viewport()->lookFrom(between + 9.0f * QVector3D(-0.35f, 0.5f, 0.8f).normalized(), between);
     QTest::qWait(200);
-    // The window with the viewport's own framebuffer over it: QWidget::grab() redirects the overlay's QPainter.
+    // The window with the viewport's own frame in it (MainWindow::grabWindow()).
     hostWindow.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
-    QImage shot = hostWindow.grab().toImage();
-    {
-      QPainter painter(&shot);
-      const QPoint at = hostWindow.viewport()->mapTo(&hostWindow, QPoint(0, 0));
-      painter.drawImage(QRect(at, hostWindow.viewport()->size()), hostWindow.viewport()->grabFramebuffer());
-    }
+    const QImage shot = hostWindow.grabWindow();
     EXPECT_TRUE(shot.save(QString::fromLocal8Bit(path)));
   }
 

@@ -230,8 +230,8 @@ TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
 
   // Screenshots are not blank.
   QTest::qWait(200);
-  const QImage hostShot = hostWindow.grab().toImage();
-  const QImage clientShot = clientWindow.grab().toImage();
+  const QImage hostShot = hostWindow.grabWindow();
+  const QImage clientShot = clientWindow.grabWindow();
   ASSERT_FALSE(hostShot.isNull());
   ASSERT_FALSE(clientShot.isNull());
   EXPECT_GT(pixelStdDev(hostShot), 5.0);

@@ -69,7 +69,7 @@ void save(MainWindow& window, const QString& name) {
   if (dir.isEmpty()) return;
   window.docks()->repaintBatch()->releaseNow();  // grab() draws nothing of widgets whose painting is held
   QDir().mkpath(dir);
-  EXPECT_TRUE(window.grab().save(QDir(dir).filePath(name)));
+  EXPECT_TRUE(window.grabWindow().save(QDir(dir).filePath(name)));
 }
 
 class WindowTextFitTest : public sc::testing::TorusSessionTest {};

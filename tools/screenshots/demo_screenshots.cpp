@@ -185,7 +185,7 @@ void DemoScreenshots::grabMainWindow() {
 void DemoScreenshots::save(MainWindow* window, const QString& name) {
   const QString path = QDir(m_options.directory).filePath(name);
   if (window->docks() != nullptr) window->docks()->repaintBatch()->releaseNow();  // grab() skips held widgets
-  const QImage image = window->grab().toImage();
+  const QImage image = window->grabWindow();
   if (image.isNull() || !image.save(path, "PNG")) m_failures << tr("could not write %1").arg(path);
 }
 

@@ -67,7 +67,7 @@ void saveFirstFrameAndQuit(sc::app::MeshViewport* viewport, const QString& file)
     QCoreApplication::exit(saved ? 0 : kLaunchExitImageFailed);
   };
   QObject::connect(
-      viewport, &QOpenGLWidget::frameSwapped, viewport, [grabAndQuit] { QTimer::singleShot(0, grabAndQuit); },
+      viewport, &sc::app::MeshViewport::frameSwapped, viewport, [grabAndQuit] { QTimer::singleShot(0, grabAndQuit); },
       Qt::SingleShotConnection);
   QObject::connect(timeout, &QTimer::timeout, viewport, grabAndQuit);
   timeout->start(kFirstFrameTimeoutMs);

@@ -26,6 +26,7 @@
 #include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QPainter>
 #include <QStatusBar>
 
 #include <filesystem>
@@ -210,6 +211,16 @@ bool MainWindow::saveScreenshot(const QString& path, QString* error) {
     return false;
   }
   return true;
+}
+
+QImage MainWindow::grabWindow() {
+  QImage image = grab().toImage();
+  const QImage view = ui->viewport->grabFramebuffer();
+  if (!image.isNull() && !view.isNull() && ui->viewport->isVisible()) {
+    QPainter painter(&image);
+    painter.drawImage(QRect(ui->viewport->mapTo(this, QPoint(0, 0)), ui->viewport->size()), view);
+  }
+  return image;
 }
 
 void MainWindow::chooseAndExportMesh() {

@@ -154,6 +154,9 @@ class MainWindow : public QMainWindow {
   bool exportDeformedMesh(const QString& path, QString* error = nullptr);
   /// Saves the viewport's framebuffer as a PNG image. False with `error` on failure.
   bool saveScreenshot(const QString& path, QString* error = nullptr);
+  /// The whole window as shown: QWidget::grab() with the viewport's frame (MeshViewport::grabFramebuffer()) drawn
+  /// where the viewport is, since grab() cannot see the viewport's window surface.
+  [[nodiscard]] QImage grabWindow();
   /// File → Save Session…: writes the hosted session (mesh, m, mode, current shape, undo history) to `path`
   /// (session_snapshot.h). False with a readable `error` unless this window is a live host or when writing fails.
   bool saveSession(const QString& path, QString* error = nullptr);

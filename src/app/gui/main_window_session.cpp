@@ -140,7 +140,7 @@ void MainWindow::connectViewportToSession() {
     m_session->endDrag();
     m_editActions->refresh();
   });
-  connect(ui->viewport, &QOpenGLWidget::frameSwapped, this, [this] {
+  connect(ui->viewport, &MeshViewport::frameSwapped, this, [this] {
     const FrameTimes& frame = ui->viewport->frameTimes();
     if (m_redrawPending) {
       m_redrawPending = false;

@@ -7,6 +7,7 @@
 #include "app/gui/viewport/vertex_arrays.h"
 
 #include <QMouseEvent>
+#include <QVBoxLayout>
 
 #include <algorithm>
 #include <cassert>
@@ -14,10 +15,16 @@
 namespace sc::app {
 
 MeshViewport::MeshViewport(QWidget* parent)
-    : QOpenGLWidget(parent),
+    : QWidget(parent),
       m_frames(m_buffers, RendererDefaults::reconstructionPath()),
       m_policy(RendererDefaults::adaptiveResolution()),
-      m_input(*this) {
+      m_input(*this),
+      m_surface(new ViewportSurface(*this, *this)) {
+  m_container = QWidget::createWindowContainer(m_surface, this);  // takes the surface
+  m_container->setFocusPolicy(Qt::NoFocus);  // keys reach this widget (and the window's shortcuts) directly
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(m_container);
   setSampleCount(RendererDefaults::sampleCount());
   setFocusPolicy(Qt::StrongFocus);
   setMouseTracking(true);  // the brush outline follows the cursor
@@ -25,10 +32,11 @@ MeshViewport::MeshViewport(QWidget* parent)
   m_restoreTimer.setInterval(FramePolicy::kIdleRestoreMs +
                              FramePolicy::kIdleRestoreMs / 10);  // the next paint is no longer interactive
   connect(&m_restoreTimer, &QTimer::timeout, this, qOverload<>(&MeshViewport::update));
-  connect(this, &QOpenGLWidget::frameSwapped, this, [this] {
+  connect(m_surface, &QOpenGLWindow::frameSwapped, this, [this] {
     if (const double ms = m_policy.msSincePaint(); ms >= 0.0) {
       m_frameTimes.composeMs = ms;
     }
+    emit frameSwapped();
   });
   connect(&m_input, &ViewportInput::handlePainted, this, &MeshViewport::handlePainted);
   connect(&m_input, &ViewportInput::anchorsPainted, this, &MeshViewport::anchorsPainted);
@@ -37,7 +45,10 @@ MeshViewport::MeshViewport(QWidget* parent)
   connect(&m_input, &ViewportInput::dragFinished, this, &MeshViewport::dragFinished);
 }
 
-MeshViewport::~MeshViewport() { cleanup(); }
+MeshViewport::~MeshViewport() {
+  cleanup();
+  delete m_container;  // the surface and its context go now, while this object is whole
+}
 
 QSize MeshViewport::minimumSizeHint() const { return {200, 150}; }
 
@@ -208,7 +219,7 @@ void MeshViewport::setReconstructionPath(ReconstructionPath path) {
 
 // Whether a frame of a moving shape may draw the interactive proxy (see setInteractiveProxy()).
 bool MeshViewport::proxyMayDraw() const {
-  return m_policy.proxyMayDraw({.singleSampled = format().samples() <= 0,
+  return m_policy.proxyMayDraw({.singleSampled = sampleCount() <= 0,
                                 .hasProxy = !m_buffers.proxyIndices().empty(),
                                 .wireframe = m_wireframe,
                                 .painting = m_input.painting(),
@@ -266,7 +277,7 @@ void MeshViewport::mouseMoveEvent(QMouseEvent* event) {
 
 void MeshViewport::leaveEvent(QEvent* event) {
   setPointer(std::nullopt);
-  QOpenGLWidget::leaveEvent(event);
+  QWidget::leaveEvent(event);
 }
 
 // ---------------------------------------------------------------------------------------------------- presence

@@ -1,6 +1,7 @@
 #pragma once
 // MeshViewport: an OpenGL 3.3 core view of one triangle mesh, with orbit/pan/zoom, a selection brush and a handle
-// drag. The widget composes classes with one job each (src/app/gui/viewport/): ViewportBuffers (host arrays and GL
+// drag. The widget draws on a window surface (ViewportSurface, a QOpenGLWindow in a createWindowContainer()) and
+// composes classes with one job each (src/app/gui/viewport/): ViewportBuffers (host arrays and GL
 // buffers, one dirty mask), ShownLevel (the shared display level and its frame), CpuReconstructor and
 // GpuReconstructor (the two paths of X̂' + K·Z: the spectral kernel and the vertex shader), FramePolicy (proxy and
 // adaptive resolution of moving frames), ViewportInput (mouse gestures → intent signals such as handlePainted
@@ -19,15 +20,17 @@
 #include "app/gui/viewport/viewport_buffers.h"
 #include "app/gui/viewport/viewport_input.h"
 #include "app/gui/viewport/viewport_selection.h"
+#include "app/gui/viewport/viewport_surface.h"
 #include "spectral/display_level.h"
 
 #include <Eigen/Core>
 
+#include <QImage>
 #include <QOpenGLFunctions>
-#include <QOpenGLWidget>
 #include <QString>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <QWidget>
 
 #include <functional>
 #include <memory>
@@ -48,9 +51,15 @@ namespace sc::app {
 /// each stroke the mesh is rendered into an offscreen depth buffer that is read back, and only vertices within
 /// brushRadius() pixels of the cursor whose depth matches the rendered surface are painted (projectToScreen()).
 ///
-/// GL lifetime follows Qt's hellogl2: nothing GL happens in the constructor; GL objects are made in
-/// initializeGL() and released in cleanup(), which runs on QOpenGLContext::aboutToBeDestroyed and in the
-/// destructor. Setters only update host-side data, mark it dirty and call update(); paintGL() uploads lazily.
+/// GL lifetime follows Qt's hellogl2: nothing GL happens in the constructor; GL objects are made when the surface's
+/// context is (initializeSurface()) and released in cleanup(), which runs on QOpenGLContext::aboutToBeDestroyed and
+/// in the destructor. Setters only update host-side data, mark it dirty and call update(); the paint uploads lazily.
+///
+/// The surface: the GL picture is a ViewportSurface (QOpenGLWindow) filling this widget through
+/// QWidget::createWindowContainer(); the window re-sends its input events to this widget, so the handlers below get
+/// both real pointer events and QTest events sent to the widget. update() and repaint() (hiding QWidget's) repaint
+/// the surface; grabFramebuffer() renders a frame offscreen, as QOpenGLWidget's did; frameSwapped() follows each
+/// swap of the window.
 ///
 /// Multisampling, reconstruction path and adaptive resolution start from RendererDefaults (none, CPU and on for a
 /// software rasteriser such as Mesa llvmpipe). Deformation frames come either as positions (setPositions*(): a plain
@@ -60,7 +69,10 @@ namespace sc::app {
 /// resolution, interactive proxy) and the view redraws itself in full once idle. frameTimes() reports each frame.
 ///
 /// Signals carry std::vector / Eigen values and are meant for direct (same-thread) connections.
-class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private ViewportInput::View {
+class MeshViewport : public QWidget,
+                     protected QOpenGLFunctions,
+                     private ViewportInput::View,
+                     private ViewportSurface::Client {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(MeshViewport)
 
@@ -70,7 +82,24 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
 
   /// Multisample count of this widget's framebuffer; takes effect only before the widget is first shown.
   void setSampleCount(int samples);
-  [[nodiscard]] int sampleCount() const { return format().samples(); }
+  [[nodiscard]] int sampleCount() const { return m_surface->format().samples(); }
+
+  // --- the surface (QOpenGLWidget's calls, kept for the callers)
+  /// Schedules a repaint of the surface (hides QWidget::update(): this widget itself shows nothing).
+  void update();
+  /// Paints the surface now when it is exposed, else schedules it (hides QWidget::repaint()).
+  void repaint();
+  /// Renders a frame (a paint, as on screen) into an offscreen framebuffer and returns it (device pixels, RGB32);
+  /// a null image without a GL context.
+  [[nodiscard]] QImage grabFramebuffer();
+  /// Makes the surface's context current (creating it and running the GL initialisation at the first call when
+  /// the window exists), and releases it.
+  void makeCurrent();
+  void doneCurrent();
+  /// The surface's context (nullptr before the first paint or makeCurrent()).
+  [[nodiscard]] QOpenGLContext* context() const { return m_surface->context(); }
+  /// The window surface itself (e.g. tests that send events to the window).
+  [[nodiscard]] ViewportSurface* surface() const { return m_surface; }
 
   explicit MeshViewport(QWidget* parent = nullptr);
   ~MeshViewport() override;
@@ -188,8 +217,7 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   [[nodiscard]] bool wireframe() const { return m_wireframe; }
 
   [[nodiscard]] int vertexCount() const override { return m_vertexCount; }
-  /// How many times paintGL() has run (for timing harnesses: Qt 6 turns a repaint() less than one display frame
-  /// after the previous composition into an update(), so a synchronous frame needs ~17 ms since the last one).
+  /// How many frames were painted (on the window, or offscreen by grabFramebuffer()); for timing harnesses.
   [[nodiscard]] int paintCount() const { return m_paintCount; }
   [[nodiscard]] int triangleCount() const { return static_cast<int>(m_buffers.indices().size() / 3); }
   [[nodiscard]] const OrbitCamera& camera() const { return m_camera; }
@@ -253,11 +281,10 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   void dragFinished();
   /// The user orbited, panned or zoomed (not lookFrom(), not a re-frame).
   void cameraMovedByUser();
+  /// A frame was swapped onto the window (QOpenGLWindow::frameSwapped()).
+  void frameSwapped();
 
  protected:
-  void initializeGL() override;
-  void paintGL() override;
-  void resizeGL(int width, int height) override;
   void mousePressEvent(QMouseEvent* event) override;
   void mouseMoveEvent(QMouseEvent* event) override;
   void mouseReleaseEvent(QMouseEvent* event) override;
@@ -266,8 +293,15 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   void leaveEvent(QEvent* event) override;
 
  private:
+  // ViewportSurface::Client.
+  void initializeSurface() override;
+  void paintSurface(unsigned framebuffer) override;
+  void resizeSurface(int width, int height) override;
+
   // ViewportInput::View.
-  QWidget& widget() override { return *this; }
+  [[nodiscard]] QSize viewSize() const override { return size(); }
+  [[nodiscard]] double pixelRatio() const override { return devicePixelRatioF(); }
+  void requestRepaint() override { update(); }
   OrbitCamera& viewCamera() override { return m_camera; }
   std::span<const float> pickPositions() override;
   DepthImage renderDepth() override;
@@ -313,7 +347,9 @@ class MeshViewport : public QOpenGLWidget, protected QOpenGLFunctions, private V
   std::optional<QVector3D> m_pointer;  // viewport coordinates
   float m_sceneDiagonal = 1.0f;        // of the scene bounds (the presence markers' scale)
 
-  // GL side (valid between initializeGL() and cleanup()).
+  // GL side (valid between initializeSurface() and cleanup()).
+  ViewportSurface* m_surface = nullptr;  // owned by m_container
+  QWidget* m_container = nullptr;        // createWindowContainer(m_surface), a child of this widget
   ScenePasses m_passes;
   QOpenGLFunctions_3_3_Core* m_gl33 = nullptr;  // owned by the context
   int m_paintCount = 0;

@@ -1,6 +1,7 @@
-// MeshViewport, the GL side: the context's lifetime (hellogl2), the paint (FramePolicy's decision, then
-// ScenePasses::drawFrame() and the input's overlay), the depth read-back used for picking and the GPU path's
-// read-back. The vertex data lives in ViewportBuffers, the GPU path's program in GpuReconstructor.
+// MeshViewport, the GL side: the surface's context lifetime (hellogl2), the paint (FramePolicy's decision, then
+// ScenePasses::drawFrame() and the overlays) on the window or offscreen (grabFramebuffer()), the depth read-back used
+// for picking and the GPU path's read-back. The vertex data lives in ViewportBuffers, the GPU path's program in
+// GpuReconstructor.
 
 #include "app/gui/mesh_viewport.h"
 
@@ -8,7 +9,9 @@
 #include "app/gui/viewport/vertex_arrays.h"
 
 #include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
 #include <QOpenGLFunctions_3_3_Core>
+#include <QOpenGLPaintDevice>
 #include <QOpenGLVersionFunctionsFactory>
 #include <QPainter>
 
@@ -17,9 +20,35 @@
 namespace sc::app {
 
 void MeshViewport::setSampleCount(int samples) {
-  QSurfaceFormat f = format();
+  QSurfaceFormat f = m_surface->requestedFormat();
   f.setSamples(std::max(0, samples));
-  setFormat(f);
+  m_surface->setFormat(f);
+}
+
+void MeshViewport::update() { m_surface->update(); }
+
+void MeshViewport::repaint() { m_surface->paintNow(); }
+
+void MeshViewport::makeCurrent() { m_surface->makeContextCurrent(); }
+
+void MeshViewport::doneCurrent() { m_surface->doneCurrent(); }
+
+QImage MeshViewport::grabFramebuffer() {
+  // The first call may create the context and run initializeSurface(); never shown: no context to draw with.
+  if (!m_surface->makeContextCurrent() || pixelSize().isEmpty()) {
+    return {};
+  }
+  QOpenGLFramebufferObjectFormat format;
+  format.setAttachment(QOpenGLFramebufferObject::CombinedDepthStencil);
+  format.setSamples(std::max(0, sampleCount()));
+  QOpenGLFramebufferObject target(pixelSize(), format);
+  target.bind();
+  paintSurface(target.handle());
+  QImage image = target.toImage().convertToFormat(QImage::Format_RGB32);
+  image.setDevicePixelRatio(devicePixelRatioF());
+  target.release();
+  doneCurrent();
+  return image;
 }
 
 void MeshViewport::cleanup() {
@@ -40,9 +69,9 @@ void MeshViewport::cleanup() {
   }
 }
 
-void MeshViewport::initializeGL() {
-  // The context is destroyed whenever the widget moves to another top-level window; release our objects then,
-  // and re-create them here when initializeGL() follows (hellogl2).
+void MeshViewport::initializeSurface() {
+  // Release our objects when the context goes (the window's platform surface is destroyed), and re-create them
+  // here when a new context follows (hellogl2).
   connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &MeshViewport::cleanup);
   initializeOpenGLFunctions();
   m_gl33 = QOpenGLVersionFunctionsFactory::get<QOpenGLFunctions_3_3_Core>(context());
@@ -55,10 +84,12 @@ void MeshViewport::initializeGL() {
   setReconstructionPath(m_frames.path());  // falls back to the CPU path if this context cannot draw the basis
 }
 
-void MeshViewport::resizeGL(int width, int height) { m_camera.setViewportSize(width, height); }
+void MeshViewport::resizeSurface(int width, int height) { m_camera.setViewportSize(width, height); }
 
-void MeshViewport::paintGL() {
+void MeshViewport::paintSurface(unsigned framebuffer) {
   ++m_paintCount;
+  // The whole target (the window's paint sets this too; a grab's framebuffer may follow a resize without one).
+  glViewport(0, 0, pixelSize().width(), pixelSize().height());
   // QPainter (the overlay) may leave state behind: reset what the passes below rely on.
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);
@@ -66,7 +97,7 @@ void MeshViewport::paintGL() {
   glDisable(GL_CULL_FACE);
   // Interactive frames (a paint shortly after the previous one) may be drawn at a reduced resolution, or as the
   // interactive proxy; their paint is finished and measured (the rasteriser's time belongs to the measurement).
-  const bool scalable = m_policy.adaptive() && m_gl33 != nullptr && format().samples() <= 0;
+  const bool scalable = m_policy.adaptive() && m_gl33 != nullptr && sampleCount() <= 0;
   const FramePolicy::Frame frame = m_policy.begin(scalable, proxyMayDraw());
   if (!frame.proxy) {
     m_frames.ensureFullVertexData(m_frameTimes);
@@ -78,16 +109,23 @@ void MeshViewport::paintGL() {
   m_frameTimes.triangles = 0;
   if (m_gl33 != nullptr) {
     m_passes.drawFrame(*m_gl33, m_buffers, m_frames.gpu(), gpuBasis(), meshPass(m_wireframe, frame.proxy),
-                       {defaultFramebufferObject(), pixelSize(), frame.scale, frame.scalable}, m_stages, m_frameTimes);
+                       {framebuffer, pixelSize(), frame.scale, frame.scalable}, m_stages, m_frameTimes);
   }
   if (m_policy.end(frame, static_cast<double>(paint.nsecsElapsed()) * 1e-6)) {
     m_restoreTimer.start();
   }
   m_stages.start();
-  m_input.paintOverlay();
-  if (!m_presence.markers().empty()) {
-    QPainter painter(this);
-    m_presence.paint(painter, m_camera.view(), m_camera.projection(), size(), m_sceneDiagonal);
+  if (m_input.overlayShown() || !m_presence.markers().empty()) {
+    // QPainter through a paint device over the bound framebuffer (the window's or the grab's); it changes GL state,
+    // which the next paint resets.
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    QOpenGLPaintDevice device(pixelSize());
+    device.setDevicePixelRatio(devicePixelRatioF());
+    QPainter painter(&device);
+    m_input.paintOverlay(painter, size());
+    if (!m_presence.markers().empty()) {
+      m_presence.paint(painter, m_camera.view(), m_camera.projection(), size(), m_sceneDiagonal);
+    }
   }
   m_frameTimes.overlayMs = m_stages.lap();
   m_frameTimes.renderScale = frame.scale;

@@ -29,7 +29,7 @@ struct FrameTimes {
   double backgroundMs = 0.0;   ///< clear and gradient pass
   double meshMs = 0.0;         ///< the mesh pass(es)
   double overlayMs = 0.0;      ///< QPainter overlay (0 when nothing is shown over the view)
-  double composeMs = 0.0;      ///< paintGL() end → frameSwapped(): Qt's composition into the window and the swap
+  double composeMs = 0.0;      ///< paint end → frameSwapped(): the swap of the viewport's window surface
   double renderScale = 1.0;    ///< internal resolution of the frame (see MeshViewport::setAdaptiveResolution)
   int triangles = 0;           ///< triangles drawn: the mesh's, or its interactive proxy's
   [[nodiscard]] double hostMs() const { return reconstructMs + normalsMs + boundsMs; }

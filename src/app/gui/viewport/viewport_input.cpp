@@ -5,7 +5,6 @@
 #include <QMouseEvent>
 #include <QPainter>
 #include <QWheelEvent>
-#include <QWidget>
 
 #include <algorithm>
 
@@ -22,7 +21,7 @@ ViewportInput::ViewportInput(View& view, QObject* parent) : QObject(parent), m_v
   m_hintTimer.setInterval(kHintMilliseconds);
   connect(&m_hintTimer, &QTimer::timeout, this, [this] {
     m_visibleHint.clear();
-    m_view.widget().update();
+    m_view.requestRepaint();
   });
 }
 
@@ -31,12 +30,12 @@ ViewportInput::~ViewportInput() = default;
 void ViewportInput::setTool(ViewportTool tool) {
   endGesture();
   m_tool = tool;
-  m_view.widget().update();
+  m_view.requestRepaint();
 }
 
 void ViewportInput::setBrushRadius(double pixels) {
   m_brushRadius = std::max(1.0, pixels);
-  m_view.widget().update();
+  m_view.requestRepaint();
 }
 
 void ViewportInput::setDragAllowed(bool allowed, const QString& hint) {
@@ -50,7 +49,7 @@ void ViewportInput::setDragAllowed(bool allowed, const QString& hint) {
 void ViewportInput::showHint(const QString& text) {
   m_visibleHint = text;
   m_hintTimer.start();
-  m_view.widget().update();
+  m_view.requestRepaint();
 }
 
 void ViewportInput::endGesture() {
@@ -82,8 +81,7 @@ void ViewportInput::projectStroke() {
   m_strokeShape = m_view.shapeVersion();
   const std::span<const float> positions = m_view.pickPositions();
   const DepthImage depth = m_view.renderDepth();
-  QWidget& widget = m_view.widget();
-  const QSize framebuffer = (QSizeF(widget.width(), widget.height()) * widget.devicePixelRatioF()).toSize();
+  const QSize framebuffer = (QSizeF(m_view.viewSize()) * m_view.pixelRatio()).toSize();
   Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> P(
       positions.data(), static_cast<Eigen::Index>(positions.size() / 3), 3);
   const float diagonal = (P.colwise().maxCoeff() - P.colwise().minCoeff()).norm();
@@ -97,7 +95,7 @@ void ViewportInput::paintDab(QPointF pos, bool erase) {
   if (m_view.shapeVersion() != m_strokeShape) {
     projectStroke();  // the tint must land where the brush is on the shape drawn now
   }
-  const double ratio = m_view.widget().devicePixelRatioF();
+  const double ratio = m_view.pixelRatio();
   const std::vector<int> hits = visibleWithin(m_strokePoints, pos * ratio, m_brushRadius * ratio);
   std::vector<int>& selection = m_view.selection(m_tool == ViewportTool::HandleBrush);
   if (hits.empty() || (erase && selection.empty())) {
@@ -111,8 +109,7 @@ void ViewportInput::paintDab(QPointF pos, bool erase) {
 bool ViewportInput::beginDrag(QPointF pos) {
   const std::span<const float> positions = m_view.pickPositions();
   const DepthImage depth = m_view.renderDepth();
-  QWidget& widget = m_view.widget();
-  const double ratio = widget.devicePixelRatioF();
+  const double ratio = m_view.pixelRatio();
   const int px = static_cast<int>(pos.x() * ratio);
   const int row = depth.height - 1 - static_cast<int>(pos.y() * ratio);
   if (depth.empty() || px < 0 || row < 0 || px >= depth.width || row >= depth.height ||
@@ -128,8 +125,7 @@ bool ViewportInput::beginDrag(QPointF pos) {
   }
   centroid /= static_cast<double>(handles.size());
   const OrbitCamera& camera = m_view.viewCamera();
-  m_drag = std::make_unique<DragGesture>(camera.view(), camera.projection(), QSizeF(widget.width(), widget.height()),
-                                         centroid, pos);
+  m_drag = std::make_unique<DragGesture>(camera.view(), camera.projection(), QSizeF(m_view.viewSize()), centroid, pos);
   m_gesture = Gesture::Drag;
   emit dragStarted();
   return true;
@@ -168,7 +164,7 @@ void ViewportInput::move(QMouseEvent* event) {
   m_lastMousePos = pos;
   if (brushTool()) {
     m_cursor = posF;
-    m_view.widget().update();
+    m_view.requestRepaint();
   }
   switch (m_gesture) {
     case Gesture::Paint:
@@ -206,13 +202,12 @@ void ViewportInput::wheel(QWheelEvent* event) {
   event->accept();
 }
 
-void ViewportInput::paintOverlay() {
+void ViewportInput::paintOverlay(QPainter& painter, QSize size) {
   const bool brush = brushTool() && m_cursor.has_value();
   if (!brush && m_visibleHint.isEmpty()) {
     return;
   }
-  QWidget& widget = m_view.widget();
-  QPainter painter(&widget);
+  painter.save();
   painter.setRenderHint(QPainter::Antialiasing);
   if (brush) {
     const QColor color = m_tool == ViewportTool::HandleBrush ? QColor(255, 110, 60) : QColor(90, 150, 255);
@@ -225,13 +220,14 @@ void ViewportInput::paintOverlay() {
     font.setPointSizeF(font.pointSizeF() * 1.2);
     painter.setFont(font);
     const QRect text = painter.fontMetrics().boundingRect(m_visibleHint).adjusted(-12, -7, 12, 7);
-    const QRect box(QPoint((widget.width() - text.width()) / 2, widget.height() - text.height() - 16), text.size());
+    const QRect box(QPoint((size.width() - text.width()) / 2, size.height() - text.height() - 16), text.size());
     painter.setPen(Qt::NoPen);
     painter.setBrush(QColor(20, 20, 24, 200));
     painter.drawRoundedRect(box, 6, 6);
     painter.setPen(QColor(245, 245, 245));
     painter.drawText(box, Qt::AlignCenter, m_visibleHint);
   }
+  painter.restore();
 }
 
 }  // namespace sc::app

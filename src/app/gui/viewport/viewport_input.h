@@ -11,6 +11,7 @@
 
 #include <QObject>
 #include <QPoint>
+#include <QSize>
 #include <QString>
 #include <QTimer>
 
@@ -20,8 +21,8 @@
 #include <vector>
 
 class QMouseEvent;
+class QPainter;
 class QWheelEvent;
-class QWidget;
 
 namespace sc::app {
 
@@ -38,7 +39,11 @@ class ViewportInput : public QObject {
   /// What the input needs of its view (MeshViewport implements it).
   class View {
    public:
-    [[nodiscard]] virtual QWidget& widget() = 0;
+    /// The view's size in logical pixels and its device pixel ratio.
+    [[nodiscard]] virtual QSize viewSize() const = 0;
+    [[nodiscard]] virtual double pixelRatio() const = 0;
+    /// Schedules a repaint (e.g. the brush outline moved).
+    virtual void requestRepaint() = 0;
     [[nodiscard]] virtual OrbitCamera& viewCamera() = 0;
     [[nodiscard]] virtual int vertexCount() const = 0;
     /// 3·#V positions as drawn now (relative to the view's origin, current), for a gesture that starts.
@@ -75,8 +80,10 @@ class ViewportInput : public QObject {
 
   /// Ends whatever gesture is in progress, emitting what its end means (the stroke's set, dragFinished()).
   void endGesture();
-  /// Paints the brush outline and the hint over the view (no QPainter when neither shows).
-  void paintOverlay();
+  /// Whether paintOverlay() draws anything (the brush outline or the hint).
+  [[nodiscard]] bool overlayShown() const { return (brushTool() && m_cursor.has_value()) || !m_visibleHint.isEmpty(); }
+  /// Paints the brush outline and the hint over the view of `size` logical pixels.
+  void paintOverlay(QPainter& painter, QSize size);
 
   void press(QMouseEvent* event);
   void move(QMouseEvent* event);
