@@ -58,6 +58,7 @@ LaunchParser::LaunchParser()
                                  QStringLiteral("[MESH]"));
   m_parser.addOptions({m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
                        m_screenshotDir, m_after});
+  m_relay.addTo(m_parser);
 }
 
 std::optional<LaunchOptions> LaunchParser::processApplication(const QCoreApplication& app, const QString& version) {
@@ -93,6 +94,8 @@ std::variant<LaunchOptions, LaunchError> LaunchParser::options() const {
   if (m_parser.isSet(m_host) && m_parser.isSet(m_join)) return usage("--host and --join cannot be used together");
   if (m_parser.isSet(m_screenshotDir) && !m_parser.isSet(m_demo)) return usage("--screenshot-dir needs --demo");
   std::optional<LaunchError> problem = readDemo(options);
+  if (!problem && !m_parser.isSet(m_host) && m_relay.given(m_parser))
+    problem = usage("--nats, --session, --nats-user and --nats-password[-file] need --host");
   if (!problem && m_parser.isSet(m_host)) problem = readHost(options);
   if (!problem && m_parser.isSet(m_join)) problem = readJoin(options);
   if (problem) return *problem;
@@ -124,6 +127,9 @@ std::optional<LaunchError> LaunchParser::readHost(LaunchOptions& options) const 
   settings.name = options.name.isEmpty() ? QStringLiteral("host") : options.name;
   const QString problem = validateHostSettings(settings);
   if (!problem.isEmpty()) return LaunchError{problem, false};
+  auto relay = m_relay.read(m_parser);  // issue 18 item 3: also relay through NATS
+  if (const QString* why = std::get_if<QString>(&relay)) return LaunchError{*why, false};
+  settings.relay = std::get<std::optional<HostRelaySettings>>(std::move(relay));
   options.host = settings;
   return std::nullopt;
 }

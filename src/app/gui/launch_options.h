@@ -7,12 +7,15 @@
 //                                                sibling executable shapecast-screenshots, tools/screenshots/)
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
 //   shapecast --host MESH|SESSION.shapecast [--port P] [--name N] [--m M]
+//   shapecast --host MESH … --nats URL --session ID --nats-user U --nats-password-file F   (relay, issue 18:
+//                                                launch_relay_options.h)
 //   shapecast --join HOST:PORT [--name N] [--level full|N|P%] [--fingerprint HEX]
 //
 // A password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
 // Parsing needs no QApplication and opens nothing: main() then builds the windows from a LaunchOptions.
 
 #include "app/gui/demo.h"
+#include "app/gui/launch_relay_options.h"
 #include "app/gui/session_controller.h"
 
 #include <QCommandLineOption>
@@ -95,6 +98,9 @@ class LaunchParser {
   QCommandLineParser m_parser;
   QCommandLineOption m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
       m_screenshotDir, m_after;
+
+  // --- the host's relay through NATS (issue 18 item 3; only with --host)
+  RelayLaunchOptions m_relay;
 };
 
 /// argv for QApplication with the options of ours that a Qt platform plugin would take first joined to their

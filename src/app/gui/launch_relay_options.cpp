@@ -1,0 +1,61 @@
+#include "app/gui/launch_relay_options.h"
+
+#include "session/wire/relay_message.h"
+
+#include <QFile>
+
+namespace sc::app {
+
+RelayLaunchOptions::RelayLaunchOptions()
+    : m_url(QStringLiteral("nats"),
+            QStringLiteral("With --host: also relay every frame through the NATS server at <url> (nats://HOST:PORT)."),
+            QStringLiteral("url")),
+      m_session(QStringLiteral("session"),
+                QStringLiteral("With --nats: the relayed session's id (1 to 32 of A-Z a-z "
+                               "0-9 _ -)."),
+                QStringLiteral("id")),
+      m_user(QStringLiteral("nats-user"), QStringLiteral("With --nats: the NATS user."), QStringLiteral("user")),
+      m_password(QStringLiteral("nats-password"),
+                 QStringLiteral("With --nats: the NATS password (visible in process lists: prefer "
+                                "--nats-password-file)."),
+                 QStringLiteral("password")),
+      m_passwordFile(QStringLiteral("nats-password-file"),
+                     QStringLiteral("With --nats: the NATS password, the first line of <file>."),
+                     QStringLiteral("file")) {}
+
+void RelayLaunchOptions::addTo(QCommandLineParser& parser) const {
+  parser.addOptions({m_url, m_session, m_user, m_password, m_passwordFile});
+}
+
+bool RelayLaunchOptions::given(const QCommandLineParser& parser) const {
+  return parser.isSet(m_url) || parser.isSet(m_session) || parser.isSet(m_user) || parser.isSet(m_password) ||
+         parser.isSet(m_passwordFile);
+}
+
+std::variant<std::optional<HostRelaySettings>, QString> RelayLaunchOptions::read(
+    const QCommandLineParser& parser) const {
+  if (!given(parser)) return std::optional<HostRelaySettings>();
+  if (!parser.isSet(m_url) || parser.value(m_url).isEmpty())
+    return QStringLiteral("--session, --nats-user and --nats-password[-file] need --nats URL");
+  HostRelaySettings settings;
+  settings.url = parser.value(m_url);
+  settings.sessionId = parser.value(m_session);
+  settings.user = parser.value(m_user);
+  if (!session::isValidSessionId(settings.sessionId))
+    return QStringLiteral("--nats needs --session ID (1 to 32 of A-Z a-z 0-9 _ -)");
+  if (parser.isSet(m_password) && parser.isSet(m_passwordFile))
+    return QStringLiteral("--nats-password and --nats-password-file cannot be used together");
+  if (parser.isSet(m_passwordFile)) {
+    QFile file(parser.value(m_passwordFile));
+    if (!file.open(QIODevice::ReadOnly))
+      return QStringLiteral("cannot read the NATS password file %1").arg(parser.value(m_passwordFile));
+    settings.password = QString::fromUtf8(file.readLine(4096)).trimmed();
+    if (settings.password.isEmpty())
+      return QStringLiteral("the NATS password file %1 is empty").arg(parser.value(m_passwordFile));
+  } else {
+    settings.password = parser.value(m_password);
+  }
+  return std::optional<HostRelaySettings>(std::move(settings));
+}
+
+}  // namespace sc::app
