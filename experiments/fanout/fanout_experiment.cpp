@@ -22,6 +22,8 @@ namespace sc::app {
 namespace {
 
 const QString kSession = QStringLiteral("fanout");
+// The children run under a QGuiApplication, which takes "-session ID" / "--session ID" (X11 session management)
+// before any parser of ours sees it: they get "--session=ID".
 
 /// utime + stime of process `pid` in seconds (/proc/<pid>/stat fields 14 and 15); 0 when unreadable.
 double childCpuSeconds(qint64 pid) {
@@ -86,7 +88,7 @@ std::variant<FanoutResult, QString> runFanoutExperiment(const QString& executabl
   if (!host.start(executable,
                   QStringList{QStringLiteral("experiment"), QStringLiteral("load-host"), meshPath,
                               QStringLiteral("--clients"), QStringLiteral("1"), QStringLiteral("--nats"), server.url(),
-                              QStringLiteral("--session"), kSession, QStringLiteral("--nats-user"), config.hostUser,
+                              QStringLiteral("--session=") + kSession, QStringLiteral("--nats-user"), config.hostUser,
                               QStringLiteral("--nats-password-file"), hostSecret} +
                       basisArguments)) {
     return QStringLiteral("cannot start the host process");
@@ -114,8 +116,7 @@ std::variant<FanoutResult, QString> runFanoutExperiment(const QString& executabl
                           QString::number(share),
                           QStringLiteral("--nats"),
                           server.url(),
-                          QStringLiteral("--session"),
-                          kSession,
+                          QStringLiteral("--session=") + kSession,
                           QStringLiteral("--nats-user"),
                           config.viewerUser,
                           QStringLiteral("--nats-password-file"),

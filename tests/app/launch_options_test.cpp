@@ -210,5 +210,15 @@ TEST(ShieldedArguments, NameWithASpaceIsJoinedToItsValueAndTheRestIsKept) {
   EXPECT_EQ(shieldedArguments(otherArgv), other);
 }
 
+TEST(ShieldedArguments, SessionIsJoinedToItsValueBeforeQGuiApplicationTakesIt) {
+  // QGuiApplication consumes "-session ID" / "--session ID" (X11 session management): the relay's --session
+  // (issue 18) reaches our parser only as --session=ID.
+  std::vector<std::string> given = {"shapecast", "--host", "m.ply", "--nats", "nats://h:1", "--session", "lecture"};
+  std::vector<char*> argv;
+  for (std::string& argument : given) argv.push_back(argument.data());
+  EXPECT_EQ(shieldedArguments(argv),
+            (std::vector<std::string>{"shapecast", "--host", "m.ply", "--nats", "nats://h:1", "--session=lecture"}));
+}
+
 }  // namespace
 }  // namespace sc::app

@@ -193,8 +193,9 @@ std::vector<std::string> shieldedArguments(std::span<char* const> argv) {
   out.reserve(argv.size());
   for (std::size_t i = 0; i < argv.size(); ++i) {
     const std::string_view arg(argv[i]);
-    if (i > 0 && arg == "--name" && i + 1 < argv.size()) {
-      out.push_back("--name=" + std::string(argv[++i]));
+    if (i > 0 && (arg == "--name" || arg == "--session") && i + 1 < argv.size()) {
+      // QGuiApplication also takes "--session ID" (X11 session management) before our parser: --session=ID.
+      out.push_back(std::string(arg) + "=" + std::string(argv[++i]));
     } else {
       out.emplace_back(arg);
     }
