@@ -1,6 +1,7 @@
 #include "experiments/lab_command.h"
 
 #include "app/cli/cli_common.h"
+#include "experiments/fanout/fanout_experiment.h"
 #include "experiments/join/join_experiment.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_command.h"
@@ -23,6 +24,9 @@ constexpr const char* kUsage =
     "  join [--mesh MESH] [--rate-mbit 20] [--delay-ms 20] [--loss 0] [--level full|N] [--json]\n"
     "      one host process and one client over an emulated link: bytes, time to the level and to the first\n"
     "      deformed frame, the client's peak memory\n"
+    "  fanout --viewers N --seconds T [--mesh MESH] [--viewers-per-process 100] [--json]\n"
+    "      a host relaying through a local nats-server to N headless viewers (sharing processes): per-viewer\n"
+    "      delivery and latency, host CPU and bytes published per frame, the server's CPU\n"
     "  table1 [MESH...] [--m 100] [--low-fraction 0.05] [--frames 200] [--json] [--markdown FILE]\n"
     "      reproduce the paper's Table 1 on this machine and write it to docs/benchmarks.md\n"
     "\n"
@@ -69,7 +73,9 @@ int runLabCommand(QStringList arguments) {
   if (subcommand == QLatin1String("loss")) return runLossCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("load")) return runLoadExperimentCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("join")) return runJoinExperimentCommand(withMeshPositional(arguments));
-  if (subcommand == QLatin1String("load-host")) return runLoadHost(arguments);  // the load experiment's child
+  if (subcommand == QLatin1String("fanout")) return runFanoutExperimentCommand(withMeshPositional(arguments));
+  if (subcommand == QLatin1String("load-host")) return runLoadHost(arguments);            // the load experiment's child
+  if (subcommand == QLatin1String("fanout-viewers")) return runFanoutViewers(arguments);  // the fan-out's child
   if (subcommand == QLatin1String("table1")) return runTable1Command(arguments);
 
   if (experimentGroup) {  // `shapecast-cli experiment` with no or an unknown experiment: its historical message

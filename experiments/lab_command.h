@@ -4,6 +4,7 @@
 //   shapecast-lab loss   [--mesh MESH] [options]     the loss experiment (loss/loss_command.h)
 //   shapecast-lab load   --clients N --seconds T …   the load experiment (load/load_experiment.h)
 //   shapecast-lab join   [--mesh MESH] [--rate-mbit R] … the join experiment (join/join_experiment.h)
+//   shapecast-lab fanout --viewers N --seconds T … the fan-out experiment through NATS (fanout/fanout_experiment.h)
 //   shapecast-lab table1 [MESH…] [options]           the paper's Table 1 (table1/table1_command.h)
 //
 // The historical spellings `experiment loss|load|load-host …` and `bench table1 …` are accepted too:

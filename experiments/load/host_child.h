@@ -42,12 +42,13 @@ class HostChild {
     m_process.start(executable, arguments);
     return m_process.waitForStarted();
   }
-  /// Waits for a stdout line starting with `prefix`; returns it (empty after `timeout` or if the child ended).
+  /// Waits for a stdout line starting with `prefix`; returns it (empty after `timeout` or if the child ended). Lines
+  /// before it are skipped; lines after it are left for the next call.
   QString waitLine(const QString& prefix, std::chrono::milliseconds timeout) {
     QString found;
     waitUntil(
         [&] {
-          while (m_process.canReadLine()) {
+          while (found.isEmpty() && m_process.canReadLine()) {  // the lines after it stay for the next wait
             const QString line = QString::fromUtf8(m_process.readLine()).trimmed();
             if (line.startsWith(prefix)) found = line;
           }

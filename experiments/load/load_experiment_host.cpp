@@ -1,6 +1,7 @@
 // The host child of the load experiment (`shapecast-cli experiment load-host`, see load_experiment.h): a
 // SessionHost on 127.0.0.1 whose own user plays the scripted drag at 30 fps on command, measuring its own CPU time.
 
+#include "app/cli/relay_arguments.h"
 #include "app/cli/session_setup.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_experiment.h"
@@ -8,7 +9,10 @@
 #include "session/engine/constraint_work.h"
 #include "session/engine/host_engine.h"
 #include "session/net/host_datagram_channel.h"
+#include "session/net/nats_client.h"
+#include "session/net/relay_publisher.h"
 #include "session/net/session_host.h"
+#include "session/net/tls_identity.h"
 #include "spectral/hausdorff.h"
 
 #include <QCoreApplication>
@@ -24,6 +28,8 @@
 
 #include <cmath>
 #include <map>
+#include <memory>
+#include <optional>
 #include <vector>
 
 namespace sc::app {
@@ -68,6 +74,9 @@ class HostDrag {
     QObject::connect(&m_timer, &QTimer::timeout, &m_timer, [this] { step(); });
   }
 
+  /// The relay publisher whose frames and bytes the report also counts (the fan-out experiment); may be null.
+  void setRelay(const session::RelayPublisher* relay) { m_relay = relay; }
+
   /// Starts a drag of `seconds` (loops the 6 s script); false without the lock or constraints.
   bool start(double seconds) {
     if (m_constraints.handles.empty() || (!m_host.localLock().canDrag() && !m_host.requestLock())) return false;
@@ -78,6 +87,10 @@ class HostDrag {
     m_framesAtStart = m_host.counters().framesSent;
     m_errorsAtStart = m_host.channel().sendErrors();
     m_sentAtStart.clear();
+    if (m_relay) {
+      m_relayAtStart = m_relay->counters();
+      m_relayTrafficAtStart = m_relay->connection()->traffic();
+    }
     for (const session::PeerInfo& peer : m_host.peerList().peers)
       m_sentAtStart[peer.peerId] = m_host.channel().traffic(peer.peerId).datagramsSent;
     m_clock.start();
@@ -96,14 +109,36 @@ class HostDrag {
                                {QStringLiteral("datagrams"),
                                 static_cast<qint64>(sent - (before == m_sentAtStart.end() ? 0 : before->second))}});
     }
-    return {{QStringLiteral("drag_seconds"), m_dragSeconds},
-            {QStringLiteral("cpu_seconds"), m_cpuSeconds},
-            {QStringLiteral("frames"), static_cast<qint64>(m_host.counters().framesSent - m_framesAtStart)},
-            {QStringLiteral("send_errors"), static_cast<qint64>(m_host.channel().sendErrors() - m_errorsAtStart)},
-            {QStringLiteral("peers"), peers}};
+    QJsonObject out{
+        {QStringLiteral("drag_seconds"), m_dragSeconds},
+        {QStringLiteral("cpu_seconds"), m_cpuSeconds},
+        {QStringLiteral("frames"), static_cast<qint64>(m_host.counters().framesSent - m_framesAtStart)},
+        {QStringLiteral("send_errors"), static_cast<qint64>(m_host.channel().sendErrors() - m_errorsAtStart)},
+        {QStringLiteral("peers"), peers}};
+    if (m_relay) out.insert(QStringLiteral("relay"), relayReport());
+    return out;
   }
 
  private:
+  /// Since the drag started, up to now: {"frames", "keyframes", "payload_bytes" (the publisher's count),
+  /// "out_messages", "out_bytes" (the NATS connection's, stats included), "failures", "audience": the viewers'
+  /// aggregate as the host sees it}.
+  QJsonObject relayReport() const {
+    const session::RelayPublisherCounters& now = m_relay->counters();
+    const session::NatsTraffic traffic = m_relay->connection()->traffic();
+    const session::RelayAudienceSummary audience = m_relay->audience();
+    return {
+        {QStringLiteral("frames"), static_cast<qint64>(now.frames - m_relayAtStart.frames)},
+        {QStringLiteral("keyframes"), static_cast<qint64>(now.keyframes - m_relayAtStart.keyframes)},
+        {QStringLiteral("payload_bytes"), static_cast<qint64>(now.bytes - m_relayAtStart.bytes)},
+        {QStringLiteral("failures"), static_cast<qint64>(now.failures - m_relayAtStart.failures)},
+        {QStringLiteral("out_messages"), static_cast<qint64>(traffic.outMessages - m_relayTrafficAtStart.outMessages)},
+        {QStringLiteral("out_bytes"), static_cast<qint64>(traffic.outBytes - m_relayTrafficAtStart.outBytes)},
+        {QStringLiteral("audience_viewers"), audience.viewers},
+        {QStringLiteral("audience_loss_max"), audience.lossFraction.max},
+        {QStringLiteral("audience_latency_p99_ms_median"), audience.latencyP99Ms.median}};
+  }
+
   void step() {
     const double t = static_cast<double>(m_frame) / m_script.fps;
     if (t > m_seconds) {
@@ -132,6 +167,9 @@ class HostDrag {
   double m_cpuAtStart = 0.0, m_cpuSeconds = 0.0, m_dragSeconds = 0.0;
   std::uint64_t m_framesAtStart = 0, m_errorsAtStart = 0;
   std::map<session::PeerId, std::uint64_t> m_sentAtStart;
+  const session::RelayPublisher* m_relay = nullptr;
+  session::RelayPublisherCounters m_relayAtStart;
+  session::NatsTraffic m_relayTrafficAtStart;
 };
 
 }  // namespace
@@ -142,8 +180,19 @@ int runLoadHost(const QStringList& arguments) {
   const QCommandLineOption clients(QStringLiteral("clients"), QStringLiteral("clients to admit"), QStringLiteral("N"),
                                    QStringLiteral("8"));
   command.parser().addOption(clients);
+  const RelayArguments relayArguments;  // the fan-out experiment: also relay through NATS
+  relayArguments.addTo(command);
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
+  std::optional<session::RelayPublisherOptions> relay;
+  if (relayArguments.given(command)) {
+    auto read = relayArguments.read(command);
+    if (!read) return kExitUsage;
+    relay.emplace();
+    relay->nats = std::move(read->first);
+    relay->nats.name = QStringLiteral("shapecast load host");
+    relay->sessionId = read->second;
+  }
   bool ok = false;
   const int maxPeers = command.parser().value(clients).toInt(&ok);
   if (!ok || maxPeers < 1 || maxPeers > session::kMaxPeers - 1) {
@@ -166,10 +215,21 @@ int runLoadHost(const QStringList& arguments) {
     return kExitNetwork;
   }
   HostDrag drag(host, *model);
+  std::unique_ptr<session::RelayPublisher> publisher;
+  if (relay) {
+    publisher = std::make_unique<session::RelayPublisher>(host, std::move(*relay));
+    if (!publisher->start(&error)) {
+      command.error(QStringLiteral("cannot relay: %1").arg(error));
+      return kExitNetwork;
+    }
+    drag.setRelay(publisher.get());
+  }
   say(QStringLiteral("load-host port %1 vertices %2 rows %3")
           .arg(host.tcpPort())
           .arg(model->vertexCount())
           .arg(model->rowCount()));
+  // The fan-out experiment's viewers pin this certificate.
+  if (publisher) say(QStringLiteral("load-host relay %1").arg(session::formatFingerprint(host.fingerprint())));
 
   QByteArray pending;
   QSocketNotifier input(STDIN_FILENO, QSocketNotifier::Read);
@@ -194,7 +254,12 @@ int runLoadHost(const QStringList& arguments) {
       }
     }
   });
-  return QCoreApplication::exec();
+  const int code = QCoreApplication::exec();
+  if (publisher) {
+    publisher.reset();
+    session::natsShutdown();
+  }
+  return code;
 }
 
 }  // namespace sc::app

@@ -29,10 +29,10 @@ std::pair<int, int> changedColumns(const PeerRow& a, const PeerRow& b, bool full
   bool changed[PeerTableModel::ColumnCount] = {};
   changed[PeerTableModel::Name] = a.name != b.name;
   changed[PeerTableModel::Resolution] = a.vertexCount != b.vertexCount || fullCountMatters;
-  changed[PeerTableModel::Role] = a.isHost != b.isHost || a.isSelf != b.isSelf;
+  changed[PeerTableModel::Role] = a.isHost != b.isHost || a.isSelf != b.isSelf || a.isAudience != b.isAudience;
   changed[PeerTableModel::Lock] =
       a.lock != b.lock || (a.lock == PeerRow::Lock::Queued && a.queuePosition != b.queuePosition);
-  const bool statsFlag = a.hasStats != b.hasStats;
+  const bool statsFlag = a.hasStats != b.hasStats || a.figuresToolTip != b.figuresToolTip;
   changed[PeerTableModel::LossPct] = statsFlag || a.lossPct != b.lossPct;
   changed[PeerTableModel::LatencyMs] = statsFlag || a.latencyP99Ms != b.latencyP99Ms;
   changed[PeerTableModel::KbpsIn] = statsFlag || a.kbpsIn != b.kbpsIn;
@@ -233,11 +233,13 @@ QString PeerTableModel::displayText(const PeerRow& peer, int column) const {
     case Name:
       return peer.name;
     case Resolution:
+      if (peer.isAudience) return unknownFigure();
       if (m_fullVertexCount != 0 && peer.vertexCount == m_fullVertexCount) {
         return QStringLiteral("full");  // the counts are in the tooltip: the table fits a side dock (issue 16)
       }
       return locale.toString(peer.vertexCount);
     case Role: {
+      if (peer.isAudience) return QStringLiteral("viewers");
       QString text = peer.isHost ? QStringLiteral("host") : QStringLiteral("client");
       return peer.isSelf ? text + QStringLiteral(" (you)") : text;
     }
@@ -299,11 +301,13 @@ QString PeerTableModel::toolTip(const PeerRow& peer, int column) const {
   const QLocale& locale = english();
   switch (column) {
     case Name:
+      if (peer.isAudience) return peer.name;
       return peer.name + QStringLiteral(" (peer #") + QString::number(peer.peerId) + QLatin1Char(')');
     case Resolution:
       return QStringLiteral("Displays ") + locale.toString(peer.vertexCount) + QStringLiteral(" vertices") +
              (m_fullVertexCount != 0 ? QStringLiteral(" of ") + locale.toString(m_fullVertexCount) : QString());
     case Role:
+      if (peer.isAudience) return QStringLiteral("Watch through NATS without connecting to this host");
       return peer.isHost ? QStringLiteral("Hosts the session: owns the mesh and the deformation")
                          : QStringLiteral("Joined the session");
     case Lock:
@@ -323,6 +327,7 @@ QString PeerTableModel::toolTip(const PeerRow& peer, int column) const {
   if (!peer.hasStats) {
     return QStringLiteral("No statistics received yet");
   }
+  if (!peer.figuresToolTip.isEmpty() && isNumericColumn(column)) return peer.figuresToolTip;
   switch (column) {
     case LossPct:
       return QStringLiteral("Datagrams lost in the last 10 s: ") + locale.toString(peer.lossPct, 'f', 2) +

@@ -33,6 +33,10 @@ struct PeerRow {
   double kbpsIn = 0.0;        ///< received bandwidth, in kbit/s.
   double hdMaxPct = 0.0;      ///< largest normalised Hausdorff distortion, in percent of the bbox diagonal.
   bool hasStats = false;      ///< false: the four figures above are unknown and shown as "–".
+  /// Not a peer but one row for a whole audience (issue 18: the viewers through NATS, however many): Role shows
+  /// "viewers", Resolution "–", and the figure columns' tooltip is figuresToolTip (the distributions).
+  bool isAudience = false;
+  QString figuresToolTip;
 
   friend bool operator==(const PeerRow&, const PeerRow&) = default;
 };

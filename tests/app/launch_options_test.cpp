@@ -89,6 +89,47 @@ TEST_F(LaunchOptionsTest, HostSettingsFromTheCommandLine) {
       error({QStringLiteral("--host"), m_mesh, QStringLiteral("--join"), QStringLiteral("a:1")}).message.isEmpty());
 }
 
+TEST_F(LaunchOptionsTest, AHostRelaysThroughNatsWithAPasswordFile) {
+  // Issue 18 item 3: --host … --nats URL --session ID --nats-user U --nats-password-file F.
+  const QString secret = m_dir.filePath(QStringLiteral("host.pw"));
+  QFile file(secret);
+  ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+  file.write("s3cret\nignored\n");
+  file.close();
+  const QStringList relay{QStringLiteral("--nats"),      QStringLiteral("nats://127.0.0.1:4222"),
+                          QStringLiteral("--session"),   QStringLiteral("lecture-1"),
+                          QStringLiteral("--nats-user"), QStringLiteral("host")};
+  const LaunchOptions host = options(QStringList{QStringLiteral("--host"), m_mesh} + relay +
+                                     QStringList{QStringLiteral("--nats-password-file"), secret});
+  ASSERT_TRUE(host.host.has_value());
+  ASSERT_TRUE(host.host->relay.has_value());
+  EXPECT_EQ(host.host->relay->url, QStringLiteral("nats://127.0.0.1:4222"));
+  EXPECT_EQ(host.host->relay->sessionId, QStringLiteral("lecture-1"));
+  EXPECT_EQ(host.host->relay->user, QStringLiteral("host"));
+  EXPECT_EQ(host.host->relay->password, QStringLiteral("s3cret"));
+  EXPECT_EQ(options(QStringList{QStringLiteral("--host"), m_mesh} + relay +
+                    QStringList{QStringLiteral("--nats-password"), QStringLiteral("pw")})
+                .host->relay->password,
+            QStringLiteral("pw"));
+  EXPECT_FALSE(options({QStringLiteral("--host"), m_mesh}).host->relay.has_value());
+
+  EXPECT_TRUE(error(relay).message.contains(QStringLiteral("--host")));  // a relay needs a host
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_mesh, QStringLiteral("--session"), QStringLiteral("x")})
+                  .message.contains(QStringLiteral("--nats")));
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_mesh, QStringLiteral("--nats"), QStringLiteral("nats://h:1")})
+                  .message.contains(QStringLiteral("--session")));
+  EXPECT_TRUE(error({QStringLiteral("--host"), m_mesh, QStringLiteral("--nats"), QStringLiteral("nats://h:1"),
+                     QStringLiteral("--session"), QStringLiteral("a.b")})
+                  .message.contains(QStringLiteral("--session")));  // a dot would split the subject
+  EXPECT_TRUE(error(QStringList{QStringLiteral("--host"), m_mesh} + relay +
+                    QStringList{QStringLiteral("--nats-password-file"), m_dir.filePath(QStringLiteral("none"))})
+                  .message.contains(QStringLiteral("none")));
+  EXPECT_FALSE(error(QStringList{QStringLiteral("--host"), m_mesh} + relay +
+                     QStringList{QStringLiteral("--nats-password"), QStringLiteral("a"),
+                                 QStringLiteral("--nats-password-file"), secret})
+                   .message.isEmpty());
+}
+
 TEST_F(LaunchOptionsTest, JoinAddressesLevelsAndFingerprints) {
   const LaunchOptions join = options({QStringLiteral("--join"), QStringLiteral("[::1]:5000"), QStringLiteral("--name"),
                                       QStringLiteral("bob"), QStringLiteral("--level"), QStringLiteral("20%")});
@@ -222,6 +263,16 @@ TEST(ShieldedArguments, NameWithASpaceIsJoinedToItsValueAndTheRestIsKept) {
   std::vector<char*> otherArgv;
   for (std::string& argument : other) otherArgv.push_back(argument.data());
   EXPECT_EQ(shieldedArguments(otherArgv), other);
+}
+
+TEST(ShieldedArguments, SessionIsJoinedToItsValueBeforeQGuiApplicationTakesIt) {
+  // QGuiApplication consumes "-session ID" / "--session ID" (X11 session management): the relay's --session
+  // (issue 18) reaches our parser only as --session=ID.
+  std::vector<std::string> given = {"shapecast", "--host", "m.ply", "--nats", "nats://h:1", "--session", "lecture"};
+  std::vector<char*> argv;
+  for (std::string& argument : given) argv.push_back(argument.data());
+  EXPECT_EQ(shieldedArguments(argv),
+            (std::vector<std::string>{"shapecast", "--host", "m.ply", "--nats", "nats://h:1", "--session=lecture"}));
 }
 
 }  // namespace

@@ -230,3 +230,26 @@ TEST(PeerTableModel, SortsOnRawRoleThroughProxy) {
   EXPECT_EQ(idAt(1), 1u);
   EXPECT_EQ(idAt(2), 2u);
 }
+
+TEST(PeerTableModel, AnAudienceRowShowsViewersAndItsDistributionsInTheFigureTooltips) {
+  // Issue 18 item 3: the viewers through NATS are one row, whatever their number.
+  PeerTableModel model;
+  model.setFullVertexCount(1000);
+  PeerRow audience = withStats(peer(0xFFFFFFFFu, "250 viewers through NATS", 0), 0.5, 12.0, 0.0, 0.0);
+  audience.isAudience = true;
+  audience.figuresToolTip = QStringLiteral("loss median 0.50 %, max 2.00 %");
+  model.setPeers({peer(1, "alice", 1000), audience});
+  EXPECT_EQ(text(model, 1, PeerTableModel::Role), QStringLiteral("viewers"));
+  EXPECT_EQ(text(model, 1, PeerTableModel::Resolution), QString(QChar(0x2013)));
+  EXPECT_EQ(text(model, 1, PeerTableModel::LossPct), QStringLiteral("0.5"));
+  EXPECT_EQ(text(model, 1, PeerTableModel::LossPct, Qt::ToolTipRole), audience.figuresToolTip);
+  EXPECT_EQ(text(model, 1, PeerTableModel::LatencyMs, Qt::ToolTipRole), audience.figuresToolTip);
+  EXPECT_EQ(text(model, 1, PeerTableModel::Name, Qt::ToolTipRole), audience.name);
+  EXPECT_EQ(text(model, 0, PeerTableModel::Role), QStringLiteral("client"));  // a peer's row is unchanged
+
+  Recorder recorder(&model);
+  audience.figuresToolTip = QStringLiteral("loss median 0.50 %, max 3.00 %");  // only the distribution changed
+  model.setPeers({peer(1, "alice", 1000), audience});
+  ASSERT_EQ(recorder.changed.size(), 1);
+  EXPECT_EQ(text(model, 1, PeerTableModel::HdMaxPct, Qt::ToolTipRole), audience.figuresToolTip);
+}

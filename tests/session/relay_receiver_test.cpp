@@ -126,5 +126,43 @@ TEST(RelayReceiver, TheJoinBufferIsBounded) {
   EXPECT_EQ(receiver.frame(), count);
 }
 
+TEST(RelayReceiver, ReceiversSharingVerificationCheckEachMessageOnceAndStillRefuseForgeries) {
+  // The fan-out experiment's viewers of one process (relay_verified_messages.h): the second receiver of the same
+  // bytes skips the verify, a forged or altered message is still verified (and refused), and a shared store for
+  // another pin is ignored.
+  auto shared = std::make_shared<RelayVerifiedMessages>(kSid, relayIdentity().fingerprint());
+  RelayReceiver first(kSid, relayIdentity().fingerprint());
+  RelayReceiver second(kSid, relayIdentity().fingerprint());
+  first.shareVerification(shared);
+  second.shareVerification(shared);
+  for (RelayReceiver* receiver : {&first, &second}) {
+    ASSERT_EQ(receiver->onFacts(facts()), RelayFactsStatus::None);
+    receiver->startWithoutKeyframe(at(0));
+  }
+  const QByteArray one = frame(1);  // ECDSA signatures are randomised: the same bytes, as the broker delivers them
+  EXPECT_TRUE(first.onFrame(one, at(1)));
+  EXPECT_TRUE(second.onFrame(one, at(1)));
+  EXPECT_EQ(shared->hits(), 1);
+  EXPECT_EQ(second.coefficients(), shapeOf(1));
+
+  QByteArray altered = frame(2);
+  altered[20] = static_cast<char>(altered[20] ^ 0x01);  // not a message seen before: verified, refused
+  EXPECT_FALSE(second.onFrame(altered, at(2)));
+  EXPECT_FALSE(second.onFrame(frame(2, /*which=*/1), at(2)));  // signed by another key
+  EXPECT_EQ(second.stats(at(2)).badSignature, 2);
+  EXPECT_EQ(shared->hits(), 1);
+
+  auto other = std::make_shared<RelayVerifiedMessages>(kSid, relayIdentity(1).fingerprint());
+  const QByteArray forged = frame(3, /*which=*/1);
+  other->remember(forged);  // a store for another host's pin does not apply to this receiver
+  RelayReceiver third(kSid, relayIdentity().fingerprint());
+  third.shareVerification(other);
+  ASSERT_EQ(third.onFacts(facts()), RelayFactsStatus::None);
+  third.startWithoutKeyframe(at(0));
+  EXPECT_FALSE(third.onFrame(forged, at(3)));
+  EXPECT_EQ(third.stats(at(3)).badSignature, 1);
+  EXPECT_EQ(other->hits(), 0);
+}
+
 }  // namespace
 }  // namespace sc::session

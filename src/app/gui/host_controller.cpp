@@ -11,6 +11,7 @@
 #include "session/engine/constraint_work.h"
 #include "session/engine/host_model.h"
 #include "session/net/host_datagram_channel.h"
+#include "session/net/relay_publisher.h"
 #include "session/net/session_host.h"
 #include "spectral/spectral_deformer.h"
 
@@ -49,6 +50,8 @@ HostController::~HostController() {
     m_preparation->cancel();
     m_preparation->join();
   }
+  delete m_relay;  // it follows m_host
+  m_relay = nullptr;
   if (m_host != nullptr) {
     m_host->disconnect(this);
     m_host->shutdown();
@@ -126,7 +129,31 @@ void HostController::finishPreparation(const std::shared_ptr<PreparedHost>& prep
   emit peersChanged();
   emit lockChanged();
   emit hostingStarted(m_host->tcpPort());
+  if (m_settings.relay) startRelay();
   if (m_saved) restoreSavedSession();
+}
+
+void HostController::startRelay() {
+  session::RelayPublisherOptions options;
+  options.nats.url = m_settings.relay->url;
+  options.nats.user = m_settings.relay->user;
+  options.nats.password = m_settings.relay->password;
+  options.nats.name = QStringLiteral("shapecast host");
+  options.sessionId = m_settings.relay->sessionId;
+  m_settings.relay->password.clear();  // the publisher keeps its copy (cnats reconnects with it)
+  auto* relay = new session::RelayPublisher(*m_host, std::move(options), this);
+  QString error;
+  if (!relay->start(&error)) {
+    delete relay;
+    emit failed(tr("Hosting without the relay: %1").arg(error));
+    return;
+  }
+  m_relay = relay;
+}
+
+std::optional<session::RelayAudienceSummary> HostController::relayAudience() const {
+  if (m_relay == nullptr) return std::nullopt;
+  return m_relay->audience();
 }
 
 void HostController::restoreSavedSession() {
@@ -194,6 +221,8 @@ void HostController::cancel() {
 
 void HostController::stop() {
   m_port.release();
+  delete m_relay;
+  m_relay = nullptr;
   if (m_preparation) m_preparation->cancel();
   if (m_host != nullptr) m_host->shutdown();
 }

@@ -17,6 +17,7 @@
 #include <memory>
 
 namespace sc::session {
+class RelayPublisher;
 class SessionHost;
 struct HostModel;
 struct HostEngineCounters;
@@ -67,6 +68,10 @@ class HostController final : public SessionController {
   [[nodiscard]] std::optional<session::StatsReport> stats(session::PeerId peer) const override;
   [[nodiscard]] double sentKbps(session::PeerId peer) const override;
   [[nodiscard]] QByteArray hostFingerprint() const override;
+  /// With settings().relay, once live and connected: the viewers through NATS as one aggregate.
+  [[nodiscard]] std::optional<session::RelayAudienceSummary> relayAudience() const override;
+  /// The relay publisher (null unless relaying): its counters, for diagnostics and tests.
+  [[nodiscard]] const session::RelayPublisher* relay() const { return m_relay; }
   void sendPresence(const session::Presence& presence) override;
 
   // --- the host's own figures (diagnostics and tests)
@@ -91,6 +96,9 @@ class HostController final : public SessionController {
  private:
   void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);
   void restoreSavedSession();
+  /// Starts the relay publisher of settings().relay on the live host; failed() says why it could not (hosting goes
+  /// on without it).
+  void startRelay();
   void onFrame();
 
   HostSettings m_settings;
@@ -99,6 +107,7 @@ class HostController final : public SessionController {
   std::shared_ptr<const session::HostModel> m_model;
   std::shared_ptr<const model::SessionFile> m_saved;  ///< the session file it was started from
   session::SessionHost* m_host = nullptr;
+  session::RelayPublisher* m_relay = nullptr;  ///< child of this, deleted before m_host
 };
 
 }  // namespace sc::app

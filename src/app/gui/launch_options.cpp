@@ -6,7 +6,6 @@
 #include "session/net/tls_identity.h"
 #include "session/wire/relay_message.h"
 
-#include <QFile>
 
 #include <QRegularExpression>
 
@@ -56,13 +55,6 @@ LaunchParser::LaunchParser()
                      "Watch a session relayed through the NATS server at <url> (read-only; no host "
                      "connection).",
                      "url")),
-      m_session(option("session", "With --watch: the relayed session's id.", "id")),
-      m_natsUser(option("nats-user", "With --watch: the NATS viewer user.", "user")),
-      m_natsPassword(option("nats-password",
-                            "With --watch: the NATS password (visible in process lists: prefer --nats-password-file).",
-                            "password")),
-      m_natsPasswordFile(
-          option("nats-password-file", "With --watch: the NATS password, the first line of <file>.", "file")),
       m_pin(option("pin", "With --watch: the host's SHA-256 certificate fingerprint (default: trust the first).",
                    "hex")) {
   m_parser.setApplicationDescription(
@@ -73,8 +65,8 @@ LaunchParser::LaunchParser()
   m_parser.addPositionalArgument(QStringLiteral("mesh"), QStringLiteral("Mesh file to open."),
                                  QStringLiteral("[MESH]"));
   m_parser.addOptions({m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
-                       m_screenshotDir, m_after, m_watch, m_session, m_natsUser, m_natsPassword, m_natsPasswordFile,
-                       m_pin});
+                       m_screenshotDir, m_after, m_watch, m_pin});
+  m_relay.addTo(m_parser);
 }
 
 std::optional<LaunchOptions> LaunchParser::processApplication(const QCoreApplication& app, const QString& version) {
@@ -110,6 +102,10 @@ std::variant<LaunchOptions, LaunchError> LaunchParser::options() const {
   if (m_parser.isSet(m_host) && m_parser.isSet(m_join)) return usage("--host and --join cannot be used together");
   if (m_parser.isSet(m_screenshotDir) && !m_parser.isSet(m_demo)) return usage("--screenshot-dir needs --demo");
   std::optional<LaunchError> problem = readDemo(options);
+  if (!problem && !m_parser.isSet(m_host) && !m_parser.isSet(m_watch) && m_relay.given(m_parser))
+    problem = usage("--nats, --session, --nats-user and --nats-password[-file] need --host (or --watch URL)");
+  if (!problem && m_parser.isSet(m_watch) && m_relay.urlGiven(m_parser))
+    problem = usage("--watch takes the NATS URL itself: leave out --nats");
   if (!problem && m_parser.isSet(m_host)) problem = readHost(options);
   if (!problem && m_parser.isSet(m_join)) problem = readJoin(options);
   if (!problem && m_parser.isSet(m_watch)) problem = readWatch(options);
@@ -142,6 +138,9 @@ std::optional<LaunchError> LaunchParser::readHost(LaunchOptions& options) const 
   settings.name = options.name.isEmpty() ? QStringLiteral("host") : options.name;
   const QString problem = validateHostSettings(settings);
   if (!problem.isEmpty()) return LaunchError{problem, false};
+  auto relay = m_relay.read(m_parser);  // issue 18 item 3: also relay through NATS
+  if (const QString* why = std::get_if<QString>(&relay)) return LaunchError{*why, false};
+  settings.relay = std::get<std::optional<HostRelaySettings>>(std::move(relay));
   options.host = settings;
   return std::nullopt;
 }
@@ -171,15 +170,12 @@ std::optional<LaunchError> LaunchParser::readWatch(LaunchOptions& options) const
     return usage("--watch cannot be used with --host, --join or --demo");
   WatchSettings settings;
   settings.url = m_parser.value(m_watch);
-  settings.sessionId = m_parser.value(m_session);
-  settings.user = m_parser.value(m_natsUser);
-  if (m_parser.isSet(m_natsPasswordFile)) {
-    QFile file(m_parser.value(m_natsPasswordFile));
-    if (!file.open(QIODevice::ReadOnly)) return usage("--nats-password-file cannot be read");
-    settings.password = QString::fromUtf8(file.readLine(4096)).trimmed();
-  } else {
-    settings.password = m_parser.value(m_natsPassword);
-  }
+  const std::variant<RelayCredentials, QString> credentials = m_relay.readCredentials(m_parser);
+  if (const QString* problem = std::get_if<QString>(&credentials)) return LaunchError{*problem, false};
+  const RelayCredentials& given = std::get<RelayCredentials>(credentials);
+  settings.sessionId = given.sessionId;
+  settings.user = given.user;
+  settings.password = given.password;
   if (m_parser.isSet(m_pin)) {
     const std::optional<QByteArray> pinned = session::parseFingerprint(m_parser.value(m_pin));
     if (!pinned) return usage("--pin takes 64 hex digits (colons or spaces allowed)");
@@ -235,8 +231,9 @@ std::vector<std::string> shieldedArguments(std::span<char* const> argv) {
   out.reserve(argv.size());
   for (std::size_t i = 0; i < argv.size(); ++i) {
     const std::string_view arg(argv[i]);
-    if (i > 0 && arg == "--name" && i + 1 < argv.size()) {
-      out.push_back("--name=" + std::string(argv[++i]));
+    if (i > 0 && (arg == "--name" || arg == "--session") && i + 1 < argv.size()) {
+      // QGuiApplication also takes "--session ID" (X11 session management) before our parser: --session=ID.
+      out.push_back(std::string(arg) + "=" + std::string(argv[++i]));
     } else {
       out.emplace_back(arg);
     }

@@ -7,6 +7,8 @@
 //                                                sibling executable shapecast-screenshots, tools/screenshots/)
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
 //   shapecast --host MESH|SESSION.shapecast [--port P] [--name N] [--m M]
+//   shapecast --host MESH … --nats URL --session ID --nats-user U --nats-password-file F   (relay, issue 18:
+//                                                launch_relay_options.h)
 //   shapecast --join HOST:PORT [--name N] [--level full|N|P%] [--fingerprint HEX]
 //   shapecast --watch nats://HOST:PORT --session ID --nats-user U (--nats-password P | --nats-password-file F)
 //             [--pin HEX] [--level full|N|P%]          (watch a relayed session read-only, watch_settings.h)
@@ -15,6 +17,7 @@
 // Parsing needs no QApplication and opens nothing: main() then builds the windows from a LaunchOptions.
 
 #include "app/gui/demo.h"
+#include "app/gui/launch_relay_options.h"
 #include "app/gui/session_controller.h"
 #include "app/gui/watch_settings.h"
 
@@ -103,7 +106,10 @@ class LaunchParser {
 
   QCommandLineParser m_parser;
   QCommandLineOption m_screenshot, m_size, m_host, m_join, m_name, m_level, m_fingerprint, m_port, m_m, m_demo,
-      m_screenshotDir, m_after, m_watch, m_session, m_natsUser, m_natsPassword, m_natsPasswordFile, m_pin;
+      m_screenshotDir, m_after, m_watch, m_pin;
+
+  // --- the relay through NATS (issue 18): a host's --nats and the credentials a viewer (--watch) shares
+  RelayLaunchOptions m_relay;
 };
 
 /// argv for QApplication with the options of ours that a Qt platform plugin would take first joined to their

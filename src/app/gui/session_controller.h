@@ -22,6 +22,7 @@
 
 #include "app/gui/constraint_editor.h"
 #include "app/gui/session_settings.h"
+#include "session/engine/relay_audience.h"
 #include "session/wire/control_messages.h"
 #include "session/wire/lock_messages.h"
 #include "spectral/display_level.h"
@@ -171,6 +172,9 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] virtual session::PeerList peers() const = 0;
   /// A peer's latest figures: on a host every client's StatsReport; on a client only its own. nullopt when unknown.
   [[nodiscard]] virtual std::optional<session::StatsReport> stats(session::PeerId peer) const = 0;
+  /// Host relaying through NATS: its viewers as one aggregate (count, loss and latency distributions; issue 18
+  /// item 3). nullopt when this instance does not relay.
+  [[nodiscard]] virtual std::optional<session::RelayAudienceSummary> relayAudience() const { return std::nullopt; }
   // --- presence (issue 15)
   /// Sends this user's presence (the host's own user: to every client; a client: to the host, which relays it).
   /// Nothing unless live. The caller paces it (SessionPresence, session::PresenceSchedule).

@@ -1,6 +1,7 @@
 #include "app/gui/session_docks.h"
 
 #include "app/gui/peers_dock.h"
+#include "app/gui/relay_audience_view.h"
 #include "app/gui/repaint_batch.h"
 #include "app/gui/session_controller.h"
 #include "app/gui/statistics_dock.h"
@@ -11,6 +12,9 @@
 #include <QMainWindow>
 
 #include <algorithm>
+
+// A host relaying through NATS adds one Peers row and one Statistics section for all its viewers, however many
+// (relay_audience_view.h).
 
 namespace sc::app {
 
@@ -33,6 +37,7 @@ void SessionDocks::bind(SessionController* controller) {
   m_controller = controller;
   m_peerModel->setPeers({});
   m_statisticsDock->setModel(nullptr);
+  m_statisticsDock->setRelayAudience({});
   for (auto& [peer, statistics] : m_statistics) delete statistics;
   m_statistics.clear();
   m_shownPeer = 0;
@@ -84,6 +89,10 @@ void SessionDocks::refreshPeers() {
     }
     rows.push_back(std::move(row));
   }
+  // The viewers through NATS (a relaying host): one aggregate row and one Statistics section, however many.
+  const std::optional<session::RelayAudienceSummary> audience = m_controller->relayAudience();
+  if (audience) rows.push_back(relayAudienceRow(*audience));
+  m_statisticsDock->setRelayAudience(audience ? relayAudienceText(*audience) : QString());
   if (fullVertices > 0) m_peerModel->setFullVertexCount(fullVertices);
   m_peerModel->setPeers(std::move(rows));
 }

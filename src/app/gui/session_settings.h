@@ -16,6 +16,15 @@
 
 namespace sc::app {
 
+/// Relaying a hosted session through NATS (issue 18; README "Viewers through NATS"): the host also publishes every
+/// frame once to the broker, whatever the number of viewers (session::RelayPublisher).
+struct HostRelaySettings {
+  QString url;        ///< nats://HOST:PORT (several: comma-separated)
+  QString sessionId;  ///< session::isValidSessionId()
+  QString user;
+  QString password;  ///< kept by the relay publisher only (reconnections)
+};
+
 /// What HostController::host() needs. Validation of user input happens in the dialog; host() fails with failed()
 /// on what only the attempt can reveal (unreadable mesh, port in use).
 struct HostSettings {
@@ -27,6 +36,8 @@ struct HostSettings {
   bool useBasisCache = true;  ///< look up / store the basis in model::basisCacheDirectory()
   /// People who may hold a lock and drag their own handle at once (session::HostEngineOptions::maxEditors).
   int editors = 4;
+  /// Also relay through NATS (issue 18 item 3); none: UDP peers only.
+  std::optional<HostRelaySettings> relay;
 };
 
 /// What ClientController::join() needs.

@@ -64,6 +64,12 @@ StatisticsDock::StatisticsDock(StatisticsModel* model, QWidget* parent) : QDockW
   m_sourceLabel->setFont(bold);
   layout->addWidget(m_sourceLabel);
 
+  m_relayLabel = new QLabel(content);
+  m_relayLabel->setObjectName(QStringLiteral("relayAudienceLabel"));
+  m_relayLabel->setWordWrap(true);
+  m_relayLabel->setVisible(false);
+  layout->addWidget(m_relayLabel);
+
   // Latest figures: one (name, value) pair per row, so that they fit a narrow dock (issue 16: two pairs a row were
   // clipped at the default window size).
   auto* figures = new QGridLayout;
@@ -288,6 +294,12 @@ void StatisticsDock::updateAxes() {
     chart.y->setRange(0.0, chosen.mantissa * magnitude);
     chart.y->setTickCount(chosen.ticks);
   }
+}
+
+void StatisticsDock::setRelayAudience(const QString& text) {
+  if (m_relayLabel->text() == text) return;
+  m_relayLabel->setText(text);
+  m_relayLabel->setVisible(!text.isEmpty());
 }
 
 void StatisticsDock::updateLabels() {

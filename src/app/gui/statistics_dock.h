@@ -30,6 +30,9 @@ namespace sc::app {
 ///   rowsRemoved (a full rebuild only on modelReset and setModel()). The x axis spans the model's window and
 ///   scrolls with the newest sample; the y axis runs from 0 to a rounded maximum of the visible points.
 ///
+/// - a relay section (objectName "relayAudienceLabel", hidden while empty): the host's viewers through NATS as one
+///   aggregate (setRelayAudience(), relay_audience_view.h), whichever peer the figures below belong to;
+///
 /// The dock does not own the model: setModel() switches to another one (the host picks a client), and a destroyed
 /// model is forgotten. View only; GUI thread.
 class StatisticsDock : public QDockWidget {
@@ -44,6 +47,10 @@ class StatisticsDock : public QDockWidget {
   /// Observes model instead of the current one (nullptr: none) and redraws everything from it.
   void setModel(sc::model::StatisticsModel* model);
   [[nodiscard]] sc::model::StatisticsModel* model() const;
+
+  /// The relay section's text (empty: hidden). Repaints only when it changed.
+  void setRelayAudience(const QString& text);
+  [[nodiscard]] QLabel* relayAudienceLabel() const { return m_relayLabel; }
 
   /// The value label of a StatisticsModel::Column (nullptr for Time or out of range).
   [[nodiscard]] QLabel* valueLabel(int column) const;
@@ -71,6 +78,7 @@ class StatisticsDock : public QDockWidget {
 
   QPointer<sc::model::StatisticsModel> m_model;
   QLabel* m_sourceLabel = nullptr;
+  QLabel* m_relayLabel = nullptr;
   std::vector<QLabel*> m_valueLabels;  ///< indexed by StatisticsModel::Column; nullptr for Time.
   std::vector<Chart> m_charts;
 };

@@ -11,6 +11,7 @@
 // Hostile input (malformed, bad signature, wrong row count) is dropped and counted, never asserted on.
 
 #include "session/engine/recent_window.h"
+#include "session/engine/relay_verified_messages.h"
 #include "session/wire/relay_message.h"
 
 #include <Eigen/Core>
@@ -56,6 +57,9 @@ class RelayReceiver {
   /// A frame message from the frame subject: buffered until the keyframe, then applied when newer. True when it
   /// changed Z. Cost: one signature verify (≈ 55 µs) plus O(m).
   bool onFrame(QByteArrayView message, Micros now);
+  /// Shares `verified` with the other receivers of this thread (relay_verified_messages.h): a frame message another
+  /// of them verified is not verified again. Used only while it applies to this receiver's session and pin.
+  void shareVerification(std::shared_ptr<RelayVerifiedMessages> verified) { m_shared = std::move(verified); }
   /// No keyframe exists (a host that published none yet): start from the buffered frames.
   void startWithoutKeyframe(Micros now);
 
@@ -88,6 +92,7 @@ class RelayReceiver {
   Eigen::MatrixXd m_Z;
   RelayViewerStats m_counts;
   RecentSamples m_latency;
+  std::shared_ptr<RelayVerifiedMessages> m_shared;  ///< null: every message verified here
 };
 
 }  // namespace sc::session

@@ -110,6 +110,17 @@ bool NatsConnection::connected() const {
   return natsConnection_Status(m_handles->connection) == NATS_CONN_STATUS_CONNECTED;
 }
 
+NatsTraffic NatsConnection::traffic() const {
+  NatsTraffic out;
+  natsStatistics* stats = nullptr;
+  if (natsStatistics_Create(&stats) != NATS_OK) return out;
+  if (natsConnection_GetStats(m_handles->connection, stats) == NATS_OK) {
+    natsStatistics_GetCounts(stats, &out.inMessages, &out.inBytes, &out.outMessages, &out.outBytes, &out.reconnects);
+  }
+  natsStatistics_Destroy(stats);
+  return out;
+}
+
 namespace {
 void onComplete(void* closure) { static_cast<std::promise<void>*>(closure)->set_value(); }
 

@@ -37,6 +37,12 @@ class NatsSubscription;
 class NatsKeyValue;
 class NatsStream;
 
+/// What one connection moved since it was created, as cnats counts it (natsConnection_GetStats): payload bytes and
+/// messages, protocol overhead not included.
+struct NatsTraffic {
+  std::uint64_t inMessages = 0, inBytes = 0, outMessages = 0, outBytes = 0, reconnects = 0;
+};
+
 /// One connection. Not copyable; destroying it closes the connection (its subscriptions must be gone first).
 class NatsConnection {
  public:
@@ -55,6 +61,8 @@ class NatsConnection {
   [[nodiscard]] QString lastError() const;
   /// True while connected (not reconnecting or closed).
   [[nodiscard]] bool connected() const;
+  /// The connection's counters (natsConnection_GetStats); zeros when cnats cannot read them.
+  [[nodiscard]] NatsTraffic traffic() const;
   /// Times the connection came back after a disconnection.
   [[nodiscard]] int reconnections() const { return m_events->reconnected.load(); }
 

@@ -16,7 +16,9 @@ RelayViewer::RelayViewer(RelayViewerOptions options, QObject* parent)
       m_options(std::move(options)),
       m_receiver(m_options.sessionId, m_options.pin),
       m_inbox(m_options.pendingLimit, this, [this] { drain(); }),
-      m_viewerId(QRandomGenerator::system()->generate64()) {}
+      m_viewerId(QRandomGenerator::system()->generate64()) {
+  if (m_options.sharedVerification) m_receiver.shareVerification(m_options.sharedVerification);
+}
 
 RelayViewer::~RelayViewer() {
   m_subscription.reset();  // no handler runs after this

@@ -30,6 +30,9 @@ struct RelayViewerOptions {
   int pendingLimit = 8;           ///< frames waiting for this thread, ≥ 1; older ones beyond are dropped
   /// How often the viewer's figures go back to the host on sc.<sid>.stats.<viewer> (0: never).
   std::chrono::milliseconds statsEvery{2000};
+  /// Viewers of one thread sharing their signature checks (engine/relay_verified_messages.h; the fan-out
+  /// experiment). Null: this viewer verifies every message itself (a real viewer).
+  std::shared_ptr<RelayVerifiedMessages> sharedVerification;
 };
 
 class RelayViewer final : public QObject {

@@ -135,5 +135,39 @@ TEST_F(RelayCommandsTest, WatchErrorsHaveExitCodesAndMessages) {
   EXPECT_TRUE(noSession.err.contains("no session")) << noSession.err.toStdString();
 }
 
+TEST(FanoutExperiment, EveryViewerSharingProcessesGetsFramesAndTheHostCountsWhatItPublished) {
+  // Issue 18 item 5, a short run: a host child relaying a 2 s drag through its own local nats-server to 4 viewers in
+  // 2 processes (2 each, one NATS connection per viewer).
+  if (!session::natsServerAvailable()) GTEST_SKIP() << "nats-server is not installed";
+  QTemporaryDir dir;
+  ASSERT_TRUE(dir.isValid());
+  const QString mesh = dir.filePath(QStringLiteral("torus.off"));
+  writeOff(mesh, torus(60, 24));
+  const CliRun run = runLab({QStringLiteral("fanout"), QStringLiteral("--mesh"), mesh, QStringLiteral("--viewers"),
+                             QStringLiteral("4"), QStringLiteral("--viewers-per-process"), QStringLiteral("2"),
+                             QStringLiteral("--seconds"), QStringLiteral("2"), QStringLiteral("--json"),
+                             QStringLiteral("--no-cache"), QStringLiteral("--m"), QStringLiteral("30")});
+  ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
+  const QJsonObject r = QJsonDocument::fromJson(run.out.trimmed()).object();
+  for (const char* key : {"viewers", "processes", "min_delivered_fraction", "latency_p50_ms", "latency_p99_ms",
+                          "host_cpu_pct", "host_upload_bytes_per_frame", "server_cpu_pct", "frames_published",
+                          "viewer_threads", "load_average", "machine"})
+    EXPECT_TRUE(r.contains(QLatin1String(key))) << key;
+  EXPECT_EQ(r[QStringLiteral("viewers")].toInt(), 4);
+  EXPECT_EQ(r[QStringLiteral("processes")].toInt(), 2);
+  EXPECT_GT(r[QStringLiteral("frames_published")].toInt(), 20);  // 2 s at 30 fps, a loaded machine's timer aside
+  EXPECT_GT(r[QStringLiteral("min_delivered_fraction")].toDouble(), 0.0) << "a viewer got no frame";
+  EXPECT_LE(r[QStringLiteral("min_delivered_fraction")].toDouble(), 1.0);
+  EXPECT_EQ(r[QStringLiteral("bad_signature")].toInt(), 0);
+  // One signed frame carries 30 × 3 doubles: what the host published per frame is at least that, whatever N.
+  EXPECT_GE(r[QStringLiteral("host_payload_bytes_per_frame")].toDouble(), 30 * 3 * 8.0);
+  EXPECT_GE(r[QStringLiteral("host_upload_bytes_per_frame")].toDouble(),
+            r[QStringLiteral("host_payload_bytes_per_frame")].toDouble());
+  EXPECT_GT(r[QStringLiteral("latency_p99_ms")].toDouble(), 0.0);
+  EXPECT_GE(r[QStringLiteral("latency_p99_ms")].toDouble(), r[QStringLiteral("latency_p50_ms")].toDouble());
+  EXPECT_GT(r[QStringLiteral("host_cpu_pct")].toDouble(), 0.0);
+  EXPECT_GT(r[QStringLiteral("viewer_threads")].toInt(), 2);
+}
+
 }  // namespace
 }  // namespace sc::testing
