@@ -3,6 +3,7 @@
 #include "app/cli/cli_common.h"
 #include "experiments/fanout/fanout_experiment.h"
 #include "experiments/join/join_experiment.h"
+#include "experiments/join/join_plot.h"
 #include "experiments/load/load_experiment.h"
 #include "experiments/loss/loss_command.h"
 #include "experiments/table1/table1_command.h"
@@ -24,6 +25,8 @@ constexpr const char* kUsage =
     "  join [--mesh MESH] [--rate-mbit 20] [--delay-ms 20] [--loss 0] [--level full|N] [--json]\n"
     "      one host process and one client over an emulated link: bytes, time to the level and to the first\n"
     "      deformed frame, the client's peak memory\n"
+    "  join-plot OUT.png RESULT.json...\n"
+    "      plot join results (one `join --json` object per file) against the link rate, one line per mesh\n"
     "  fanout --viewers N --seconds T [--mesh MESH] [--viewers-per-process 100] [--json]\n"
     "      a host relaying through a local nats-server to N headless viewers (sharing processes): per-viewer\n"
     "      delivery and latency, host CPU and bytes published per frame, the server's CPU\n"
@@ -73,6 +76,7 @@ int runLabCommand(QStringList arguments) {
   if (subcommand == QLatin1String("loss")) return runLossCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("load")) return runLoadExperimentCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("join")) return runJoinExperimentCommand(withMeshPositional(arguments));
+  if (subcommand == QLatin1String("join-plot")) return runJoinPlotCommand(arguments);
   if (subcommand == QLatin1String("fanout")) return runFanoutExperimentCommand(withMeshPositional(arguments));
   if (subcommand == QLatin1String("load-host")) return runLoadHost(arguments);            // the load experiment's child
   if (subcommand == QLatin1String("fanout-viewers")) return runFanoutViewers(arguments);  // the fan-out's child

@@ -177,6 +177,41 @@ TEST_F(SessionCommandsTest, JoinExperimentWaitsForTheLinkRate) {
   EXPECT_GT(r[QStringLiteral("peak_rss_mb")].toDouble(), 0.0);
 }
 
+TEST_F(SessionCommandsTest, JoinPlotDrawsOneLinePerMeshFromJoinResults) {
+  // Issue 17 item 5: the join figures against the link rate, from `join --json` objects (one per file).
+  const auto result = [](const char* mesh, double rate, double first, double ready) {
+    return QJsonDocument(QJsonObject{{QStringLiteral("mesh"), QLatin1String(mesh)},
+                                     {QStringLiteral("rate_mbit"), rate},
+                                     {QStringLiteral("first_frame_s"), first},
+                                     {QStringLiteral("level_ready_s"), ready},
+                                     {QStringLiteral("bytes_received"), 3e6}})
+        .toJson();
+  };
+  writeFile(path("a.json"), result("/m/small.ply", 1.0, 1.6, 29.4));
+  writeFile(path("b.json"), result("/m/small.ply", 20.0, 0.15, 2.1));
+  writeFile(path("c.json"), result("/m/large.ply", 20.0, 0.33, 7.1));
+  const QString plot = path("join.png");
+  const CliRun run = runLab({QStringLiteral("join-plot"), plot, path("a.json"), path("b.json"), path("c.json")});
+  ASSERT_EQ(run.exitCode, 0) << run.err.toStdString();
+  EXPECT_TRUE(run.out.contains("plotted 3 results of 2 meshes")) << run.out.toStdString();
+  QFile png(plot);
+  ASSERT_TRUE(png.open(QIODevice::ReadOnly));
+  const QByteArray header = png.read(24);  // the signature, then IHDR: width and height, big-endian
+  ASSERT_EQ(header.size(), 24);
+  ASSERT_TRUE(header.startsWith("\x89PNG"));
+  const auto bigEndian = [&header](int at) {
+    return (static_cast<quint32>(static_cast<quint8>(header[at])) << 24) |
+           (static_cast<quint32>(static_cast<quint8>(header[at + 1])) << 16) |
+           (static_cast<quint32>(static_cast<quint8>(header[at + 2])) << 8) |
+           static_cast<quint32>(static_cast<quint8>(header[at + 3]));
+  };
+  EXPECT_EQ(bigEndian(16), 3u * 420u);  // three panels: first frame, level ready, bytes
+  EXPECT_EQ(bigEndian(20), 360u);
+  writeFile(path("bad.json"), "[1, 2]");
+  EXPECT_EQ(runLab({QStringLiteral("join-plot"), plot, path("bad.json")}).exitCode, 2);
+  EXPECT_EQ(runLab({QStringLiteral("join-plot"), plot, path("missing.json")}).exitCode, 2);
+}
+
 TEST_F(SessionCommandsTest, JoinRefusesABadRateOrDelay) {
   EXPECT_EQ(runCli({QStringLiteral("join"), QStringLiteral("127.0.0.1:1"), QStringLiteral("--rate-mbit"),
                     QStringLiteral("-1")})
