@@ -185,14 +185,7 @@ int runLoadHost(const QStringList& arguments) {
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
   std::optional<session::RelayPublisherOptions> relay;
-  if (relayArguments.given(command)) {
-    auto read = relayArguments.read(command);
-    if (!read) return kExitUsage;
-    relay.emplace();
-    relay->nats = std::move(read->first);
-    relay->nats.name = QStringLiteral("shapecast load host");
-    relay->sessionId = read->second;
-  }
+  if (!relayArguments.readPublisher(command, QStringLiteral("shapecast load host"), relay)) return kExitUsage;
   bool ok = false;
   const int maxPeers = command.parser().value(clients).toInt(&ok);
   if (!ok || maxPeers < 1 || maxPeers > session::kMaxPeers - 1) {

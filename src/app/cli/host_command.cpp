@@ -91,14 +91,7 @@ int runHostCommand(const QStringList& arguments) {
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
   std::optional<session::RelayPublisherOptions> relay;
-  if (relayArguments.given(command)) {
-    auto read = relayArguments.read(command);
-    if (!read) return kExitUsage;
-    relay.emplace();
-    relay->nats = std::move(read->first);
-    relay->nats.name = QStringLiteral("shapecast host");
-    relay->sessionId = read->second;
-  }
+  if (!relayArguments.readPublisher(command, QStringLiteral("shapecast host"), relay)) return kExitUsage;
 
   session::SessionHostOptions options;
   options.levelBuilder = session::LevelBuilder{model::levelTargetList, model::decimatedLevel};

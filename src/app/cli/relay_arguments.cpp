@@ -49,4 +49,16 @@ std::optional<std::pair<session::NatsConnectOptions, QString>> RelayArguments::r
   return std::make_pair(std::move(options), sessionId);
 }
 
+bool RelayArguments::readPublisher(const SubcommandParser& command, const QString& connectionName,
+                                   std::optional<session::RelayPublisherOptions>& publisher) const {
+  if (!given(command)) return true;
+  auto read = this->read(command);
+  if (!read) return false;
+  publisher.emplace();
+  publisher->nats = std::move(read->first);
+  publisher->nats.name = connectionName;
+  publisher->sessionId = read->second;
+  return true;
+}
+
 }  // namespace sc::app

@@ -5,6 +5,7 @@
 
 #include "app/cli/cli_common.h"
 #include "session/net/nats_client.h"
+#include "session/net/relay_publisher.h"
 
 #include <QCommandLineOption>
 #include <QString>
@@ -24,6 +25,11 @@ class RelayArguments {
   /// or invalid.
   [[nodiscard]] std::optional<std::pair<session::NatsConnectOptions, QString>> read(
       const SubcommandParser& command) const;
+  /// For a relaying host: `publisher` stays nullopt without --nats, else gets the publisher's options (the NATS
+  /// connection named `connectionName`); false after command.error() (exit code kExitUsage) when an option is
+  /// missing or invalid.
+  [[nodiscard]] bool readPublisher(const SubcommandParser& command, const QString& connectionName,
+                                   std::optional<session::RelayPublisherOptions>& publisher) const;
 
  private:
   QCommandLineOption m_url;
