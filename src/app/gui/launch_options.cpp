@@ -6,7 +6,6 @@
 #include "session/net/tls_identity.h"
 #include "session/wire/relay_message.h"
 
-
 #include <QRegularExpression>
 
 #include <cstdio>
