@@ -1,7 +1,8 @@
 // Issue 16, idle CPU: with nothing moving, the host still sends its unchanged shape about once a second (still
 // frames) and every member its unchanged view (presence, ~2 per second). Neither may repaint a viewport: on a
 // software rasteriser each repaint of the 3D view costs a full frame. A host and a client on loopback in this
-// process; the test counts paintGL() runs (MeshViewport::paintCount()) while still frames arrive.
+// process; the test counts the repaints the viewports ask for (MeshViewport::repaintRequestCount()) while still
+// frames arrive.
 
 #include "app/gui/main_window.h"
 #include "app/gui/mesh_viewport.h"
@@ -27,14 +28,16 @@ TEST_F(IdleRepaintTest, StillFramesAndUnchangedPresenceDoNotRepaintTheViewports)
   QSignalSpy clientFrames(live.client, &SessionController::frameChanged);
   ASSERT_TRUE(QTest::qWaitFor([&] { return clientFrames.count() >= 1; }, 5000)) << "the first still frame";
   QTest::qWait(1500);  // the first picture, the presence of both, the full redraw after any moving frame
-  const int hostPaints = hostWindow.viewport()->paintCount();
-  const int clientPaints = clientWindow.viewport()->paintCount();
+  // Repaints the application asks for: an X server shared with other test processes also exposes the viewports'
+  // native windows (another process's window closing over them), which paints them without any request.
+  const int hostPaints = hostWindow.viewport()->repaintRequestCount();
+  const int clientPaints = clientWindow.viewport()->repaintRequestCount();
   const qsizetype framesBefore = clientFrames.count();
   ASSERT_TRUE(QTest::qWaitFor([&] { return clientFrames.count() >= framesBefore + 2; }, 10000))
       << "still frames keep arriving about once a second";
   QTest::qWait(200);
-  EXPECT_EQ(hostWindow.viewport()->paintCount(), hostPaints) << "the host's view did not repaint";
-  EXPECT_EQ(clientWindow.viewport()->paintCount(), clientPaints) << "the client's view did not repaint";
+  EXPECT_EQ(hostWindow.viewport()->repaintRequestCount(), hostPaints) << "the host's view did not ask to repaint";
+  EXPECT_EQ(clientWindow.viewport()->repaintRequestCount(), clientPaints) << "the client's view did not ask to repaint";
 }
 
 }  // namespace

@@ -217,8 +217,12 @@ class MeshViewport : public QWidget,
   [[nodiscard]] bool wireframe() const { return m_wireframe; }
 
   [[nodiscard]] int vertexCount() const override { return m_vertexCount; }
-  /// How many frames were painted (on the window, or offscreen by grabFramebuffer()); for timing harnesses.
+  /// How many frames were painted (on the window, or offscreen by grabFramebuffer()); for timing harnesses. The
+  /// window system's exposes paint too (another window uncovering this one).
   [[nodiscard]] int paintCount() const { return m_paintCount; }
+  /// How many repaints this viewport asked for (update(), repaint()): paintCount() without the window system's
+  /// exposes; for tests of what the application redraws.
+  [[nodiscard]] int repaintRequestCount() const { return m_repaintRequests; }
   [[nodiscard]] int triangleCount() const { return static_cast<int>(m_buffers.indices().size() / 3); }
   [[nodiscard]] const OrbitCamera& camera() const { return m_camera; }
 
@@ -353,6 +357,7 @@ class MeshViewport : public QWidget,
   ScenePasses m_passes;
   QOpenGLFunctions_3_3_Core* m_gl33 = nullptr;  // owned by the context
   int m_paintCount = 0;
+  int m_repaintRequests = 0;
 };
 
 }  // namespace sc::app

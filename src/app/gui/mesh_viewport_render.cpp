@@ -25,9 +25,15 @@ void MeshViewport::setSampleCount(int samples) {
   m_surface->setFormat(f);
 }
 
-void MeshViewport::update() { m_surface->update(); }
+void MeshViewport::update() {
+  ++m_repaintRequests;
+  m_surface->update();
+}
 
-void MeshViewport::repaint() { m_surface->paintNow(); }
+void MeshViewport::repaint() {
+  ++m_repaintRequests;
+  m_surface->paintNow();
+}
 
 void MeshViewport::makeCurrent() { m_surface->makeContextCurrent(); }
 
