@@ -15,11 +15,13 @@
 #include <gtest/gtest.h>
 
 #include <QtCore/QByteArray>
+#include <QtTest/QTest>
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -83,6 +85,23 @@ class SessionLoopback : public ::testing::Test {
       if (s_model->V(i, 2) < -0.5) anchors.push_back(static_cast<std::uint32_t>(i));
     }
     return {handle, anchors};
+  }
+
+  /// The host takes the lock, sets capConstraints() and lifts the cap by 0.4 along z, then waits for the still frame
+  /// that follows (its Z is the host's coefficients() from then on). Assert with ASSERT_NO_FATAL_FAILURE.
+  static void liftTheCapAndWaitForTheStillFrame(SessionHost& host) {
+    ASSERT_TRUE(host.requestLock());
+    ASSERT_EQ(host.lockHolder(), kHostPeer);
+    const auto [handle, anchors] = capConstraints();
+    spectral::ConstraintSet set;
+    set.handles.push_back({std::vector<int>(handle.begin(), handle.end())});
+    set.anchors.assign(anchors.begin(), anchors.end());
+    ASSERT_TRUE(host.setConstraints(set));
+    spectral::HandleTransform pose;
+    pose.translation = Eigen::Vector3d(0.0, 0.0, 0.4);
+    ASSERT_TRUE(host.drag(std::span(&pose, 1)));
+    ASSERT_TRUE(QTest::qWaitFor([&] { return host.counters().stillFramesSent == 1; }, kWaitMs));
+    ASSERT_GT(host.coefficients().norm(), 0.0);
   }
 
   /// The wire pose of handle 0 translated by `dz` along z.

@@ -31,18 +31,8 @@ TEST_F(SessionLoopback, ProgressiveJoinShowsTheSmallestLevelThenTheRequestedOneW
   const std::uint32_t smallVertices = host->levels().find(smallest)->vertexCount;
 
   // A deformed shape, still: the cap lifted.
-  ASSERT_TRUE(host->requestLock());
-  const auto [handle, anchors] = capConstraints();
-  spectral::ConstraintSet set;
-  set.handles.push_back({std::vector<int>(handle.begin(), handle.end())});
-  set.anchors.assign(anchors.begin(), anchors.end());
-  ASSERT_TRUE(host->setConstraints(set));
-  spectral::HandleTransform pose;
-  pose.translation = Eigen::Vector3d(0.0, 0.0, 0.4);
-  ASSERT_TRUE(host->drag(std::span(&pose, 1)));
-  ASSERT_TRUE(QTest::qWaitFor([&] { return host->counters().stillFramesSent == 1; }, kWaitMs));
+  ASSERT_NO_FATAL_FAILURE(liftTheCapAndWaitForTheStillFrame(*host));
   const Eigen::MatrixXd Z = host->coefficients();
-  ASSERT_GT(Z.norm(), 0.0);
 
   SessionClientOptions clientOptions = testing::clientOptions(host->tcpPort(), QStringLiteral("progressive"));
   clientOptions.progressive = true;
