@@ -10,6 +10,10 @@
 namespace sc::session {
 
 // Declared here without control_messages.h, which includes nothing of this header's (no include loop).
+struct LockMessage;
+struct LockNotice;
+struct Drag;
+struct Constraints;
 struct StrokeEnd;
 struct EditRequest;
 struct EditLog;
@@ -32,6 +36,16 @@ bool readText(ByteReader& reader, QString& text, Prefix prefix, int maxBytes);
 bool readFinite(ByteReader& reader, double& value);
 
 }  // namespace detail
+
+// control_messages_editing.cpp: read() checks ranges, the caller checks exact consumption.
+void write(ByteWriter& w, const LockMessage& m);
+bool read(ByteReader& r, LockMessage& m);
+void write(ByteWriter& w, const LockNotice& m);
+bool read(ByteReader& r, LockNotice& m);
+void write(ByteWriter& w, const Drag& m);
+bool read(ByteReader& r, Drag& m);
+void write(ByteWriter& w, const Constraints& m);
+bool read(ByteReader& r, Constraints& m);
 
 // control_messages_collab.cpp: read() checks ranges, the caller checks exact consumption.
 void write(ByteWriter& w, const StrokeEnd& m);
