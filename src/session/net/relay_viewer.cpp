@@ -70,8 +70,9 @@ bool RelayViewer::start(QString* error) {
   }
   if (m_options.referenceEvery.count() > 0) {
     m_referenceTimer = new QTimer(this);
+    m_referenceTimer->setInterval(m_options.referenceEvery);
     connect(m_referenceTimer, &QTimer::timeout, this, &RelayViewer::referenceTick);
-    m_referenceTimer->start(m_options.referenceEvery);
+    if (m_level) m_referenceTimer->start();  // without a level nothing is read (headless viewers, the fan-out)
   }
   if (m_options.statsEvery.count() > 0) {
     auto* timer = new QTimer(this);
@@ -119,6 +120,7 @@ void RelayViewer::predict() {
 void RelayViewer::setLevel(spectral::SharedDisplayLevel level) {
   m_level = std::move(level);
   m_diagonal = m_level ? spectral::boundingBoxDiagonal(m_level->level.restV) : 0.0;
+  if (m_referenceTimer && m_level && !m_referenceTimer->isActive()) m_referenceTimer->start();
 }
 
 void RelayViewer::referenceTick() {

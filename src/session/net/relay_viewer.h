@@ -68,7 +68,7 @@ class RelayViewer final : public QObject {
   /// What is shown (display().display(), m by 3) with the concealment, the distortion summary and its counts.
   [[nodiscard]] const RelayDisplay& display() const { return m_display; }
   /// The level distortion is measured at (the one the viewer shows); null: no distortion is measured. Kept alive by
-  /// the viewer while set. References start being read at the next period.
+  /// the viewer while set. References start being read at the next period (no timer runs before a level is set).
   void setLevel(spectral::SharedDisplayLevel level);
   /// The receiver's figures now.
   [[nodiscard]] RelayViewerStats stats() const;
