@@ -2,11 +2,15 @@
 // `shapecast-cli host --nats` and a MainWindow that watches the session (MainWindow::watchSession, ViewerController):
 // the window shows the relayed level (the torus' vertex count, fetched from the level stream), stays read-only (no
 // lock, no drag; "Watching test through NATS"), shows the deformed shape after a `shapecast-cli drive` drag, counts
-// the frames in its statistics, and switches to a coarser level from the stream.
+// the frames and the distortion (0: it got every frame) in its statistics, and switches to a coarser level from the
+// stream.
 #include "app/gui/main_window.h"
 #include "app/gui/viewer_controller.h"
 #include "host_process.h"
+#include "session/engine/frame_assembler.h"
+#include "session/engine/relay_display.h"
 #include "session/net/local_nats_server.h"
+#include "session/net/relay_viewer.h"
 #include "session_windows.h"
 
 #include <gtest/gtest.h>
@@ -107,6 +111,11 @@ TEST_F(RelayWatchWindow, ShowsTheRelayedLevelReadOnlyAndTheDeformedShapeAfterADr
   EXPECT_GT(stats->framesApplied, 10u);
   EXPECT_EQ(stats->lost, 0u);
   EXPECT_EQ(stats->dropped, 0u);
+  // Distortion against the host's keyframes read back (once a second): this viewer got every frame, exact, so what
+  // it showed for each reference was that very shape. The Statistics dock plots hdLastPct.
+  ASSERT_TRUE(QTest::qWaitFor([viewer] { return viewer->viewer()->display().distortion().count >= 1; }, 10000));
+  EXPECT_EQ(viewer->stats(viewer->selfId())->hdMaxPct, 0.0);
+  EXPECT_EQ(viewer->viewer()->display().concealment(), session::Concealment::HoldLast);  // no app setting: hold-last
 
   // Another level from the stream: the coarsest listed.
   ASSERT_TRUE(QTest::qWaitFor([viewer] { return viewer->levels().size() > 1; }, 30000));

@@ -9,6 +9,8 @@
 #include "session/net/relay_viewer.h"
 #include "session/net/session_host.h"
 #include "session/net/tls_identity.h"
+#include "spectral/display_level.h"
+#include "spectral/quantized_basis.h"
 
 #include <gtest/gtest.h>
 
@@ -18,6 +20,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace sc::session {
@@ -81,18 +84,29 @@ class RelayNats : public ::testing::Test {
   }
 
   /// A started viewer pinned to the host (a failed start is a test failure; nullptr then).
-  RelayViewer* addViewer(int pendingLimit = 8) {
+  RelayViewer* addViewer(int pendingLimit = 8, Concealment concealment = Concealment::HoldLast) {
     RelayViewerOptions options;
     options.nats = viewerCredential();
     options.sessionId = m_server.config().sessionId;
     options.pin = m_host->fingerprint();
     options.pendingLimit = pendingLimit;
     options.statsEvery = std::chrono::milliseconds(200);
+    options.concealment = concealment;
+    options.referenceEvery = std::chrono::milliseconds(100);  // read only once a level is set (setLevel)
     auto viewer = std::make_unique<RelayViewer>(std::move(options));
     QString error;
     EXPECT_TRUE(viewer->start(&error)) << error.toStdString();
     m_viewers.push_back(std::move(viewer));
     return m_viewers.back().get();
+  }
+
+  /// The host's full model as a viewer's level (X̂ = V, K = H quantised): what distortion is measured at.
+  static spectral::SharedDisplayLevel fullLevel() {
+    spectral::ResolutionLevel level;
+    level.restV = s_model->V;
+    level.F = s_model->F;
+    level.K = spectral::quantizeBasis(s_model->basis.vectors);
+    return spectral::makeDisplayLevel(std::move(level));
   }
 
   /// One drag of the cap by `dz`, then the event loop for kDragSpacingMs: one frame.

@@ -2,7 +2,8 @@
 // late joiner starts from the keyframe; a viewer's publish on the frame subject is refused by the server; a viewer
 // that stops reading loses frames while the others lose none; viewers resume within 2 s of a server restart on the
 // same port; a frame with a bad signature is dropped and counted; the viewers' figures reach the host as one
-// aggregate. Fixture: relay_nats_fixture.h.
+// aggregate; a viewer that misses frames measures distortion against the keyframes read back, one that gets them all
+// measures none; an extrapolating viewer predicts the frames it misses. Fixture: relay_nats_fixture.h.
 #include "relay_nats_fixture.h"
 
 #include "session/wire/relay_message.h"
@@ -94,6 +95,56 @@ TEST_F(RelayNats, AViewerThatStopsReadingLosesFramesWhileTheOthersLoseNone) {
   ASSERT_TRUE(waitFor([&] { return caughtUp(*stalled); }));
   EXPECT_GE(stalled->stats().lost, 30 - 4);
   EXPECT_EQ(stalled->receiver().coefficients(), m_host->coefficients());
+}
+
+TEST_F(RelayNats, AViewerThatMissesFramesReportsDistortionWhileAViewerThatGetsThemAllReportsNone) {
+  RelayViewer* stalled = addViewer(/*pendingLimit=*/4);
+  RelayViewer* normal = addViewer();
+  ASSERT_TRUE(stalled && normal);
+  const spectral::SharedDisplayLevel level = fullLevel();
+  stalled->setLevel(level);
+  normal->setLevel(level);
+  dragOnce(0.005);
+  ASSERT_TRUE(waitFor([&] { return caughtUp(*stalled) && caughtUp(*normal); }));
+  // The stalled viewer keeps an old shape on screen while the host stores keyframes (every 30 frames) that both
+  // viewers read back as exact references.
+  stalled->setPaused(true);
+  for (int step = 1; step <= 45; ++step) dragOnce(0.01 * step);
+  ASSERT_TRUE(waitFor([&] { return caughtUp(*normal); }));
+  stalled->setPaused(false);
+  ASSERT_TRUE(waitFor([&] { return caughtUp(*stalled); }));
+  ASSERT_TRUE(waitFor([&] {
+    return stalled->display().distortion().maxPct > 0.0 && normal->display().distortion().count >= 2;
+  })) << "stalled: "
+      << stalled->display().distortion().count << " measured, " << stalled->display().counts().references
+      << " references; normal: " << normal->display().distortion().count;
+  EXPECT_GT(stalled->display().distortion().maxPct, 0.01);  // % of the diagonal: the cap moved by up to 0.45
+  EXPECT_EQ(normal->display().distortion().maxPct, 0.0);    // every frame arrived, exact: nothing to conceal
+  EXPECT_GE(stalled->stats().lost, 30);
+  // Both figures reach the host's aggregate.
+  ASSERT_TRUE(waitFor([&] {
+    const RelayAudienceSummary audience = m_publisher->audience();
+    return audience.distortionViewers == 2 && audience.distortionMaxPct.max > 0.01;
+  }));
+  EXPECT_EQ(m_publisher->audience().distortionMaxPct.min, 0.0);
+}
+
+TEST_F(RelayNats, AnExtrapolatingViewerPredictsTheFramesItMissesThenShowsTheRelayedShape) {
+  RelayViewer* viewer = addViewer(8, Concealment::Extrapolate);
+  ASSERT_NE(viewer, nullptr);
+  // It stops reading in mid-drag: the frames it expects are overdue, so it predicts them (at most 4), then withdraws
+  // the prediction and holds the last frame it got.
+  for (int step = 1; step <= 20; ++step) {
+    if (step == 10) viewer->setPaused(true);
+    dragOnce(0.01 * step);
+  }
+  ASSERT_TRUE(waitFor([&] { return viewer->display().counts().withdrawn >= 1; }));
+  EXPECT_GE(viewer->display().counts().predicted, 1u);
+  EXPECT_EQ(viewer->display().display(), viewer->receiver().coefficients());
+  viewer->setPaused(false);  // reads again: the newest relayed frame replaces whatever was shown
+  ASSERT_TRUE(waitFor([&] { return caughtUp(*viewer); }));
+  ASSERT_TRUE(waitFor([&] { return viewer->display().displayedFrame() == m_host->currentFrame(); }));
+  EXPECT_EQ(viewer->display().display(), m_host->coefficients());
 }
 
 TEST_F(RelayNats, ViewersResumeWithinTwoSecondsOfAServerRestartOnTheSamePort) {

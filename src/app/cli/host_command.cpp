@@ -60,6 +60,16 @@ void printAudience(const session::RelayPublisher& publisher) {
                              .arg(a.latencyP99Ms.median, 0, 'f', 2)
                              .arg(a.latencyP99Ms.max, 0, 'f', 2)
                              .arg(a.badSignature);
+  if (a.distortionViewers > 0) {
+    QTextStream(stdout) << QStringLiteral(
+                               "  relay distortion: %1 viewers measuring, mean median %2% max %3%, largest "
+                               "%4%; %5 frames predicted\n")
+                               .arg(a.distortionViewers)
+                               .arg(a.distortionMeanPct.median, 0, 'f', 4)
+                               .arg(a.distortionMeanPct.max, 0, 'f', 4)
+                               .arg(a.distortionMaxPct.max, 0, 'f', 4)
+                               .arg(a.concealed);
+  }
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 
 #include "app/cli/quit_on_signal.h"
 #include "app/cli/relay_arguments.h"
+#include "session/engine/distortion_probe.h"
+#include "session/engine/frame_assembler.h"
+#include "session/engine/relay_display.h"
 #include "session/net/relay_level_fetcher.h"
 #include "session/net/relay_viewer.h"
 #include "session/net/tls_identity.h"
@@ -36,6 +39,37 @@ QJsonObject watchReport(const session::RelayViewer& viewer) {
                      {QStringLiteral("reconnections"), viewer.connection()->reconnections()},
                      {QStringLiteral("latency_p50_ms"), s.latencyP50Ms},
                      {QStringLiteral("latency_p99_ms"), s.latencyP99Ms}};
+}
+
+/// Concealment and distortion (engine/relay_display.h): frames predicted and withdrawn, exact references read,
+/// and the distortion measured at the viewer's level (count 0 without --level).
+void addDisplayReport(QJsonObject& report, const session::RelayViewer& viewer) {
+  const session::RelayDisplay& display = viewer.display();
+  const session::RelayDisplayCounts c = display.counts();
+  const session::DistortionSummary& d = display.distortion();
+  report.insert(QStringLiteral("concealment"), QString::fromLatin1(session::toString(display.concealment())));
+  report.insert(QStringLiteral("displayed_frame"), static_cast<qint64>(display.displayedFrame()));
+  report.insert(QStringLiteral("predicted"), static_cast<qint64>(c.predicted));
+  report.insert(QStringLiteral("withdrawn"), static_cast<qint64>(c.withdrawn));
+  report.insert(QStringLiteral("references"), static_cast<qint64>(c.references));
+  report.insert(QStringLiteral("distortion_count"), static_cast<qint64>(d.count));
+  report.insert(QStringLiteral("distortion_mean_pct"), d.meanPct);
+  report.insert(QStringLiteral("distortion_max_pct"), d.maxPct);
+  report.insert(QStringLiteral("distortion_last_pct"), d.lastPct);
+}
+
+QString displayLine(const QJsonObject& r) {
+  QString line = QStringLiteral("%1: %2 frames predicted, %3 withdrawn")
+                     .arg(r.value(QStringLiteral("concealment")).toString())
+                     .arg(r.value(QStringLiteral("predicted")).toInteger())
+                     .arg(r.value(QStringLiteral("withdrawn")).toInteger());
+  const qint64 measured = r.value(QStringLiteral("distortion_count")).toInteger();
+  if (measured == 0) return line + QStringLiteral("; no distortion measured yet\n");
+  return line + QStringLiteral("; distortion over %1 reference frames: mean %2% max %3% last %4% of the diagonal\n")
+                    .arg(measured)
+                    .arg(r.value(QStringLiteral("distortion_mean_pct")).toDouble(), 0, 'f', 4)
+                    .arg(r.value(QStringLiteral("distortion_max_pct")).toDouble(), 0, 'f', 4)
+                    .arg(r.value(QStringLiteral("distortion_last_pct")).toDouble(), 0, 'f', 4);
 }
 
 QString watchLine(const QJsonObject& r) {
@@ -86,7 +120,7 @@ void addLevelReport(QJsonObject& report, const session::RelayLevelFetch& fetch, 
     report.insert(QStringLiteral("level_error"), fetch.error);
     return;
   }
-  const ShownShape shape = shownShape(*fetch.level, viewer.receiver().coefficients());
+  const ShownShape shape = shownShape(*fetch.level, viewer.display().display());
   report.insert(QStringLiteral("level_vertices"), static_cast<qint64>(shape.vertices));
   report.insert(QStringLiteral("level_faces"), static_cast<qint64>(fetch.entry.faceCount));
   report.insert(QStringLiteral("level_bytes"), static_cast<qint64>(fetch.entry.payloadBytes));
@@ -134,7 +168,12 @@ int runWatchCommand(const QStringList& arguments) {
   const QCommandLineOption maxLevel(QStringLiteral("max-level-mb"),
                                     QStringLiteral("refuse a level above this many MB (default 256)"),
                                     QStringLiteral("MB"), QStringLiteral("256"));
-  command.parser().addOptions({pin, seconds, frames, pending, level, maxLevel});
+  const QCommandLineOption concealment(
+      QStringLiteral("concealment"),
+      QStringLiteral(
+          "what a missed frame shows: hold-last (default) or extrapolate (dead reckoning of overdue frames)"),
+      QStringLiteral("mode"), QStringLiteral("hold-last"));
+  command.parser().addOptions({pin, seconds, frames, pending, level, maxLevel, concealment});
   int exitCode = kExitOk;
   if (!command.parse(arguments, exitCode)) return exitCode;
   auto read = relayArguments.read(command);
@@ -149,6 +188,13 @@ int runWatchCommand(const QStringList& arguments) {
     command.error(QStringLiteral("--pending takes a positive integer"));
     return kExitUsage;
   }
+  const std::optional<session::Concealment> mode =
+      session::concealmentFromString(command.parser().value(concealment).toStdString());
+  if (!mode || *mode == session::Concealment::ZeroFill) {
+    command.error(QStringLiteral("--concealment takes hold-last or extrapolate"));
+    return kExitUsage;
+  }
+  options.concealment = *mode;
   if (command.parser().isSet(pin)) {
     options.pin = session::parseFingerprint(command.parser().value(pin));
     if (!options.pin) {
@@ -210,8 +256,9 @@ int runWatchCommand(const QStringList& arguments) {
       command.error(QStringLiteral("cannot fetch levels: %1").arg(error));
       return kExitNetwork;
     }
-    QObject::connect(fetcher.get(), &session::RelayLevelFetcher::levelReady, &viewer, [&fetcher, json] {
+    QObject::connect(fetcher.get(), &session::RelayLevelFetcher::levelReady, &viewer, [&fetcher, &viewer, json] {
       const session::RelayLevelFetch& f = fetcher->last();
+      viewer.setLevel(f.level);  // distortion is measured at the level shown
       if (json) return;
       QTextStream(stdout) << QStringLiteral(
                                  "level %1: %2 vertices, %3 faces, %4 bytes in %5 chunks from the stream (fetched in "
@@ -232,6 +279,7 @@ int runWatchCommand(const QStringList& arguments) {
   }
   const auto report = [&viewer, &fetcher] {
     QJsonObject r = watchReport(viewer);
+    addDisplayReport(r, viewer);
     if (fetcher && !fetcher->busy()) addLevelReport(r, fetcher->last(), viewer);
     return r;
   };
@@ -239,7 +287,7 @@ int runWatchCommand(const QStringList& arguments) {
   QObject::connect(&figures, &QTimer::timeout, &viewer, [&report, json] {
     if (json) return;
     const QJsonObject r = report();
-    QTextStream(stdout) << watchLine(r) << '\n' << shapeLine(r);
+    QTextStream(stdout) << watchLine(r) << '\n' << displayLine(r) << shapeLine(r);
   });
   figures.start(1000);
   const auto stop = [] { QCoreApplication::quit(); };
@@ -253,7 +301,7 @@ int runWatchCommand(const QStringList& arguments) {
   QCoreApplication::exec();
   const QJsonObject last = report();
   printReport(command, last, [&out](const QJsonObject& r) {
-    out << "watch ended: " << watchLine(r) << '\n' << shapeLine(r);
+    out << "watch ended: " << watchLine(r) << '\n' << displayLine(r) << shapeLine(r);
   });
   fetcher.reset();  // joins a fetch in flight
   return levelIndex && !last.contains(QStringLiteral("level_vertices")) ? kExitNetwork : kExitOk;

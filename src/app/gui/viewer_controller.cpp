@@ -1,5 +1,7 @@
 #include "app/gui/viewer_controller.h"
 
+#include "session/engine/distortion_probe.h"
+#include "session/engine/relay_display.h"
 #include "session/net/relay_level_fetcher.h"
 #include "session/net/relay_viewer.h"
 #include "session/wire/relay_level_list.h"
@@ -30,6 +32,7 @@ bool ViewerController::watch(const WatchSettings& settings) {
   options.nats.name = QStringLiteral("shapecast viewer");
   options.sessionId = settings.sessionId;
   if (!settings.pin.isEmpty()) options.pin = settings.pin;
+  options.concealment = settings.concealment;
   m_viewer = std::make_unique<session::RelayViewer>(std::move(options));
   QString error;
   if (!m_viewer->start(&error)) {
@@ -37,7 +40,7 @@ bool ViewerController::watch(const WatchSettings& settings) {
     return false;
   }
   m_trust = settings.pin.isEmpty() ? HostTrust::FirstUse : HostTrust::Pinned;
-  connect(m_viewer.get(), &session::RelayViewer::frameApplied, this, &ViewerController::onFrame);
+  connect(m_viewer.get(), &session::RelayViewer::displayChanged, this, &ViewerController::onFrame);
   session::RelayLevelFetcherOptions fetch;
   fetch.sessionId = settings.sessionId;
   fetch.facts = m_viewer->receiver().facts();
@@ -79,14 +82,16 @@ std::optional<std::uint8_t> ViewerController::closestIndex(std::uint32_t target)
 }
 
 void ViewerController::onFrame() {
-  if (!m_viewer) return;
-  const std::optional<std::uint32_t> frame = m_viewer->receiver().frame();
-  if (!frame) return;
-  spectral::DisplayFrame shown;
-  shown.frame = *frame;
-  shown.Z = m_viewer->receiver().coefficients().cast<float>();
-  if (displayLevel()) showFrame(std::move(shown));
+  if (!m_viewer || !m_viewer->display().hasFrame()) return;
+  if (displayLevel()) showFrame(displayed());
   emit statsChanged();
+}
+
+spectral::DisplayFrame ViewerController::displayed() const {
+  spectral::DisplayFrame shown;
+  shown.frame = m_viewer->display().displayedFrame();
+  shown.Z = m_viewer->display().display().cast<float>();
+  return shown;
 }
 
 void ViewerController::onLevel(std::uint8_t index, const spectral::SharedDisplayLevel& level) {
@@ -95,12 +100,8 @@ void ViewerController::onLevel(std::uint8_t index, const spectral::SharedDisplay
   }
   m_shownIndex = index;
   showLevel(level);
-  if (m_viewer && m_viewer->receiver().frame()) {
-    spectral::DisplayFrame shown;
-    shown.frame = *m_viewer->receiver().frame();
-    shown.Z = m_viewer->receiver().coefficients().cast<float>();
-    showFrame(std::move(shown));
-  }
+  if (m_viewer) m_viewer->setLevel(level);  // distortion is measured at the level shown
+  if (m_viewer && m_viewer->display().hasFrame()) showFrame(displayed());
   if (state() == State::Connecting) {
     emit progress(100, tr("Watching"));
     changeState(State::Live);
@@ -183,6 +184,10 @@ std::optional<session::StatsReport> ViewerController::stats(session::PeerId peer
   report.framesPerSecond = seconds > 0 ? static_cast<double>(s.applied) / seconds : 0.0;
   report.latencyP50Ms = s.latencyP50Ms;
   report.latencyP99Ms = s.latencyP99Ms;
+  const session::DistortionSummary& distortion = m_viewer->display().distortion();
+  report.hdMaxPct = distortion.maxPct;
+  report.hdMeanPct = distortion.meanPct;
+  report.hdLastPct = distortion.lastPct;
   return report;
 }
 

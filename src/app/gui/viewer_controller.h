@@ -4,8 +4,10 @@
 // RelayLevelFetcher (its level from the session's stream: session/net/relay_level_fetcher.h), never connects to the
 // host and cannot edit: no lock, no constraints, no drags, no edits, no presence (readOnlyText() says so). The frame
 // path is the client's: the fetched level (shared, immutable) becomes displayLevelChanged(), every applied relayed
-// frame (exact f64 Z, shown as float) frameChanged(). Statistics: this viewer's own figures (frames applied, loss,
-// latency from the host's stamp: meaningful on the host's machine only) as one StatsReport.
+// frame (exact f64 Z, shown as float; with WatchSettings::concealment Extrapolate, overdue frames predicted as the
+// UDP client does, session/engine/relay_display.h) frameChanged(). Statistics: this viewer's own figures (frames
+// applied, loss, latency from the host's stamp: meaningful on the host's machine only, and the distortion against the
+// host's keyframes read back as exact references, measured at the shown level) as one StatsReport.
 //
 // Lifecycle: Idle --watch()--> Connecting (broker, facts, keyframe, then the level list and the level) --> Live once
 // the first level is displayed; a refused level or facts --> Failed. Another level: setLevel(vertices) fetches the
@@ -13,6 +15,7 @@
 
 #include "app/gui/session_controller.h"
 #include "app/gui/watch_settings.h"
+#include "spectral/display_level.h"
 
 #include <QElapsedTimer>
 
@@ -80,6 +83,8 @@ class ViewerController final : public SessionController {
 
  private:
   void onFrame();
+  /// What the viewer's display shows now (the newest frame, or a prediction with Concealment::Extrapolate).
+  [[nodiscard]] spectral::DisplayFrame displayed() const;
   void onLevel(std::uint8_t index, const spectral::SharedDisplayLevel& level);
   void onLevelRefused(std::uint8_t index, const QString& reason);
   [[nodiscard]] std::optional<std::uint8_t> closestIndex(std::uint32_t target) const;

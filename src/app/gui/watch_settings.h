@@ -4,6 +4,8 @@
 // viewer never connects to the host: frames, the keyframe, the level list and the level payloads come from the
 // broker, signed with the host's TLS identity key.
 
+#include "session/engine/frame_assembler.h"
+
 #include <QByteArray>
 #include <QString>
 
@@ -20,6 +22,8 @@ struct WatchSettings {
   QByteArray pin;           ///< the host certificate's SHA-256; empty: trust the first facts (shown in the window)
   std::uint32_t level = 0;  ///< wanted display vertices; 0 = full resolution
   std::optional<double> levelFraction;  ///< overrides `level`: this fraction of the host's vertex count
+  /// What a missed frame shows (the app has no concealment setting: hold-last; Extrapolate predicts overdue frames).
+  session::Concealment concealment = session::Concealment::HoldLast;
 };
 
 /// Empty when `settings` can be used to watch; otherwise the readable reason (no URL, a bad session id).

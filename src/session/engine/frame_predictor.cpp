@@ -24,21 +24,33 @@ void FramePredictor::observe(const FrameAssembler& assembler, Micros now) {
   if (!assembler.hasFrame() || assembler.rows() != static_cast<int>(m_rows.size())) return;
   const Eigen::MatrixXd& Z = assembler.z();
   for (int r = 0; r < assembler.rows(); ++r) {
-    if (!assembler.rowValid(r)) continue;
-    Row& row = m_rows[static_cast<std::size_t>(r)];
-    const std::uint32_t frame = assembler.rowFrame(r);
-    if (row.seen && newerFrame(frame, row.frame)) {
-      row.previousFrame = row.frame;
-      row.previousValue = row.value;
-      row.hasPrevious = true;
-    } else if (row.seen && frame != row.frame) {
-      continue;  // older than what the row has (not produced by FrameAssembler, which only moves forward)
-    }
-    row.seen = true;
-    row.frame = frame;
-    row.value = Z.row(r);
+    if (assembler.rowValid(r)) observeRow(r, assembler.rowFrame(r), Z.row(r));
   }
-  const std::uint32_t frame = assembler.frame();
+  observeCurrent(assembler.frame(), now);
+}
+
+void FramePredictor::observeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z, Micros now) {
+  if (Z.rows() != static_cast<Eigen::Index>(m_rows.size()) || Z.cols() != 3) return;
+  if (m_hasFrame && !newerFrame(frame, m_received) && frame != m_received) return;  // older: latest wins
+  for (int r = 0; r < static_cast<int>(Z.rows()); ++r) observeRow(r, frame, Z.row(r));
+  observeCurrent(frame, now);
+}
+
+void FramePredictor::observeRow(int r, std::uint32_t frame, const Eigen::RowVector3d& value) {
+  Row& row = m_rows[static_cast<std::size_t>(r)];
+  if (row.seen && newerFrame(frame, row.frame)) {
+    row.previousFrame = row.frame;
+    row.previousValue = row.value;
+    row.hasPrevious = true;
+  } else if (row.seen && frame != row.frame) {
+    return;  // older than what the row has (not produced by FrameAssembler, which only moves forward)
+  }
+  row.seen = true;
+  row.frame = frame;
+  row.value = value;
+}
+
+void FramePredictor::observeCurrent(std::uint32_t frame, Micros now) {
   if (!m_hasFrame || newerFrame(frame, m_received)) {
     if (m_hasFrame) {
       const Micros sample = (now - m_receivedAt) / static_cast<std::int64_t>(frame - m_received);

@@ -68,6 +68,9 @@ class FramePredictor {
   /// an interval sample. display() then shows the current frame (rows not received in it predicted).
   /// Cost: O(m).
   void observe(const FrameAssembler& assembler, Micros now);
+  /// The same for a whole frame (every row received in `frame`: the relay's exact frames, relay_display.h).
+  /// \pre Z is m by 3 (a Z of another shape is ignored). Cost: O(m).
+  void observeFrame(std::uint32_t frame, const Eigen::MatrixXd& Z, Micros now);
 
   /// When the next predicted frame (or the withdrawal) is due; nullopt when nothing is scheduled (not moving, no
   /// interval yet, before any frame, or after a withdrawal until the next frame).
@@ -107,6 +110,10 @@ class FramePredictor {
     Eigen::RowVector3d previousValue = Eigen::RowVector3d::Zero();  ///< z0
   };
   void showFrame(std::uint32_t frame);
+  /// Row r received value `value` in `frame`: shifts the row's history when `frame` is newer.
+  void observeRow(int r, std::uint32_t frame, const Eigen::RowVector3d& value);
+  /// The current frame is now `frame` (received at `now`): interval sample, schedule reset, display.
+  void observeCurrent(std::uint32_t frame, Micros now);
   /// Every row received in the current frame unchanged (and at least one received). Cost: O(m).
   bool currentFrameStill() const;
 

@@ -43,7 +43,7 @@ void RelayAudience::forgetSilent(Micros now) {
 
 RelayAudienceSummary RelayAudience::summary(Micros now) const {
   RelayAudienceSummary out;
-  std::vector<double> loss, latency;
+  std::vector<double> loss, latency, distortionMean, distortionMax;
   for (const auto& item : m_viewers) {
     const Entry& entry = item.second;
     if (now - entry.at > kRelayViewerTimeout) continue;
@@ -52,9 +52,17 @@ RelayAudienceSummary RelayAudience::summary(Micros now) const {
     loss.push_back(expected > 0 ? static_cast<double>(entry.stats.lost) / expected : 0.0);
     latency.push_back(entry.stats.latencyP99Ms);
     out.badSignature += static_cast<std::int64_t>(std::min<std::uint64_t>(entry.stats.badSignature, 1u << 30));
+    out.concealed += static_cast<std::int64_t>(std::min<std::uint64_t>(entry.stats.concealed, 1u << 30));
+    if (entry.stats.distortions > 0) {
+      distortionMean.push_back(entry.stats.distortionMeanPct);
+      distortionMax.push_back(entry.stats.distortionMaxPct);
+    }
   }
   out.lossFraction = spreadOf(std::move(loss));
   out.latencyP99Ms = spreadOf(std::move(latency));
+  out.distortionViewers = static_cast<int>(distortionMean.size());
+  out.distortionMeanPct = spreadOf(std::move(distortionMean));
+  out.distortionMaxPct = spreadOf(std::move(distortionMax));
   out.malformed = m_malformed;
   return out;
 }

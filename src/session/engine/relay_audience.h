@@ -1,8 +1,8 @@
 #pragma once
 // The host's view of its relay viewers (issue 18): the latest Stats message of each viewer (relay_message.h, kind 3)
-// folded into one aggregate (count, loss and latency distributions), not one row per viewer. Pure, clock injected.
-// Input is untrusted (any holder of the viewer credential may send): malformed messages are dropped and counted,
-// at most kMaxTrackedViewers are kept (the stalest is evicted), and a viewer silent for kRelayViewerTimeout is
+// folded into one aggregate (count, loss, latency and distortion distributions), not one row per viewer. Pure, clock
+// injected. Input is untrusted (any holder of the viewer credential may send): malformed messages are dropped and
+// counted, at most kMaxTrackedViewers are kept (the stalest is evicted), and a viewer silent for kRelayViewerTimeout is
 // forgotten.
 
 #include "session/engine/recent_window.h"
@@ -31,6 +31,10 @@ struct RelayAudienceSummary {
   Spread lossFraction;            ///< lost / (applied + lost) since each viewer started
   Spread latencyP99Ms;            ///< each viewer's own p99 over its last 10 s
   std::int64_t badSignature = 0;  ///< summed over the viewers: forged frames they dropped
+  int distortionViewers = 0;      ///< viewers that measured distortion (they fetched a level)
+  Spread distortionMeanPct;       ///< their mean distortion, % of the rest bounding-box diagonal
+  Spread distortionMaxPct;        ///< their largest
+  std::int64_t concealed = 0;     ///< summed over the viewers: frames predicted
   std::int64_t malformed = 0;     ///< Stats messages this host dropped
 };
 

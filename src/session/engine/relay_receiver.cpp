@@ -67,6 +67,11 @@ bool RelayReceiver::onKeyframe(QByteArrayView message, Micros now) {
   return true;
 }
 
+std::optional<RelayFrame> RelayReceiver::onReference(QByteArrayView message) {
+  if (!m_verifier) return std::nullopt;
+  return authentic(message);
+}
+
 void RelayReceiver::startWithoutKeyframe(Micros now) {
   m_joined = true;
   std::deque<QByteArray> buffered;

@@ -57,6 +57,9 @@ class RelayReceiver {
   /// A frame message from the frame subject: buffered until the keyframe, then applied when newer. True when it
   /// changed Z. Cost: one signature verify (≈ 55 µs) plus O(m).
   bool onFrame(QByteArrayView message, Micros now);
+  /// An exact reference for distortion (the `keyframe` value read again, relay_display.h): verified and decoded
+  /// like a frame but not applied. nullopt (counted as malformed or bad signature) when refused or before the facts.
+  std::optional<RelayFrame> onReference(QByteArrayView message);
   /// Shares `verified` with the other receivers of this thread (relay_verified_messages.h): a frame message another
   /// of them verified is not verified again. Used only while it applies to this receiver's session and pin.
   void shareVerification(std::shared_ptr<RelayVerifiedMessages> verified) { m_shared = std::move(verified); }

@@ -2,6 +2,7 @@
 
 #include "session/engine/session_clock.h"
 #include "session/net/relay_publisher.h"
+#include "spectral/hausdorff.h"
 
 #include <QtCore/QRandomGenerator>
 #include <QtCore/QTimer>
@@ -16,12 +17,18 @@ RelayViewer::RelayViewer(RelayViewerOptions options, QObject* parent)
       m_options(std::move(options)),
       m_receiver(m_options.sessionId, m_options.pin),
       m_inbox(m_options.pendingLimit, this, [this] { drain(); }),
-      m_viewerId(QRandomGenerator::system()->generate64()) {
+      m_viewerId(QRandomGenerator::system()->generate64()),
+      m_display(m_options.concealment, m_options.predictor) {
   if (m_options.sharedVerification) m_receiver.shareVerification(m_options.sharedVerification);
+  m_predictTimer = new QTimer(this);
+  m_predictTimer->setSingleShot(true);
+  m_predictTimer->setTimerType(Qt::PreciseTimer);
+  connect(m_predictTimer, &QTimer::timeout, this, &RelayViewer::predict);
 }
 
 RelayViewer::~RelayViewer() {
-  m_subscription.reset();  // no handler runs after this
+  if (m_referenceRead.valid()) m_referenceRead.wait();  // it reads through m_kv
+  m_subscription.reset();                               // no handler runs after this
   m_kv.reset();
   m_nats.reset();
 }
@@ -57,7 +64,16 @@ bool RelayViewer::start(QString* error) {
   }
   const std::optional<QByteArray> keyframe = m_kv->get("keyframe");
   if (!keyframe || !m_receiver.onKeyframe(*keyframe, sessionNow())) m_receiver.startWithoutKeyframe(sessionNow());
-  if (m_receiver.frame()) emit frameApplied(*m_receiver.frame());
+  if (m_receiver.frame()) {
+    showApplied();
+    emit frameApplied(*m_receiver.frame());
+  }
+  if (m_options.referenceEvery.count() > 0) {
+    m_referenceTimer = new QTimer(this);
+    m_referenceTimer->setInterval(m_options.referenceEvery);
+    connect(m_referenceTimer, &QTimer::timeout, this, &RelayViewer::referenceTick);
+    if (m_level) m_referenceTimer->start();  // without a level nothing is read (headless viewers, the fan-out)
+  }
   if (m_options.statsEvery.count() > 0) {
     auto* timer = new QTimer(this);
     connect(timer, &QTimer::timeout, this, &RelayViewer::publishStats);
@@ -69,8 +85,57 @@ bool RelayViewer::start(QString* error) {
 void RelayViewer::drain() {
   if (m_paused) return;  // the inbox keeps its newest messages (and posts nothing more) until setPaused(false)
   bool changed = false;
-  for (const QByteArray& message : m_inbox.take()) changed = m_receiver.onFrame(message, sessionNow()) || changed;
-  if (changed) emit frameApplied(*m_receiver.frame());
+  for (const QByteArray& message : m_inbox.take()) {
+    if (!m_receiver.onFrame(message, sessionNow())) continue;
+    changed = true;
+    m_display.applied(*m_receiver.frame(), m_receiver.coefficients(), sessionNow());  // each one: the probe's history
+  }
+  if (!changed) return;
+  armPrediction();
+  emit frameApplied(*m_receiver.frame());
+  emit displayChanged(m_display.displayedFrame());
+}
+
+void RelayViewer::showApplied() {
+  m_display.applied(*m_receiver.frame(), m_receiver.coefficients(), sessionNow());
+  armPrediction();
+  emit displayChanged(m_display.displayedFrame());
+}
+
+void RelayViewer::armPrediction() {
+  const std::optional<Micros> due = m_display.nextDue();
+  if (!due) {
+    m_predictTimer->stop();
+    return;
+  }
+  const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(*due - sessionNow());
+  m_predictTimer->start(std::max(std::chrono::milliseconds{0}, wait));
+}
+
+void RelayViewer::predict() {
+  if (m_display.advance(sessionNow()) != FramePredictor::Step::None) emit displayChanged(m_display.displayedFrame());
+  armPrediction();
+}
+
+void RelayViewer::setLevel(spectral::SharedDisplayLevel level) {
+  m_level = std::move(level);
+  m_diagonal = m_level ? spectral::boundingBoxDiagonal(m_level->level.restV) : 0.0;
+  if (m_referenceTimer && m_level && !m_referenceTimer->isActive()) m_referenceTimer->start();
+}
+
+void RelayViewer::referenceTick() {
+  if (m_referenceRead.valid()) {
+    if (m_referenceRead.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;  // still reading
+    const std::optional<QByteArray> keyframe = m_referenceRead.get();
+    if (keyframe) {
+      if (std::optional<RelayFrame> exact = m_receiver.onReference(*keyframe))
+        m_display.reference(exact->frame, exact->Z);
+    }
+  }
+  if (m_level && m_diagonal > 0) m_display.measure(m_level->level, m_diagonal);
+  if (!m_level || !m_kv) return;  // without a level nothing can be measured: no reads
+  NatsKeyValue* kv = m_kv.get();
+  m_referenceRead = std::async(std::launch::async, [kv] { return kv->get("keyframe"); });
 }
 
 void RelayViewer::setPaused(bool paused) {
@@ -88,6 +153,11 @@ void RelayViewer::publishStats() {
   out.dropped = static_cast<std::uint64_t>(droppedPending());
   out.latencyP50Ms = s.latencyP50Ms;
   out.latencyP99Ms = s.latencyP99Ms;
+  const RelayDisplayCounts shown = m_display.counts();
+  out.concealed = shown.predicted;
+  out.distortions = m_display.distortion().count;
+  out.distortionMeanPct = m_display.distortion().meanPct;
+  out.distortionMaxPct = m_display.distortion().maxPct;
   m_nats->publish(relayStatsSubject(m_options.sessionId, m_viewerId), encodeRelayStats(out));
 }
 

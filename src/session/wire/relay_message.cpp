@@ -179,6 +179,10 @@ QByteArray encodeRelayStats(const RelayStats& stats) {
   w.u64(stats.dropped);
   w.f64(clampMs(stats.latencyP50Ms));
   w.f64(clampMs(stats.latencyP99Ms));
+  w.u64(stats.concealed);
+  w.u64(stats.distortions);
+  w.f64(clampMs(stats.distortionMeanPct));
+  w.f64(clampMs(stats.distortionMaxPct));
   return out;
 }
 
@@ -194,8 +198,15 @@ std::optional<RelayStats> decodeRelayStats(QByteArrayView message) {
   stats.dropped = in.u64();
   stats.latencyP50Ms = in.f64();
   stats.latencyP99Ms = in.f64();
+  stats.concealed = in.u64();
+  stats.distortions = in.u64();
+  stats.distortionMeanPct = in.f64();
+  stats.distortionMaxPct = in.f64();
   const auto valid = [](double ms) { return std::isfinite(ms) && ms >= 0.0 && ms <= kMaxReportedMs; };
-  if (!in.finished() || !valid(stats.latencyP50Ms) || !valid(stats.latencyP99Ms)) return std::nullopt;
+  if (!in.finished() || !valid(stats.latencyP50Ms) || !valid(stats.latencyP99Ms) || !valid(stats.distortionMeanPct) ||
+      !valid(stats.distortionMaxPct)) {
+    return std::nullopt;
+  }
   return stats;
 }
 

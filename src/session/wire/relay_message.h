@@ -21,7 +21,7 @@
 //     6    4   vertexCount   full-resolution vertex count, ≥ 1
 //    10    2   certSize      c, 1..kMaxRelayCertificateBytes
 //    12    c   certificate   the host's X.509 certificate, DER (its SHA-256 is the fingerprint viewers pin)
-//  Stats (kind 3, exactly kRelayStatsSize = 60 bytes, no signature: advisory figures, anyone with the viewer
+//  Stats (kind 3, exactly kRelayStatsSize = 92 bytes, no signature: advisory figures, anyone with the viewer
 //  credential may send them):
 //     4    8   viewer        random u64 chosen by the viewer at start
 //    12    8   applied       frames applied since start
@@ -30,6 +30,10 @@
 //    36    8   dropped       frames dropped while waiting (pending limit)
 //    44    8   latencyP50    ms, f64, finite, 0..1e6 (last 10 s; meaningful on the host's machine only)
 //    52    8   latencyP99    ms, idem
+//    60    8   concealed     frames predicted (watch --concealment extrapolate; 0 with hold-last)
+//    68    8   distortions   reference frames measured (0: no level, nothing measured)
+//    76    8   distortionMean  % of the rest bounding-box diagonal, f64, finite, 0..1e6 (relay_display.h)
+//    84    8   distortionMax   idem
 //  Trailer (Frame and Facts):
 //   end−1−s s  signature     ECDSA P-256 / SHA-256 (DER) over "SC-relay1" ‖ u8 |sid| ‖ sid ‖ bytes[0, end−1−s)
 //   end−1   1  sigSize       s, 1..kMaxRelaySignatureBytes (the last byte: read first)
@@ -57,7 +61,7 @@ inline constexpr int kMaxSessionIdBytes = 32;
 
 /// Levels (4): the signed level list, KV key `levels` (relay_level_list.h).
 enum class RelayKind : std::uint8_t { Frame = 1, Facts = 2, Stats = 3, Levels = 4 };
-inline constexpr int kRelayStatsSize = 60;
+inline constexpr int kRelayStatsSize = 92;
 
 /// Why a relay message was dropped (None = accepted); `Count` sizes counter arrays.
 enum class RelayError { None, Malformed, BadSignature, Count };
@@ -85,11 +89,15 @@ struct RelayStats {
   std::uint64_t dropped = 0;
   double latencyP50Ms = 0;
   double latencyP99Ms = 0;
+  std::uint64_t concealed = 0;    ///< frames predicted (Extrapolate)
+  std::uint64_t distortions = 0;  ///< reference frames measured
+  double distortionMeanPct = 0;   ///< over those, % of the diagonal
+  double distortionMaxPct = 0;
 };
 
-/// The 60-byte Stats message (latencies clamped to [0, 1e6], non-finite sent as 0).
+/// The 92-byte Stats message (latencies and distortions clamped to [0, 1e6], non-finite sent as 0).
 QByteArray encodeRelayStats(const RelayStats& stats);
-/// nullopt unless exactly kRelayStatsSize bytes of kind Stats with finite latencies in [0, 1e6].
+/// nullopt unless exactly kRelayStatsSize bytes of kind Stats with finite latencies and distortions in [0, 1e6].
 std::optional<RelayStats> decodeRelayStats(QByteArrayView message);
 
 /// True for 1..kMaxSessionIdBytes characters of [A-Za-z0-9_-] (safe in a NATS subject and a KV bucket name).

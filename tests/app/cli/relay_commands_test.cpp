@@ -90,6 +90,9 @@ TEST_F(RelayCommandsTest, AViewerFetchesItsLevelFromTheStreamAndShowsTheDeformed
   const CliRun drive = runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), path("drag.json")});
   EXPECT_EQ(drive.exitCode, 0) << drive.err.toStdString();
   // A late viewer: the drag is over; it starts from the keyframe and fetches the full level (0) from the stream.
+  // The host stores the keyframe 200 ms after the last frame: a viewer joining sooner starts from the previous one
+  // (every 30 frames) and shows it until the next frame (measured: 2.5 % distortion here). Wait past that.
+  QThread::msleep(400);
   const CliRun full = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
                              QStringList{QStringLiteral("--level"), QStringLiteral("0"), QStringLiteral("--seconds"),
                                          QStringLiteral("4"), QStringLiteral("--json")});
@@ -102,14 +105,23 @@ TEST_F(RelayCommandsTest, AViewerFetchesItsLevelFromTheStreamAndShowsTheDeformed
   // At rest the torus is symmetric about the origin: its coordinates sum to about 0. The drag moved a cap of
   // vertices by 15% of the diagonal (≈ 0.56) along y: the sum grows by about that times the cap's vertex count.
   EXPECT_GT(std::abs(f[QStringLiteral("shape_checksum")].toDouble()), 1.0) << full.out.toStdString();
+  // With its level the viewer reads the stored keyframe back as an exact reference: it shows that very frame, so
+  // the distortion is 0 (nothing missed), and nothing was predicted (hold-last).
+  EXPECT_EQ(f[QStringLiteral("concealment")].toString(), QStringLiteral("hold-last"));
+  EXPECT_GE(f[QStringLiteral("references")].toInteger(), 1) << full.out.toStdString();
+  EXPECT_GE(f[QStringLiteral("distortion_count")].toInteger(), 1) << full.out.toStdString();
+  EXPECT_EQ(f[QStringLiteral("distortion_max_pct")].toDouble(), 0.0) << full.out.toStdString();
+  EXPECT_EQ(f[QStringLiteral("predicted")].toInteger(), 0);
   // A coarser level (the last of the ladder) has fewer vertices; an unlisted one is refused with a reason.
   const CliRun coarse = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
                                QStringList{QStringLiteral("--level"), QStringLiteral("3"), QStringLiteral("--seconds"),
-                                           QStringLiteral("3"), QStringLiteral("--json")});
+                                           QStringLiteral("3"), QStringLiteral("--json"),
+                                           QStringLiteral("--concealment"), QStringLiteral("extrapolate")});
   ASSERT_EQ(coarse.exitCode, 0) << coarse.err.toStdString();
   const QJsonObject c = QJsonDocument::fromJson(coarse.out.trimmed()).object();
   EXPECT_GT(c[QStringLiteral("level_vertices")].toInteger(), 0);
   EXPECT_LT(c[QStringLiteral("level_vertices")].toInteger(), 60 * 24 / 5);
+  EXPECT_EQ(c[QStringLiteral("concealment")].toString(), QStringLiteral("extrapolate"));
   const CliRun unlisted =
       runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw") +
              QStringList{QStringLiteral("--level"), QStringLiteral("9"), QStringLiteral("--seconds"),
@@ -126,6 +138,11 @@ TEST_F(RelayCommandsTest, WatchErrorsHaveExitCodesAndMessages) {
   const CliRun badSession = runCli({QStringLiteral("watch"), QStringLiteral("--nats"), m_server.url(),
                                     QStringLiteral("--session"), QStringLiteral("a.b")});
   EXPECT_EQ(badSession.exitCode, 2);
+  const CliRun badConcealment =
+      runCli({QStringLiteral("watch"), QStringLiteral("--nats"), m_server.url(), QStringLiteral("--session"),
+              QStringLiteral("x"), QStringLiteral("--concealment"), QStringLiteral("zero-fill")});
+  EXPECT_EQ(badConcealment.exitCode, 2);
+  EXPECT_TRUE(badConcealment.err.contains("--concealment")) << badConcealment.err.toStdString();
   write(path("wrong.pw"), "not-the-password\n");
   const CliRun wrongPassword = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "wrong.pw"));
   EXPECT_EQ(wrongPassword.exitCode, 4);
