@@ -26,7 +26,7 @@ Eigen::MatrixXd linearZ(std::uint32_t f) {
   return Z;
 }
 
-Micros at(std::uint32_t f) { return Micros{static_cast<std::int64_t>(f) * kT}; }
+Micros frameTime(std::uint32_t f) { return Micros{static_cast<std::int64_t>(f) * kT}; }
 
 /// A small level: random rest positions and a random K (n' by kM), quantised as a host's levels are.
 spectral::ResolutionLevel smallLevel() {
@@ -48,8 +48,8 @@ TEST(RelayDisplay, AViewerThatMissesFramesShowsDistortionOnThemAndNoneOnTheOnesI
   const double diagonal = spectral::boundingBoxDiagonal(level.restV);
   RelayDisplay display(Concealment::HoldLast);
   for (std::uint32_t f = 1; f <= 10; ++f) {
-    if (f != 4 && f != 5) display.applied(f, linearZ(f), at(f));      // frames 4 and 5 never arrive
-    EXPECT_EQ(display.display(), linearZ(f == 4 || f == 5 ? 3 : f));  // hold-last: the newest frame stays
+    if (f != 4 && f != 5) display.applied(f, linearZ(f), frameTime(f));  // frames 4 and 5 never arrive
+    EXPECT_EQ(display.display(), linearZ(f == 4 || f == 5 ? 3 : f));     // hold-last: the newest frame stays
     display.reference(f, linearZ(f));  // the exact references, as if the host stored a keyframe every frame
   }
   const std::vector<RelayDistortionSample> samples = display.measure(level, diagonal, 100);
@@ -74,13 +74,13 @@ TEST(RelayDisplay, AViewerThatMissesFramesShowsDistortionOnThemAndNoneOnTheOnesI
 TEST(RelayDisplay, AReferenceWaitsUntilItsFrameOrANewerOneArrivedAndIsTakenOnce) {
   const spectral::ResolutionLevel level = smallLevel();
   RelayDisplay display;
-  display.applied(3, linearZ(3), at(3));
+  display.applied(3, linearZ(3), frameTime(3));
   display.reference(1, linearZ(1));  // before the viewer's first frame: nothing to compare with
   display.reference(4, linearZ(4));
   display.reference(4, linearZ(4));  // the same keyframe read again
   EXPECT_TRUE(display.measure(level, 1.0).empty());
   EXPECT_EQ(display.counts().references, 2u);
-  display.applied(4, linearZ(4), at(4));
+  display.applied(4, linearZ(4), frameTime(4));
   const std::vector<RelayDistortionSample> samples = display.measure(level, 1.0);
   ASSERT_EQ(samples.size(), 1u);
   EXPECT_EQ(samples[0].frame, 4u);
@@ -92,19 +92,19 @@ TEST(RelayDisplay, ExtrapolationPredictsOverdueFramesAndALateFrameReplacesThePre
   const spectral::ResolutionLevel level = smallLevel();
   const double diagonal = spectral::boundingBoxDiagonal(level.restV);
   RelayDisplay display(Concealment::Extrapolate);
-  for (std::uint32_t f = 1; f <= 5; ++f) display.applied(f, linearZ(f), at(f));
+  for (std::uint32_t f = 1; f <= 5; ++f) display.applied(f, linearZ(f), frameTime(f));
   ASSERT_TRUE(display.nextDue());
-  EXPECT_EQ(*display.nextDue(), at(5) + Micros{kT.count() * 3 / 2});  // 1.5 intervals after frame 5
-  EXPECT_EQ(display.advance(at(5) + kT), FramePredictor::Step::None);
+  EXPECT_EQ(*display.nextDue(), frameTime(5) + Micros{kT.count() * 3 / 2});  // 1.5 intervals after frame 5
+  EXPECT_EQ(display.advance(frameTime(5) + kT), FramePredictor::Step::None);
   // Frame 6 is overdue: dead reckoning shows it (exact for a handle at constant velocity).
-  ASSERT_EQ(display.advance(at(6) + kT / 2), FramePredictor::Step::Predicted);
+  ASSERT_EQ(display.advance(frameTime(6) + kT / 2), FramePredictor::Step::Predicted);
   EXPECT_EQ(display.displayedFrame(), 6u);
   EXPECT_EQ(display.receivedFrame(), 5u);
   EXPECT_LT((display.display() - linearZ(6)).cwiseAbs().maxCoeff(), 1e-12);
   display.reference(6, linearZ(6));
   // Frame 6 arrives late, before 7: the exact frame replaces the prediction.
   const Eigen::MatrixXd late = linearZ(6) + Eigen::MatrixXd::Constant(kM, 3, 0.01);  // the handle turned a little
-  display.applied(6, late, at(6) + kT * 3 / 4);
+  display.applied(6, late, frameTime(6) + kT * 3 / 4);
   EXPECT_EQ(display.displayedFrame(), 6u);
   EXPECT_EQ(display.display(), late);
   const std::vector<RelayDistortionSample> samples = display.measure(level, diagonal);
@@ -120,10 +120,10 @@ TEST(RelayDisplay, ExtrapolationConcealsMissedFramesBetterThanHoldLastAndWithdra
   RelayDisplay hold(Concealment::HoldLast);
   RelayDisplay predict(Concealment::Extrapolate);
   for (RelayDisplay* display : {&hold, &predict}) {
-    for (std::uint32_t f = 1; f <= 5; ++f) display->applied(f, linearZ(f), at(f));
-    display->advance(at(6) + kT / 2);  // frame 6 is lost
+    for (std::uint32_t f = 1; f <= 5; ++f) display->applied(f, linearZ(f), frameTime(f));
+    display->advance(frameTime(6) + kT / 2);  // frame 6 is lost
     display->reference(6, linearZ(6));
-    display->applied(7, linearZ(7), at(7));
+    display->applied(7, linearZ(7), frameTime(7));
   }
   const std::vector<RelayDistortionSample> held = hold.measure(level, diagonal);
   const std::vector<RelayDistortionSample> predicted = predict.measure(level, diagonal);
@@ -147,7 +147,7 @@ TEST(RelayDisplay, ExtrapolationConcealsMissedFramesBetterThanHoldLastAndWithdra
   EXPECT_EQ(predict.counts().predicted, 1u + 4u);
   // A reference of a withdrawn frame is paired with what is shown from then on (frame 7 held), not the prediction.
   predict.reference(9, linearZ(9));
-  predict.applied(10, linearZ(10), at(10) + 10 * kT);
+  predict.applied(10, linearZ(10), frameTime(10) + 10 * kT);
   const std::vector<RelayDistortionSample> after = predict.measure(level, diagonal);
   ASSERT_EQ(after.size(), 1u);
   EXPECT_EQ(after[0].shownFrame, 7u);
@@ -158,10 +158,10 @@ TEST(RelayDisplay, MeasureKeepsTheNewestPairsAndCountsTheOthers) {
   const spectral::ResolutionLevel level = smallLevel();
   RelayDisplay display;
   for (std::uint32_t f = 1; f <= 6; ++f) {
-    display.applied(f, linearZ(f), at(f));
+    display.applied(f, linearZ(f), frameTime(f));
     display.reference(f, linearZ(f));
   }
-  display.applied(7, linearZ(7), at(7));
+  display.applied(7, linearZ(7), frameTime(7));
   const std::vector<RelayDistortionSample> samples = display.measure(level, 1.0, 2);
   ASSERT_EQ(samples.size(), 2u);
   EXPECT_EQ(samples[0].frame, 5u);
