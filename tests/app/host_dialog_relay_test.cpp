@@ -78,6 +78,10 @@ class HostDialogRelay : public testing::TorusSessionTest {
     if (IsSkipped() || HasFatalFailure()) return;
     QSettings().remove(QStringLiteral("sessions"));  // nothing remembered from another test
   }
+  void TearDown() override {
+    QSettings().remove(QStringLiteral("sessions"));  // no relay left checked for the next test's Host… dialog
+    TorusSessionTest::TearDown();
+  }
 
   /// Triggers the window's Session → Host… action, fills the modal dialog with `typing` (and what `also` does) and
   /// clicks OK. Returns the generated session id the dialog showed.
@@ -214,7 +218,9 @@ TEST_F(HostDialogRelay, HostingFromTheDialogRelaysTheFramesToAWatchProcess) {
        script.fileName(), QStringLiteral("--fingerprint"), session::formatFingerprint(host->hostFingerprint())});
   ASSERT_TRUE(drive.waitForStarted());
   ASSERT_TRUE(QTest::qWaitFor([&watch] { return watch.state() == QProcess::NotRunning; }, 60000));
-  drive.waitForFinished(30000);
+  // The host runs in this process: wait with the event loop running.
+  ASSERT_TRUE(QTest::qWaitFor([&drive] { return drive.state() == QProcess::NotRunning; }, 60000));
+  EXPECT_EQ(drive.exitCode(), 0) << drive.readAllStandardError().toStdString();
   const QByteArray output = watch.readAll();
   EXPECT_EQ(watch.exitCode(), 0) << output.toStdString();
   EXPECT_TRUE(output.contains("watch ended: frame")) << output.toStdString();
