@@ -130,6 +130,42 @@ TEST_F(LaunchOptionsTest, AHostRelaysThroughNatsWithAPasswordFile) {
                    .message.isEmpty());
 }
 
+TEST_F(LaunchOptionsTest, ARelayTakesATlsUrlAndTheBrokersCaAndRefusesBadValuesLikeTheDialog) {
+  const QString ca = m_dir.filePath(QStringLiteral("ca.pem"));
+  QFile file(ca);
+  ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+  file.write("-----BEGIN CERTIFICATE-----\n");
+  file.close();
+  const QStringList host{QStringLiteral("--host"),          m_mesh,
+                         QStringLiteral("--session"),       QStringLiteral("s1"),
+                         QStringLiteral("--nats-user"),     QStringLiteral("host"),
+                         QStringLiteral("--nats-password"), QStringLiteral("pw")};
+  const LaunchOptions tls = options(host + QStringList{QStringLiteral("--nats"), QStringLiteral("tls://broker:4222"),
+                                                       QStringLiteral("--nats-ca"), ca});
+  ASSERT_TRUE(tls.host && tls.host->relay);
+  EXPECT_EQ(tls.host->relay->url, QStringLiteral("tls://broker:4222"));
+  EXPECT_EQ(tls.host->relay->caFile, ca);
+  // The dialog's rule (checkHostRelaySettings), named by the option.
+  EXPECT_TRUE(error(host + QStringList{QStringLiteral("--nats"), QStringLiteral("broker:4222")})
+                  .message.startsWith(QStringLiteral("--nats: The NATS URL “broker:4222” must start with")));
+  EXPECT_TRUE(error(host + QStringList{QStringLiteral("--nats"), QStringLiteral("tls://broker:4222"),
+                                       QStringLiteral("--nats-ca"), m_dir.filePath(QStringLiteral("none.pem"))})
+                  .message.startsWith(QStringLiteral("--nats-ca: ")));
+  EXPECT_TRUE(
+      error({QStringLiteral("--host"), m_mesh, QStringLiteral("--nats"), QStringLiteral("nats://h:1"),
+             QStringLiteral("--session"), QStringLiteral("s"), QStringLiteral("--nats-user"), QStringLiteral("host")})
+          .message.startsWith(QStringLiteral("--nats-password[-file]: ")));
+  // A viewer's --nats-ca.
+  const LaunchOptions watch =
+      options({QStringLiteral("--watch"), QStringLiteral("tls://broker:4222"), QStringLiteral("--session"),
+               QStringLiteral("s1"), QStringLiteral("--nats-ca"), ca});
+  ASSERT_TRUE(watch.watch);
+  EXPECT_EQ(watch.watch->caFile, ca);
+  EXPECT_TRUE(
+      error({QStringLiteral("--watch"), QStringLiteral("tls://h:0"), QStringLiteral("--session"), QStringLiteral("s1")})
+          .message.contains(QStringLiteral("port from 1 to 65535")));
+}
+
 TEST_F(LaunchOptionsTest, JoinAddressesLevelsAndFingerprints) {
   const LaunchOptions join = options({QStringLiteral("--join"), QStringLiteral("[::1]:5000"), QStringLiteral("--name"),
                                       QStringLiteral("bob"), QStringLiteral("--level"), QStringLiteral("20%")});

@@ -44,7 +44,7 @@ TEST_F(RelayDocksTest, TheHostsDocksShowItsViewersAsOneAggregate) {
   app::MainWindow window;
   showSessionWindow(window, {1000, 800});
   app::HostSettings settings = loopbackHostSettings(m_meshPath, 20);
-  settings.relay = app::HostRelaySettings{server.url(), config.sessionId, config.hostUser, config.hostPassword};
+  settings.relay = app::HostRelaySettings{server.url(), config.sessionId, config.hostUser, config.hostPassword, {}};
   app::HostController* host = hostAndWait(window, settings);
   ASSERT_EQ(host->state(), app::SessionController::State::Live) << host->errorText().toStdString();
   ASSERT_NE(host->relay(), nullptr) << "the relay did not start";

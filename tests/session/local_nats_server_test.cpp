@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <QtCore/QDir>
+#include <QtCore/QFile>
 #include <QtCore/QFileInfo>
 
 #include <csignal>
@@ -70,6 +71,52 @@ TEST_F(NatsServerFixture, RestartsOnTheSamePort) {
   ASSERT_TRUE(server.restart(&error)) << error.toStdString();
   EXPECT_EQ(server.port(), port);
   EXPECT_NE(server.pid(), pid);
+}
+
+TEST(NatsServerConfigText, WritesATlsBlockOnlyWithTls) {
+  NatsServerConfig config;
+  EXPECT_FALSE(
+      natsServerConfigText(config, 0, QStringLiteral("/j"), QStringLiteral("/t")).contains(QStringLiteral("tls {")));
+  config.tls = NatsServerTls::CaSigned;
+  const QString text = natsServerConfigText(config, 0, QStringLiteral("/j"), QStringLiteral("/t"));
+  EXPECT_TRUE(text.contains(QStringLiteral("tls {"))) << text.toStdString();
+  EXPECT_TRUE(text.contains(QStringLiteral("cert_file: \"/t/server-cert.pem\""))) << text.toStdString();
+  EXPECT_TRUE(text.contains(QStringLiteral("key_file: \"/t/server-key.pem\""))) << text.toStdString();
+}
+
+TEST_F(NatsServerFixture, ASelfSignedServerAcceptsClientsThatTrustItsCertificateAndKeepsItOnRestart) {
+  LocalNatsServer server;
+  server.setTls(NatsServerTls::SelfSigned);
+  QString error;
+  ASSERT_TRUE(server.start(&error)) << error.toStdString();
+  EXPECT_EQ(server.url(), QStringLiteral("tls://127.0.0.1:%1").arg(server.port()));
+  QFile ca(server.caFile());
+  ASSERT_TRUE(ca.open(QIODevice::ReadOnly)) << server.caFile().toStdString();
+  const QByteArray certificate = ca.readAll();
+  ca.close();
+  EXPECT_TRUE(certificate.startsWith("-----BEGIN CERTIFICATE-----"));
+  EXPECT_EQ(QFile(QDir(server.directory()).filePath(QStringLiteral("server-key.pem"))).permissions() &
+                (QFile::ReadGroup | QFile::ReadOther),
+            QFile::Permissions());  // the key is the owner's only
+  NatsConnectOptions options;
+  options.url = server.url();
+  options.user = server.config().viewerUser;
+  options.password = server.config().viewerPassword;
+  options.caFile = server.caFile();
+  QString why;
+  EXPECT_TRUE(NatsConnection::connect(options, &why)) << why.toStdString();
+  options.caFile.clear();  // the system's CAs do not know it
+  EXPECT_FALSE(NatsConnection::connect(options, &why));
+  EXPECT_TRUE(why.contains(QStringLiteral("TLS"))) << why.toStdString();
+  options.caFile = QDir(server.directory()).filePath(QStringLiteral("nats.conf"));  // not a certificate
+  EXPECT_FALSE(NatsConnection::connect(options, &why));
+  EXPECT_TRUE(why.contains(QStringLiteral("cannot load the CA file"))) << why.toStdString();
+
+  ASSERT_TRUE(server.restart(&error)) << error.toStdString();
+  ASSERT_TRUE(ca.open(QIODevice::ReadOnly));
+  EXPECT_EQ(ca.readAll(), certificate);  // the same certificate: clients keep trusting it
+  options.caFile = server.caFile();
+  EXPECT_TRUE(NatsConnection::connect(options, &why)) << why.toStdString();
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 #pragma once
 // Fixture of the relay suites with a real broker (issue 18): a nats-server started per test on 127.0.0.1 and stopped
-// by its PID (src/session/net/local_nats_server.h), a started SessionHost of a small model with a fresh TLS
-// identity, its RelayPublisher, and viewers with the viewer credential pinned to the host's fingerprint. The host's
-// own user drives frames (lock, cap constraints, one drag per frame).
+// by its PID (src/session/net/local_nats_server.h; with TLS in a derived fixture), a started SessionHost of a small
+// model with a fresh TLS identity, its RelayPublisher, and viewers with the viewer credential pinned to the host's
+// fingerprint. The host's own user drives frames (lock, cap constraints, one drag per frame).
 #include "harmonic_host_model.h"
 #include "session/net/local_nats_server.h"
 #include "session/net/relay_publisher.h"
@@ -35,6 +35,7 @@ class RelayNats : public ::testing::Test {
 
   void SetUp() override {
     if (!natsServerAvailable()) GTEST_SKIP() << "nats-server is not installed";
+    configureServer(m_server);
     QString error;
     ASSERT_TRUE(m_server.start(&error)) << error.toStdString();
     SessionHostOptions options;
@@ -58,6 +59,8 @@ class RelayNats : public ::testing::Test {
 
   /// A derived fixture's changes to the host's options (relay_level_nats_test.cpp: a ladder of levels).
   virtual void configureHost(SessionHostOptions& /*options*/) {}
+  /// A derived fixture's changes to the server before it starts (relay_tls_nats_test.cpp: TLS).
+  virtual void configureServer(LocalNatsServer& /*server*/) {}
 
   void TearDown() override {
     m_viewers.clear();
@@ -71,6 +74,7 @@ class RelayNats : public ::testing::Test {
     options.nats.url = m_server.url();
     options.nats.user = m_server.config().hostUser;
     options.nats.password = m_server.config().hostPassword;
+    options.nats.caFile = m_server.caFile();  // empty without TLS
     options.sessionId = m_server.config().sessionId;
     return options;
   }
@@ -80,6 +84,7 @@ class RelayNats : public ::testing::Test {
     options.url = m_server.url();
     options.user = m_server.config().viewerUser;
     options.password = m_server.config().viewerPassword;
+    options.caFile = m_server.caFile();
     return options;
   }
 

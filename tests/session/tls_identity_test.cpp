@@ -10,6 +10,8 @@
 #include <QtCore/QCryptographicHash>
 #include <QtCore/QFile>
 #include <QtCore/QTemporaryDir>
+#include <QtNetwork/QSslCertificate>
+#include <QtNetwork/QSslCertificateExtension>
 
 #include <optional>
 
@@ -82,6 +84,33 @@ TEST(TlsIdentity, AMissingCertificateOrKeyFileIsReportedNotRegenerated) {
     ASSERT_TRUE(keptFile.open(QIODevice::ReadOnly));
     EXPECT_EQ(keptFile.readAll(), keptBytes) << kept.toStdString() << " was overwritten";
   }
+}
+
+TEST(TlsIdentity, ACaSignsAServerCertificateThatNamesItsHosts) {
+  // The broker's TLS in tests (local_nats_server.h): a CA, and a server certificate it issues.
+  CertificateProfile authority;
+  authority.commonName = QStringLiteral("test CA");
+  authority.certificateAuthority = true;
+  const std::optional<TlsIdentity> ca = generateTlsIdentity(authority, nullptr);
+  ASSERT_TRUE(ca);
+  EXPECT_TRUE(ca->certificate.isSelfSigned());
+  CertificateProfile server;
+  server.commonName = QStringLiteral("localhost");
+  server.dnsNames = {QStringLiteral("localhost")};
+  server.ipAddresses = {QStringLiteral("127.0.0.1")};
+  QString error;
+  const std::optional<TlsIdentity> issued = generateTlsIdentity(server, &*ca, &error);
+  ASSERT_TRUE(issued) << error.toStdString();
+  EXPECT_FALSE(issued->certificate.isSelfSigned());
+  EXPECT_EQ(issued->certificate.issuerInfo(QSslCertificate::CommonName), QStringList{QStringLiteral("test CA")});
+  const auto names = issued->certificate.subjectAlternativeNames();
+  EXPECT_TRUE(names.values(QSsl::DnsEntry).contains(QStringLiteral("localhost")));
+  EXPECT_TRUE(names.values(QSsl::IpAddressEntry).contains(QStringLiteral("127.0.0.1")));
+  // Without a profile's extensions: the host identity as before (no CA flag, no names).
+  const std::optional<TlsIdentity> plain = generateTlsIdentity(QStringLiteral("host"));
+  ASSERT_TRUE(plain);
+  EXPECT_TRUE(plain->certificate.extensions().isEmpty());
+  EXPECT_FALSE(ca->certificate.extensions().isEmpty());
 }
 
 TEST(TlsIdentity, FingerprintsFormatAndParse) {

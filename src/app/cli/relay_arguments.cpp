@@ -1,6 +1,9 @@
 #include "app/cli/relay_arguments.h"
 
+#include "app/common/nats_url.h"
 #include "session/wire/relay_message.h"
+
+#include <QFileInfo>
 
 #include <utility>
 
@@ -16,10 +19,14 @@ RelayArguments::RelayArguments()
       m_passwordFile(QStringLiteral("nats-password-file"), QStringLiteral("NATS password: the first line of this file"),
                      QStringLiteral("file")),
       m_session(QStringLiteral("session"), QStringLiteral("session id on the relay (1..32 of A-Z a-z 0-9 _ -)"),
-                QStringLiteral("id")) {}
+                QStringLiteral("id")),
+      m_ca(QStringLiteral("nats-ca"),
+           QStringLiteral("TLS to the broker (tls:// URL, or a server requiring TLS): trust the CA certificate(s) in "
+                          "this PEM file instead of the system's"),
+           QStringLiteral("file")) {}
 
 void RelayArguments::addTo(SubcommandParser& command) const {
-  command.parser().addOptions({m_url, m_user, m_password, m_passwordFile, m_session});
+  command.parser().addOptions({m_url, m_user, m_password, m_passwordFile, m_session, m_ca});
 }
 
 bool RelayArguments::given(const SubcommandParser& command) const { return command.parser().isSet(m_url); }
@@ -33,6 +40,15 @@ std::optional<std::pair<session::NatsConnectOptions, QString>> RelayArguments::r
   const QString sessionId = parser.value(m_session);
   if (options.url.isEmpty()) {
     command.error(QStringLiteral("--nats URL is required"));
+    return std::nullopt;
+  }
+  if (const QString problem = natsUrlProblem(options.url); !problem.isEmpty()) {
+    command.error(QStringLiteral("--nats: ") + problem);
+    return std::nullopt;
+  }
+  options.caFile = parser.value(m_ca);
+  if (!options.caFile.isEmpty() && !QFileInfo(options.caFile).isReadable()) {
+    command.error(QStringLiteral("--nats-ca: cannot read %1").arg(options.caFile));
     return std::nullopt;
   }
   if (!session::isValidSessionId(sessionId)) {

@@ -1,7 +1,9 @@
 #pragma once
 // The NATS relay options shared by `host` and `watch` (issue 18; README "Viewers through NATS"):
-//   --nats URL  --nats-user U  (--nats-password P | --nats-password-file F)  --session ID
-// A password on the command line shows in process lists: prefer --nats-password-file.
+//   --nats URL  --nats-user U  (--nats-password P | --nats-password-file F)  --session ID  [--nats-ca CA.pem]
+// A password on the command line shows in process lists: prefer --nats-password-file. URL tls://HOST:PORT (or a
+// server that requires TLS): TLS to the broker, verified against --nats-ca (else the system's CAs). The URL syntax
+// is the GUI's (app/common/nats_url.h).
 
 #include "app/cli/cli_common.h"
 #include "session/net/nats_client.h"
@@ -37,6 +39,7 @@ class RelayArguments {
   QCommandLineOption m_password;
   QCommandLineOption m_passwordFile;
   QCommandLineOption m_session;
+  QCommandLineOption m_ca;
 };
 
 }  // namespace sc::app

@@ -138,6 +138,7 @@ void HostController::startRelay() {
   options.nats.url = m_settings.relay->url;
   options.nats.user = m_settings.relay->user;
   options.nats.password = m_settings.relay->password;
+  options.nats.caFile = m_settings.relay->caFile;
   options.nats.name = QStringLiteral("shapecast host");
   options.sessionId = m_settings.relay->sessionId;
   m_settings.relay->password.clear();  // the publisher keeps its copy (cnats reconnects with it)
@@ -145,7 +146,10 @@ void HostController::startRelay() {
   QString error;
   if (!relay->start(&error)) {
     delete relay;
-    emit failed(tr("Hosting without the relay: %1").arg(error));
+    // The editors' session is up and unaffected: it goes on, without the relay (as with the command line).
+    emit failed(tr("Hosting without the relay through NATS: %1. Editors join as usual; viewers through NATS will not "
+                   "see this session until you host again with working relay settings.")
+                    .arg(error));
     return;
   }
   m_relay = relay;

@@ -2,6 +2,7 @@
 
 #include "ui_host_dialog.h"
 
+#include "app/gui/host_relay_settings.h"
 #include "app/gui/recent_files.h"
 #include "app/gui/recent_sessions.h"
 #include "session/wire/wire_format.h"
@@ -9,8 +10,11 @@
 #include <QDialogButtonBox>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QSettings>
+
+#include <optional>
 
 namespace sc::app {
 
@@ -39,7 +43,13 @@ HostDialog::HostDialog(QWidget* parent) : QDialog(parent), ui(new Ui::HostDialog
   ui->portSpin->setValue(recent.hostPort);
   ui->frequenciesSpin->setMaximum(session::kMaxRows);
   ui->frequenciesSpin->setValue(recent.frequencies);
+  ui->relayGroup->setChecked(recent.relayEnabled);
+  ui->natsUrlEdit->setText(recent.relayUrl);
+  ui->relaySessionEdit->setText(recent.relaySessionId.isEmpty() ? generateRelaySessionId() : recent.relaySessionId);
+  ui->natsUserEdit->setText(recent.relayUser);
+  ui->natsCaEdit->setText(recent.relayCaFile);
   connect(ui->browseButton, &QPushButton::clicked, this, &HostDialog::browse);
+  connect(ui->natsCaBrowseButton, &QPushButton::clicked, this, &HostDialog::browseCaFile);
   connect(ui->buttonBox, &QDialogButtonBox::accepted, this, &HostDialog::accept);
 }
 
@@ -53,6 +63,11 @@ HostSettings HostDialog::settings() const {
   s.m = ui->frequenciesSpin->value();
   s.name = ui->nameCombo->currentText().trimmed();
   s.editors = ui->editorsSpin->value();
+  if (ui->relayGroup->isChecked()) {
+    s.relay = HostRelaySettings{ui->natsUrlEdit->text().trimmed(), ui->relaySessionEdit->text().trimmed(),
+                                ui->natsUserEdit->text().trimmed(), ui->natsPasswordEdit->text(),
+                                ui->natsCaEdit->text().trimmed()};
+  }
   return s;
 }
 
@@ -63,20 +78,47 @@ void HostDialog::setSettings(const HostSettings& settings) {
   ui->frequenciesSpin->setValue(settings.m);
   ui->nameCombo->setEditText(settings.name);
   ui->editorsSpin->setValue(settings.editors);
+  ui->relayGroup->setChecked(settings.relay.has_value());
+  if (!settings.relay) return;
+  ui->natsUrlEdit->setText(settings.relay->url);
+  ui->relaySessionEdit->setText(settings.relay->sessionId);
+  ui->natsUserEdit->setText(settings.relay->user);
+  if (!settings.relay->password.isEmpty()) ui->natsPasswordEdit->setText(settings.relay->password);
+  ui->natsCaEdit->setText(settings.relay->caFile);
 }
 
 QString HostDialog::errorText() const { return ui->errorLabel->text(); }
 
-void HostDialog::accept() {
+QString HostDialog::problem() {
   const HostSettings s = settings();
   const QString error = validateHostSettings(s);
+  if (!error.isEmpty() || !s.relay) return error;
+  const std::optional<RelayProblem> relay = checkHostRelaySettings(*s.relay);
+  if (!relay) return {};
+  QLineEdit* const fields[] = {ui->natsUrlEdit, ui->relaySessionEdit, ui->natsUserEdit, ui->natsPasswordEdit,
+                               ui->natsCaEdit};
+  fields[static_cast<int>(relay->field)]->setFocus();
+  return relay->message;
+}
+
+void HostDialog::accept() {
+  const QString error = problem();
   ui->errorLabel->setText(error);
   if (!error.isEmpty()) return;
+  const HostSettings s = settings();
   QSettings store;
   RecentSessions recent = RecentSessions::load(store);
   recent.rememberHost(s);
   recent.save(store);
   QDialog::accept();
+}
+
+void HostDialog::browseCaFile() {
+  const QString current = ui->natsCaEdit->text();
+  const QString path =
+      QFileDialog::getOpenFileName(this, tr("Broker's Certificate Authority"), QFileInfo(current).absolutePath(),
+                                   tr("PEM certificates (*.pem *.crt);;All files (*)"));
+  if (!path.isEmpty()) ui->natsCaEdit->setText(path);
 }
 
 void HostDialog::browse() {

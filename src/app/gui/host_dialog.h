@@ -1,7 +1,9 @@
 #pragma once
 // HostDialog: the Host… form (ui/host_dialog.ui): mesh file (recent ones, Browse…), TCP port, password, number of
-// frequencies m and display name. OK validates (validateHostSettings) and shows the problem in the dialog instead
-// of closing; on success the values (not the password) are remembered in QSettings (RecentSessions).
+// frequencies m and display name, and the optional "Relay viewers through NATS" group (issue 18: server URL, relay
+// session id — a generated one by default —, NATS user and password, the broker's CA file for TLS). OK validates
+// (validateHostSettings, and checkHostRelaySettings: the command line's rule) and shows the problem in the dialog
+// instead of closing; on success the values (no password) are remembered in QSettings (RecentSessions).
 
 #include "app/gui/session_settings.h"
 
@@ -27,9 +29,10 @@ class HostDialog : public QDialog {
   explicit HostDialog(QWidget* parent = nullptr);
   ~HostDialog() override;
 
-  /// The form's values (password nullopt when empty).
+  /// The form's values (password nullopt when empty; relay nullopt unless the relay group is checked).
   [[nodiscard]] HostSettings settings() const;
-  /// Fills the form (e.g. from the command line); the password field is left as it is when none is given.
+  /// Fills the form (e.g. from the command line); the password fields are left as they are when none is given, the
+  /// relay group is checked and filled only when `settings.relay` is set.
   void setSettings(const HostSettings& settings);
   /// The current validation message (empty: valid).
   [[nodiscard]] QString errorText() const;
@@ -40,6 +43,9 @@ class HostDialog : public QDialog {
 
  private:
   void browse();
+  void browseCaFile();
+  /// The problem of the current values (host, then relay): its message, with the faulty relay field focused.
+  [[nodiscard]] QString problem();
 
   Ui::HostDialog* ui;
 };

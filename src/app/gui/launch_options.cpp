@@ -175,6 +175,7 @@ std::optional<LaunchError> LaunchParser::readWatch(LaunchOptions& options) const
   settings.sessionId = given.sessionId;
   settings.user = given.user;
   settings.password = given.password;
+  settings.caFile = given.caFile;
   if (m_parser.isSet(m_pin)) {
     const std::optional<QByteArray> pinned = session::parseFingerprint(m_parser.value(m_pin));
     if (!pinned) return usage("--pin takes 64 hex digits (colons or spaces allowed)");

@@ -7,11 +7,12 @@
 //                                                sibling executable shapecast-screenshots, tools/screenshots/)
 //   shapecast [MESH] [--screenshot FILE.png] [--size WIDTHxHEIGHT]
 //   shapecast --host MESH|SESSION.shapecast [--port P] [--name N] [--m M]
-//   shapecast --host MESH … --nats URL --session ID --nats-user U --nats-password-file F   (relay, issue 18:
-//                                                launch_relay_options.h)
+//   shapecast --host MESH … --nats URL --session ID --nats-user U --nats-password-file F [--nats-ca CA.pem]
+//                                                (relay, issue 18: launch_relay_options.h)
 //   shapecast --join HOST:PORT [--name N] [--level full|N|P%] [--fingerprint HEX]
 //   shapecast --watch nats://HOST:PORT --session ID --nats-user U (--nats-password P | --nats-password-file F)
-//             [--pin HEX] [--level full|N|P%]          (watch a relayed session read-only, watch_settings.h)
+//             [--pin HEX] [--level full|N|P%] [--nats-ca CA.pem]   (watch a relayed session read-only,
+//                                                watch_settings.h; tls://HOST:PORT for TLS to the broker)
 //
 // A password is asked for in the Host…/Join… dialogs only (never on the command line, where others can read it).
 // Parsing needs no QApplication and opens nothing: main() then builds the windows from a LaunchOptions.

@@ -1,8 +1,10 @@
 #include "app/gui/launch_relay_options.h"
 
-#include "session/wire/relay_message.h"
+#include "app/gui/host_relay_settings.h"
 
 #include <QFile>
+
+#include <utility>
 
 namespace sc::app {
 
@@ -22,21 +24,25 @@ RelayLaunchOptions::RelayLaunchOptions()
                  QStringLiteral("password")),
       m_passwordFile(QStringLiteral("nats-password-file"),
                      QStringLiteral("With --nats or --watch: the NATS password, the first line of <file>."),
-                     QStringLiteral("file")) {}
+                     QStringLiteral("file")),
+      m_ca(QStringLiteral("nats-ca"),
+           QStringLiteral("With --nats or --watch: TLS to the broker (tls://… URL, or a server requiring TLS) trusts "
+                          "the CA certificate(s) in <file> (PEM) instead of the system's."),
+           QStringLiteral("file")) {}
 
 void RelayLaunchOptions::addTo(QCommandLineParser& parser) const {
-  parser.addOptions({m_url, m_session, m_user, m_password, m_passwordFile});
+  parser.addOptions({m_url, m_session, m_user, m_password, m_passwordFile, m_ca});
 }
 
 bool RelayLaunchOptions::given(const QCommandLineParser& parser) const {
   return parser.isSet(m_url) || parser.isSet(m_session) || parser.isSet(m_user) || parser.isSet(m_password) ||
-         parser.isSet(m_passwordFile);
+         parser.isSet(m_passwordFile) || parser.isSet(m_ca);
 }
 
 bool RelayLaunchOptions::urlGiven(const QCommandLineParser& parser) const { return parser.isSet(m_url); }
 
 std::variant<RelayCredentials, QString> RelayLaunchOptions::readCredentials(const QCommandLineParser& parser) const {
-  RelayCredentials credentials{parser.value(m_session), parser.value(m_user), {}};
+  RelayCredentials credentials{parser.value(m_session), parser.value(m_user), {}, parser.value(m_ca)};
   if (parser.isSet(m_password) && parser.isSet(m_passwordFile))
     return QStringLiteral("--nats-password and --nats-password-file cannot be used together");
   if (!parser.isSet(m_passwordFile)) {
@@ -56,14 +62,14 @@ std::variant<std::optional<HostRelaySettings>, QString> RelayLaunchOptions::read
     const QCommandLineParser& parser) const {
   if (!given(parser)) return std::optional<HostRelaySettings>();
   if (!parser.isSet(m_url) || parser.value(m_url).isEmpty())
-    return QStringLiteral("--session, --nats-user and --nats-password[-file] need --nats URL");
+    return QStringLiteral("--session, --nats-user, --nats-password[-file] and --nats-ca need --nats URL");
   const std::variant<RelayCredentials, QString> credentials = readCredentials(parser);
   if (const QString* problem = std::get_if<QString>(&credentials)) return *problem;
   const RelayCredentials& given = std::get<RelayCredentials>(credentials);
-  if (!session::isValidSessionId(given.sessionId))
-    return QStringLiteral("--nats needs --session ID (1 to 32 of A-Z a-z 0-9 _ -)");
-  return std::optional<HostRelaySettings>(
-      HostRelaySettings{parser.value(m_url), given.sessionId, given.user, given.password});
+  HostRelaySettings relay{parser.value(m_url), given.sessionId, given.user, given.password, given.caFile};
+  if (const std::optional<RelayProblem> problem = checkHostRelaySettings(relay))
+    return QString(relayOptionName(problem->field) + QStringLiteral(": ") + problem->message);
+  return std::optional<HostRelaySettings>(std::move(relay));
 }
 
 }  // namespace sc::app

@@ -27,6 +27,11 @@ RecentSessions RecentSessions::load(QSettings& settings) {
   recent.joinPort = number(QStringLiteral("joinPort"), 47100, 1, 65535);
   recent.frequencies = number(QStringLiteral("frequencies"), 100, 1, 4096);
   recent.joinResolution = number(QStringLiteral("joinResolution"), 0, 0, 16);
+  recent.relayEnabled = settings.value(QStringLiteral("relayEnabled"), false).toBool();
+  recent.relayUrl = settings.value(QStringLiteral("relayUrl")).toString();
+  recent.relaySessionId = settings.value(QStringLiteral("relaySessionId")).toString();
+  recent.relayUser = settings.value(QStringLiteral("relayUser")).toString();
+  recent.relayCaFile = settings.value(QStringLiteral("relayCaFile")).toString();
   settings.endGroup();
   return recent;
 }
@@ -40,6 +45,11 @@ void RecentSessions::save(QSettings& settings) const {
   settings.setValue(QStringLiteral("joinPort"), joinPort);
   settings.setValue(QStringLiteral("frequencies"), frequencies);
   settings.setValue(QStringLiteral("joinResolution"), joinResolution);
+  settings.setValue(QStringLiteral("relayEnabled"), relayEnabled);
+  settings.setValue(QStringLiteral("relayUrl"), relayUrl);
+  settings.setValue(QStringLiteral("relaySessionId"), relaySessionId);
+  settings.setValue(QStringLiteral("relayUser"), relayUser);
+  settings.setValue(QStringLiteral("relayCaFile"), relayCaFile);
   settings.endGroup();
 }
 
@@ -56,6 +66,12 @@ void RecentSessions::rememberHost(const HostSettings& settings) {
   remember(names, settings.name);
   hostPort = settings.port;
   frequencies = settings.m;
+  relayEnabled = settings.relay.has_value();
+  if (!settings.relay) return;
+  relayUrl = settings.relay->url;
+  relaySessionId = settings.relay->sessionId;
+  relayUser = settings.relay->user;
+  relayCaFile = settings.relay->caFile;
 }
 
 void RecentSessions::rememberJoin(const JoinSettings& settings) {

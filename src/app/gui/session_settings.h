@@ -19,10 +19,11 @@ namespace sc::app {
 /// Relaying a hosted session through NATS (issue 18; README "Viewers through NATS"): the host also publishes every
 /// frame once to the broker, whatever the number of viewers (session::RelayPublisher).
 struct HostRelaySettings {
-  QString url;        ///< nats://HOST:PORT (several: comma-separated)
+  QString url;        ///< nats://HOST:PORT or tls://HOST:PORT (several: comma-separated)
   QString sessionId;  ///< session::isValidSessionId()
   QString user;
   QString password;  ///< kept by the relay publisher only (reconnections)
+  QString caFile;    ///< TLS to the broker: the CA (PEM) to trust instead of the system's; empty: the system's
 };
 
 /// What HostController::host() needs. Validation of user input happens in the dialog; host() fails with failed()

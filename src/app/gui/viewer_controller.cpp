@@ -29,6 +29,7 @@ bool ViewerController::watch(const WatchSettings& settings) {
   options.nats.url = settings.url;
   options.nats.user = settings.user;
   options.nats.password = settings.password;
+  options.nats.caFile = settings.caFile;
   options.nats.name = QStringLiteral("shapecast viewer");
   options.sessionId = settings.sessionId;
   if (!settings.pin.isEmpty()) options.pin = settings.pin;

@@ -15,10 +15,11 @@
 namespace sc::app {
 
 struct WatchSettings {
-  QString url;        ///< nats://HOST:PORT (comma-separated for several)
+  QString url;        ///< nats://HOST:PORT or tls://HOST:PORT (comma-separated for several)
   QString sessionId;  ///< session::isValidSessionId()
   QString user;       ///< the viewer credential
   QString password;
+  QString caFile;           ///< TLS to the broker: the CA (PEM) to trust instead of the system's (--nats-ca)
   QByteArray pin;           ///< the host certificate's SHA-256; empty: trust the first facts (shown in the window)
   std::uint32_t level = 0;  ///< wanted display vertices; 0 = full resolution
   std::optional<double> levelFraction;  ///< overrides `level`: this fraction of the host's vertex count
@@ -26,7 +27,8 @@ struct WatchSettings {
   session::Concealment concealment = session::Concealment::HoldLast;
 };
 
-/// Empty when `settings` can be used to watch; otherwise the readable reason (no URL, a bad session id).
+/// Empty when `settings` can be used to watch; otherwise the readable reason (a bad URL: app/common/nats_url.h, a bad
+/// session id, an unreadable CA file).
 QString validateWatchSettings(const WatchSettings& settings);
 
 }  // namespace sc::app

@@ -1,5 +1,7 @@
 #include "session/net/local_nats_server.h"
 
+#include "session/net/tls_identity.h"
+
 #include <QtCore/QDir>
 #include <QtCore/QElapsedTimer>
 #include <QtCore/QFile>
@@ -13,6 +15,7 @@
 #include <QtCore/QThread>
 #include <QtCore/QUrl>
 
+#include <optional>
 #include <utility>
 
 namespace sc::session {
@@ -26,9 +29,44 @@ QString list(const QStringList& items) {
   return QLatin1Char('[') + out.join(QStringLiteral(", ")) + QLatin1Char(']');
 }
 
+/// Writes `bytes` to `path` (owner-only when `secret`); false with `error` set on failure.
+bool writeFile(const QString& path, const QByteArray& bytes, bool secret, QString* error) {
+  QFile file(path);
+  if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate) ||
+      (secret && !file.setPermissions(QFile::ReadOwner | QFile::WriteOwner)) || file.write(bytes) != bytes.size()) {
+    if (error) *error = QStringLiteral("cannot write %1").arg(path);
+    return false;
+  }
+  return true;
+}
+
+/// The server's certificate and key (and the CA's certificate) in `dir`, unless they are there already.
+bool writeServerCertificates(NatsServerTls tls, const QDir& dir, QString* error) {
+  const QString certificatePath = dir.filePath(QStringLiteral("server-cert.pem"));
+  if (QFile::exists(certificatePath)) return true;
+  CertificateProfile server;
+  server.commonName = QStringLiteral("localhost");
+  server.dnsNames = {QStringLiteral("localhost")};
+  server.ipAddresses = {QStringLiteral("127.0.0.1")};
+  std::optional<TlsIdentity> ca;
+  if (tls == NatsServerTls::CaSigned) {
+    CertificateProfile authority;
+    authority.commonName = QStringLiteral("ShapeCast test broker CA");
+    authority.certificateAuthority = true;
+    ca = generateTlsIdentity(authority, nullptr, error);
+    if (!ca) return false;
+  }
+  const std::optional<TlsIdentity> identity = generateTlsIdentity(server, ca ? &*ca : nullptr, error);
+  if (!identity) return false;
+  const QByteArray trusted = ca ? ca->certificate.toPem() : identity->certificate.toPem();
+  return writeFile(dir.filePath(QStringLiteral("server-key.pem")), identity->privateKey.toPem(), true, error) &&
+         writeFile(dir.filePath(QStringLiteral("ca.pem")), trusted, false, error) &&
+         writeFile(certificatePath, identity->certificate.toPem(), false, error);
+}
+
 }  // namespace
 
-QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir) {
+QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir, const QString& tlsDir) {
   const QString sid = config.sessionId;
   const QString stream = QStringLiteral("KV_sc_") + sid;
   const QString levels = QStringLiteral("SC_%1_LEVELS").arg(sid);  // relay_level_list.h: read-only for viewers
@@ -46,6 +84,13 @@ QString natsServerConfigText(const NatsServerConfig& config, int port, const QSt
       QStringLiteral("$JS.API.DIRECT.GET.") + stream + QStringLiteral(".>"), QStringLiteral("sc.%1.stats.>").arg(sid),
       QStringLiteral("$JS.API.STREAM.MSG.GET.") + levels};
   const QStringList viewerSubscribe = {QStringLiteral("sc.%1.z").arg(sid), QStringLiteral("_INBOX.>")};
+  QString tls;
+  if (config.tls != NatsServerTls::None && !tlsDir.isEmpty()) {
+    const QDir dir(tlsDir);
+    tls = QStringLiteral("tls {\n  cert_file: %1\n  key_file: %2\n  timeout: 2\n}\n")
+              .arg(quoted(dir.filePath(QStringLiteral("server-cert.pem"))),
+                   quoted(dir.filePath(QStringLiteral("server-key.pem"))));
+  }
   auto user = [](const QString& name, const QString& password, const QStringList& pub, const QStringList& sub) {
     return QStringLiteral("    { user: %1, password: %2, permissions: { publish: %3, subscribe: %4 } }\n")
         .arg(quoted(name), quoted(password), list(pub), list(sub));
@@ -55,7 +100,8 @@ QString natsServerConfigText(const NatsServerConfig& config, int port, const QSt
          QStringLiteral("write_deadline: \"2s\"\nmax_pending: 8MB\n") +
          QStringLiteral("authorization {\n  users = [\n") +
          user(config.hostUser, config.hostPassword, hostPublish, hostSubscribe) +
-         user(config.viewerUser, config.viewerPassword, viewerPublish, viewerSubscribe) + QStringLiteral("  ]\n}\n");
+         user(config.viewerUser, config.viewerPassword, viewerPublish, viewerSubscribe) + QStringLiteral("  ]\n}\n") +
+         tls;
 }
 
 QString natsServerBinary() {
@@ -76,6 +122,10 @@ LocalNatsServer::~LocalNatsServer() { stop(); }
 
 QString LocalNatsServer::directory() const { return m_dir->path(); }
 
+QString LocalNatsServer::caFile() const {
+  return m_config.tls == NatsServerTls::None ? QString() : QDir(m_dir->path()).filePath(QStringLiteral("ca.pem"));
+}
+
 bool LocalNatsServer::running() const { return m_process && m_process->state() == QProcess::Running; }
 
 bool LocalNatsServer::start(QString* error, std::chrono::milliseconds wait) {
@@ -93,7 +143,11 @@ bool LocalNatsServer::start(QString* error, std::chrono::milliseconds wait) {
   const QString configPath = dir.filePath(QStringLiteral("nats.conf"));
   QFile file(configPath);
   if (!file.open(QIODevice::WriteOnly | QIODevice::Truncate)) return fail(QStringLiteral("cannot write the config"));
-  file.write(natsServerConfigText(m_config, m_port, dir.filePath(QStringLiteral("js"))).toUtf8());
+  if (m_config.tls != NatsServerTls::None) {
+    QString why;
+    if (!writeServerCertificates(m_config.tls, dir, &why)) return fail(QStringLiteral("TLS certificates: ") + why);
+  }
+  file.write(natsServerConfigText(m_config, m_port, dir.filePath(QStringLiteral("js")), dir.path()).toUtf8());
   file.close();
 
   m_process = std::make_unique<QProcess>();
@@ -111,8 +165,10 @@ bool LocalNatsServer::start(QString* error, std::chrono::milliseconds wait) {
       const QJsonArray urls = QJsonDocument::fromJson(ports.readAll()).object().value(QStringLiteral("nats")).toArray();
       const QUrl url(urls.isEmpty() ? QString() : urls.first().toString());
       if (url.isValid() && url.port() > 0) {
-        m_url = url.toString();
         m_port = url.port();
+        m_url = QStringLiteral("%1://127.0.0.1:%2")
+                    .arg(m_config.tls == NatsServerTls::None ? QStringLiteral("nats") : QStringLiteral("tls"))
+                    .arg(m_port);
         return true;
       }
     }

@@ -21,21 +21,31 @@ namespace sc::session {
 /// installs it there) or /usr/bin; empty when none.
 QString natsServerBinary();
 
-/// The users and the session whose subjects they may use.
+/// TLS between the clients and the server (docs/security.md, "TLS to the broker").
+enum class NatsServerTls {
+  None,        ///< plain nats://
+  CaSigned,    ///< a generated CA (caFile()) signs the server's certificate (CN and SAN localhost, IP 127.0.0.1)
+  SelfSigned,  ///< the server's certificate signs itself; caFile() is that certificate
+};
+
+/// The users and the session whose subjects they may use, and whether clients must use TLS.
 struct NatsServerConfig {
   QString sessionId = QStringLiteral("test");
   QString hostUser = QStringLiteral("host");
   QString hostPassword = QStringLiteral("host-secret");
   QString viewerUser = QStringLiteral("viewer");
   QString viewerPassword = QStringLiteral("viewer-secret");
+  NatsServerTls tls = NatsServerTls::None;
 };
 
 /// The configuration text: listen on 127.0.0.1:`port` (0: a random port, written as -1), JetStream under `storeDir`.
 /// Host: publish sc.<sid>.> and its bucket's KV and JetStream API subjects, create/update/info of the level stream
 /// SC_<sid>_LEVELS; subscribe its inboxes and the viewers' statistics. Viewer: subscribe sc.<sid>.z and its inboxes;
 /// publish only the bucket's read API subjects, the level stream's message-get API and sc.<sid>.stats.> (so a
-/// viewer's publish on the frame or a level subject is refused by the server).
-QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir);
+/// viewer's publish on the frame or a level subject is refused by the server). With `tlsDir` (config.tls not None):
+/// a `tls {}` block with `tlsDir`/server-cert.pem and server-key.pem (every client must then use TLS).
+QString natsServerConfigText(const NatsServerConfig& config, int port, const QString& storeDir,
+                             const QString& tlsDir = {});
 
 class LocalNatsServer {
  public:
@@ -45,7 +55,9 @@ class LocalNatsServer {
   LocalNatsServer& operator=(const LocalNatsServer&) = delete;
 
   /// Starts the server on `port` (0: random, the first time; a restart reuses the port) and waits up to `wait`
-  /// for its ports file. False with `error` set when the binary is missing, it exits or the file never comes.
+  /// for its ports file. With config().tls, the first start generates the certificates (OpenSSL, tls_identity.h:
+  /// ECDSA P-256) into directory(); a restart keeps them. False with `error` set when the binary is missing, the
+  /// certificates cannot be made, it exits or the file never comes.
   bool start(QString* error = nullptr, std::chrono::milliseconds wait = std::chrono::milliseconds(5000));
   /// Stops the server by its PID (SIGTERM, then SIGKILL after 2 s). Idempotent.
   void stop();
@@ -53,11 +65,16 @@ class LocalNatsServer {
   bool restart(QString* error = nullptr);
 
   [[nodiscard]] bool running() const;
-  [[nodiscard]] QString url() const { return m_url; }  ///< nats://127.0.0.1:PORT
+  [[nodiscard]] QString url() const { return m_url; }  ///< nats://127.0.0.1:PORT (tls:// with config().tls)
+  /// The PEM file a client trusts to verify the server (the CA, or the self-signed server certificate); empty
+  /// without TLS.
+  [[nodiscard]] QString caFile() const;
   [[nodiscard]] int port() const { return m_port; }
   [[nodiscard]] qint64 pid() const { return m_pid; }
   [[nodiscard]] QString directory() const;
   [[nodiscard]] const NatsServerConfig& config() const { return m_config; }
+  /// Changes config().tls; only before the first start() (the certificates are made then).
+  void setTls(NatsServerTls tls) { m_config.tls = tls; }
 
  private:
   NatsServerConfig m_config;

@@ -1,7 +1,11 @@
 #include "session/net/nats_client.h"
 
+#include <QtCore/QFile>
+#include <QtCore/QStringList>
+
 #include <nats/nats.h>
 
+#include <algorithm>
 #include <future>
 #include <utility>
 
@@ -16,6 +20,51 @@ QString statusText(natsStatus status) {
 
 void onReconnected(natsConnection* /*connection*/, void* closure) {
   static_cast<std::atomic<int>*>(closure)->fetch_add(1);
+}
+
+/// Why connecting failed, in words a user can act on (the URL, the user, TLS), with cnats' text in parentheses.
+QString connectFailureText(natsStatus status, const NatsConnectOptions& options) {
+  const QString details = statusText(status);
+  switch (status) {
+    case NATS_CONNECTION_AUTH_FAILED:
+    case NATS_NOT_PERMITTED:
+      return QStringLiteral("the NATS server at %1 refused the user \u201c%2\u201d or its password (%3)")
+          .arg(options.url, options.user, details);
+    case NATS_NO_SERVER:
+      return QStringLiteral("no NATS server answered at %1 (%2)").arg(options.url, details);
+    case NATS_SSL_ERROR:
+      return QStringLiteral(
+                 "TLS to the NATS server at %1 failed: its certificate is not signed by the trusted CA%2 or does not "
+                 "name the server (%3)")
+          .arg(options.url,
+               options.caFile.isEmpty() ? QStringLiteral(" (the system's; give the broker's CA file)")
+                                        : QStringLiteral(" in %1").arg(options.caFile),
+               details);
+    case NATS_SECURE_CONNECTION_REQUIRED:
+      return QStringLiteral("the NATS server at %1 requires TLS: use a tls:// URL (%2)").arg(options.url, details);
+    case NATS_SECURE_CONNECTION_WANTED:
+      return QStringLiteral("the NATS server at %1 does not offer TLS: use a nats:// URL (%2)")
+          .arg(options.url, details);
+    default:
+      return details;
+  }
+}
+
+/// TLS options: the trusted CA file and tls:// URLs. NATS_OK when none apply. cnats itself switches to TLS when the
+/// server requires it, and checks that the certificate names the URL's host (a DNS name, or an IP address against
+/// the certificate's IP entries): natsOptions_SetExpectedHostname is not needed.
+natsStatus setTls(natsOptions* opts, const NatsConnectOptions& options, QString* error) {
+  natsStatus s = NATS_OK;
+  if (!options.caFile.isEmpty()) {
+    s = natsOptions_LoadCATrustedCertificates(opts, QFile::encodeName(options.caFile).constData());
+    if (s != NATS_OK) {
+      if (error) *error = QStringLiteral("cannot load the CA file %1 (%2)").arg(options.caFile, statusText(s));
+      return s;
+    }
+  }
+  if (natsUrlWantsTls(options.url)) s = natsOptions_SetSecure(opts, true);
+  if (s != NATS_OK && error) *error = statusText(s);
+  return s;
 }
 
 struct OptionsDeleter {
@@ -82,13 +131,25 @@ std::unique_ptr<NatsConnection> NatsConnection::connect(const NatsConnectOptions
   if (s == NATS_OK && options.retryOnFailedConnect) {
     s = natsOptions_SetRetryOnFailedConnect(opts.get(), true, nullptr, nullptr);
   }
-  if (s == NATS_OK) s = natsConnection_Connect(&out->m_handles->connection, opts.get());
-  if (s == NATS_NOT_YET_CONNECTED && options.retryOnFailedConnect) s = NATS_OK;
   if (s != NATS_OK) {
     if (error) *error = statusText(s);
     return nullptr;
   }
+  if (setTls(opts.get(), options, error) != NATS_OK) return nullptr;
+  s = natsConnection_Connect(&out->m_handles->connection, opts.get());
+  if (s == NATS_NOT_YET_CONNECTED && options.retryOnFailedConnect) s = NATS_OK;
+  if (s != NATS_OK) {
+    if (error) *error = connectFailureText(s, options);
+    return nullptr;
+  }
   return out;
+}
+
+bool natsUrlWantsTls(const QString& urls) {
+  const QStringList list = urls.split(QLatin1Char(','));
+  return std::any_of(list.begin(), list.end(), [](const QString& url) {
+    return url.trimmed().startsWith(QStringLiteral("tls://"), Qt::CaseInsensitive);
+  });
 }
 
 bool NatsConnection::publish(const std::string& subject, QByteArrayView data) {

@@ -24,14 +24,21 @@
 namespace sc::session {
 
 struct NatsConnectOptions {
-  QString url;  ///< nats://host:port (several: comma-separated)
+  QString url;  ///< nats://host:port or tls://host:port (several: comma-separated)
   QString user;
   QString password;
   QString name;                                  ///< shown in the server's monitoring
   std::chrono::milliseconds timeout{2000};       ///< connect and request timeout
   std::chrono::milliseconds reconnectWait{100};  ///< between reconnection attempts (forever)
   bool retryOnFailedConnect = false;             ///< connect() succeeds and keeps trying when the server is down
+  /// TLS to the broker: a PEM file of the CA certificate(s) to trust instead of the system's. TLS is used when a URL
+  /// is tls:// or the server requires it; the server's certificate must then chain to a trusted CA and name the
+  /// URL's host (a DNS name, or an IP address in its IP entries: cnats checks both).
+  QString caFile;
 };
+
+/// Whether one of the comma-separated URLs in `urls` starts with tls:// (case-insensitive).
+bool natsUrlWantsTls(const QString& urls);
 
 class NatsSubscription;
 class NatsKeyValue;

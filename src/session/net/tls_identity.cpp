@@ -5,6 +5,7 @@
 #include <QtCore/QFile>
 #include <QtCore/QSaveFile>
 #include <QtCore/QStandardPaths>
+#include <QtCore/QStringList>
 
 #include <openssl/bio.h>
 #include <openssl/bn.h>
@@ -12,6 +13,7 @@
 #include <openssl/evp.h>
 #include <openssl/pem.h>
 #include <openssl/x509.h>
+#include <openssl/x509v3.h>
 
 #include <memory>
 
@@ -53,7 +55,39 @@ QByteArray pem(Write write) {
   return size > 0 ? QByteArray(data, static_cast<qsizetype>(size)) : QByteArray();
 }
 
-bool fillCertificate(X509* x509, EVP_PKEY* key, const QString& commonName) {
+/// Adds the v3 extension `nid` = `value` (OpenSSL's configuration syntax), issued by `issuer` (x509 itself when
+/// self-signed).
+bool addExtension(X509* x509, X509* issuer, int nid, const QString& value) {
+  X509V3_CTX context;
+  X509V3_set_ctx_nodb(&context);
+  X509V3_set_ctx(&context, issuer, x509, nullptr, nullptr, 0);
+  const QByteArray text = value.toUtf8();
+  X509_EXTENSION* extension = X509V3_EXT_conf_nid(nullptr, &context, nid, text.constData());
+  if (!extension) return false;
+  const bool added = X509_add_ext(x509, extension, -1) == 1;
+  X509_EXTENSION_free(extension);
+  return added;
+}
+
+/// The profile's extensions: a CA's basic constraints and key usage, a server's subject alternative names.
+bool addExtensions(X509* x509, X509* issuer, const CertificateProfile& profile) {
+  if (profile.certificateAuthority) {
+    return addExtension(x509, issuer, NID_basic_constraints, QStringLiteral("critical,CA:TRUE")) &&
+           addExtension(x509, issuer, NID_key_usage, QStringLiteral("critical,keyCertSign,cRLSign")) &&
+           addExtension(x509, issuer, NID_subject_key_identifier, QStringLiteral("hash"));
+  }
+  QStringList names;
+  for (const QString& dns : profile.dnsNames) names << QStringLiteral("DNS:") + dns;
+  for (const QString& ip : profile.ipAddresses) names << QStringLiteral("IP:") + ip;
+  if (names.isEmpty()) return true;
+  return addExtension(x509, issuer, NID_subject_alt_name, names.join(QLatin1Char(','))) &&
+         addExtension(x509, issuer, NID_ext_key_usage, QStringLiteral("serverAuth"));
+}
+
+/// Fills and signs `x509` for `key`: self-signed when `issuer` is null, else issued by `issuer` (its certificate
+/// and key).
+bool fillCertificate(X509* x509, EVP_PKEY* key, const CertificateProfile& profile, X509* issuer = nullptr,
+                     EVP_PKEY* issuerKey = nullptr) {
   BigNum serial(BN_new());
   if (!serial || BN_rand(serial.get(), kSerialBits, BN_RAND_TOP_ANY, BN_RAND_BOTTOM_ANY) != 1) return false;
   if (!BN_to_ASN1_INTEGER(serial.get(), X509_get_serialNumber(x509))) return false;
@@ -62,13 +96,14 @@ bool fillCertificate(X509* x509, EVP_PKEY* key, const QString& commonName) {
   if (!X509_gmtime_adj(X509_getm_notAfter(x509), kValidForSeconds)) return false;
   if (X509_set_pubkey(x509, key) != 1) return false;
   X509_NAME* name = X509_get_subject_name(x509);
-  const QByteArray cn = commonName.toUtf8().left(64);  // the X.520 upper bound of a common name
+  const QByteArray cn = profile.commonName.toUtf8().left(64);  // the X.520 upper bound of a common name
   if (X509_NAME_add_entry_by_txt(name, "CN", MBSTRING_UTF8, reinterpret_cast<const unsigned char*>(cn.constData()),
                                  static_cast<int>(cn.size()), -1, 0) != 1) {
     return false;
   }
-  if (X509_set_issuer_name(x509, name) != 1) return false;
-  return X509_sign(x509, key, EVP_sha256()) > 0;
+  if (X509_set_issuer_name(x509, issuer ? X509_get_subject_name(issuer) : name) != 1) return false;
+  if (!addExtensions(x509, issuer ? issuer : x509, profile)) return false;
+  return X509_sign(x509, issuerKey ? issuerKey : key, EVP_sha256()) > 0;
 }
 
 bool writePrivate(const QString& path, const QByteArray& bytes, QString* error) {
@@ -107,10 +142,28 @@ QByteArray certificateFingerprint(const QSslCertificate& certificate) {
 }
 
 std::optional<TlsIdentity> generateTlsIdentity(const QString& commonName, QString* error) {
+  CertificateProfile profile;
+  profile.commonName = commonName;
+  return generateTlsIdentity(profile, nullptr, error);
+}
+
+std::optional<TlsIdentity> generateTlsIdentity(const CertificateProfile& profile, const TlsIdentity* issuer,
+                                               QString* error) {
+  PKey issuerKey;
+  Certificate issuerCertificate;
+  if (issuer) {
+    const QByteArray keyPem = issuer->privateKey.toPem();
+    const QByteArray certificatePem = issuer->certificate.toPem();
+    Bio keyBio(BIO_new_mem_buf(keyPem.constData(), static_cast<int>(keyPem.size())));
+    Bio certificateBio(BIO_new_mem_buf(certificatePem.constData(), static_cast<int>(certificatePem.size())));
+    if (keyBio) issuerKey.reset(PEM_read_bio_PrivateKey(keyBio.get(), nullptr, nullptr, nullptr));
+    if (certificateBio) issuerCertificate.reset(PEM_read_bio_X509(certificateBio.get(), nullptr, nullptr, nullptr));
+    if (!issuerKey || !issuerCertificate) return opensslFailure(error, QStringLiteral("unreadable issuer"));
+  }
   PKey key(EVP_EC_gen("P-256"));
   if (!key) return opensslFailure(error, QStringLiteral("key generation failed"));
   Certificate x509(X509_new());
-  if (!x509 || !fillCertificate(x509.get(), key.get(), commonName)) {
+  if (!x509 || !fillCertificate(x509.get(), key.get(), profile, issuerCertificate.get(), issuerKey.get())) {
     return opensslFailure(error, QStringLiteral("certificate creation failed"));
   }
   const QByteArray keyPem =

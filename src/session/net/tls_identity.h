@@ -6,6 +6,7 @@
 
 #include <QtCore/QByteArray>
 #include <QtCore/QString>
+#include <QtCore/QStringList>
 #include <QtNetwork/QSslCertificate>
 #include <QtNetwork/QSslKey>
 
@@ -29,6 +30,19 @@ struct TlsIdentity {
 /// 128-bit serial, valid from one hour ago for 20 years, SHA-256 signature). Returns nullopt with `error` set when
 /// OpenSSL fails. Cost: one P-256 key generation and one signature.
 std::optional<TlsIdentity> generateTlsIdentity(const QString& commonName, QString* error = nullptr);
+
+/// What a generated certificate says besides its key (the broker's TLS in tests and scripts, local_nats_server.h).
+struct CertificateProfile {
+  QString commonName;
+  bool certificateAuthority = false;  ///< basicConstraints CA:TRUE (critical), keyUsage keyCertSign, cRLSign
+  QStringList dnsNames;     ///< subjectAltName DNS entries (a server certificate; with extKeyUsage serverAuth)
+  QStringList ipAddresses;  ///< subjectAltName IP entries
+};
+
+/// As above, with `profile`'s extensions, issued and signed by `issuer` (its certificate's subject, its key), or
+/// self-signed when `issuer` is null. Cost: one P-256 key generation and one signature.
+std::optional<TlsIdentity> generateTlsIdentity(const CertificateProfile& profile, const TlsIdentity* issuer,
+                                               QString* error = nullptr);
 
 /// Loads `directory`/host-key.pem and host-cert.pem; only when both are absent (first use) generates an identity
 /// and stores both (the folder is created with 0700, the files are written atomically with 0600 permissions).

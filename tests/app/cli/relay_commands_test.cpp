@@ -150,6 +150,59 @@ TEST_F(RelayCommandsTest, WatchErrorsHaveExitCodesAndMessages) {
   const CliRun noSession = runCli(QStringList{QStringLiteral("watch")} + relay("viewer", "viewer.pw"));
   EXPECT_EQ(noSession.exitCode, 4);  // no host published this session yet
   EXPECT_TRUE(noSession.err.contains("no session")) << noSession.err.toStdString();
+  const CliRun badUrl = runCli({QStringLiteral("watch"), QStringLiteral("--nats"), QStringLiteral("127.0.0.1:4222"),
+                                QStringLiteral("--session"), QStringLiteral("x")});
+  EXPECT_EQ(badUrl.exitCode, 2);
+  EXPECT_TRUE(badUrl.err.contains("--nats: The NATS URL")) << badUrl.err.toStdString();
+}
+
+TEST_F(RelayCommandsTest, HostAndWatchRelayOverTlsTrustingTheBrokersCa) {
+  // TLS to the broker: a server that requires TLS, its certificate signed by a generated CA; --nats-ca trusts it.
+  session::LocalNatsServer tls;
+  tls.setTls(session::NatsServerTls::CaSigned);
+  QString error;
+  ASSERT_TRUE(tls.start(&error)) << error.toStdString();
+  const auto relayTls = [&](const char* user, const char* passwordFile) {
+    return QStringList{QStringLiteral("--nats"),
+                       tls.url(),
+                       QStringLiteral("--session"),
+                       tls.config().sessionId,
+                       QStringLiteral("--nats-user"),
+                       QLatin1String(user),
+                       QStringLiteral("--nats-password-file"),
+                       path(passwordFile)};
+  };
+  const QStringList ca{QStringLiteral("--nats-ca"), tls.caFile()};
+  HostProcess host(m_mesh, relayTls("host", "host.pw") + ca);
+  ASSERT_NE(host.port(), 0) << "the host did not print its port";
+  QThread::msleep(1000);  // the relay starts right after the port line
+  write(path("drag.json"), R"({"handles":[{"sphere":{"vertex":0,"radius_pct":5}}],
+                               "anchors":{"farther_than_pct":40,"from_vertex":0},
+                               "frames":[{"t":0},{"t":2,"translate_pct":[0,10,0]},{"t":3}]})");
+  QProcess watch;
+  watch.start(QStringLiteral(SHAPECAST_CLI),
+              QStringList{QStringLiteral("watch")} + relayTls("viewer", "viewer.pw") + ca +
+                  QStringList{QStringLiteral("--frames"), QStringLiteral("5"), QStringLiteral("--seconds"),
+                              QStringLiteral("30"), QStringLiteral("--json")});
+  ASSERT_TRUE(watch.waitForStarted());
+  QThread::msleep(1000);
+  const CliRun drive = runCli({QStringLiteral("drive"), host.address(), QStringLiteral("--script"), path("drag.json")});
+  EXPECT_EQ(drive.exitCode, 0) << drive.err.toStdString();
+  ASSERT_TRUE(watch.waitForFinished(30000));
+  EXPECT_EQ(watch.exitCode(), 0) << watch.readAllStandardError().toStdString();
+  const QJsonObject s = QJsonDocument::fromJson(watch.readAllStandardOutput().trimmed()).object();
+  EXPECT_GE(s[QStringLiteral("applied")].toInteger(), 5);
+  EXPECT_EQ(s[QStringLiteral("bad_signature")].toInteger(), 0);
+
+  // Without --nats-ca the system's CAs do not know the broker's: refused, and the message says TLS.
+  const CliRun untrusted = runCli(QStringList{QStringLiteral("watch")} + relayTls("viewer", "viewer.pw"));
+  EXPECT_EQ(untrusted.exitCode, 4);
+  EXPECT_TRUE(untrusted.err.contains("TLS to the NATS server")) << untrusted.err.toStdString();
+  const CliRun missingCa = runCli(QStringList{QStringLiteral("watch")} + relayTls("viewer", "viewer.pw") +
+                                  QStringList{QStringLiteral("--nats-ca"), path("none.pem")});
+  EXPECT_EQ(missingCa.exitCode, 2);
+  EXPECT_TRUE(missingCa.err.contains("--nats-ca")) << missingCa.err.toStdString();
+  host.stop();
 }
 
 TEST(FanoutExperiment, EveryViewerSharingProcessesGetsFramesAndTheHostCountsWhatItPublished) {
