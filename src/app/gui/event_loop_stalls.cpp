@@ -1,5 +1,7 @@
 #include "app/gui/event_loop_stalls.h"
 
+#include <QDateTime>
+
 #include <algorithm>
 #include <cstdio>
 
@@ -17,6 +19,13 @@ EventLoopStalls::EventLoopStalls(std::chrono::milliseconds threshold, bool print
   m_clock.start();
   m_lastNs = m_clock.nsecsElapsed();
   m_timer.start(kTickMs);
+  if (m_print) {
+    // The wall-clock origin of the "at … s" of each stall, for scripts that line stalls up with other processes'
+    // steps (scripts/gui-stalls.sh).
+    std::fprintf(stderr, "shapecast: watching for event-loop stalls of %.0f ms or more (from unix time %.3f)\n",
+                 m_thresholdMs, static_cast<double>(QDateTime::currentMSecsSinceEpoch()) / 1000.0);
+    std::fflush(stderr);
+  }
 }
 
 EventLoopStalls::~EventLoopStalls() {

@@ -3,7 +3,8 @@
 // notes each gap between its ticks; a gap of at least `threshold` is a stall (the window neither repainted nor
 // reacted for that long). shapecast enables it with SHAPECAST_STALL_MS=N in the environment (main.cpp): each stall of
 // at least N ms is printed on stderr when it ends ("shapecast: event loop stalled for 1234 ms"), and the longest gap at
-// exit; scripts/large-mesh-e2e.sh reads them while a client joins a million-vertex mesh. Cost: one timer tick per
+// exit; it first says the wall-clock time its "at … s" counts from. scripts/large-mesh-e2e.sh and
+// scripts/gui-stalls.sh read them while a client joins a million-vertex mesh. Cost: one timer tick per
 // 10 ms on the thread that creates it.
 
 #include <QElapsedTimer>

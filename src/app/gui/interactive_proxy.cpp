@@ -4,6 +4,7 @@
 #include "model/mesh_proxy.h"
 
 #include <memory>
+#include <utility>
 
 namespace sc::app {
 
@@ -41,17 +42,19 @@ void InteractiveProxyBuilder::start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsign
     m_worker.join();  // finished: it queued finish() before returning
   }
   m_running = true;
-  m_worker = std::thread([this, V = std::move(V), F = std::move(F), generation] {
+  m_worker = std::thread([this, V = std::move(V), F = std::move(F), generation]() mutable {
     auto proxy = std::make_shared<Eigen::MatrixXi>(model::proxyTriangles(V, F, kProxyTriangles));
-    auto faces = std::make_shared<Eigen::MatrixXi>(F);
+    // The faces move on to become m_lastFaces: no copy of F (24 MB at a million vertices) here or on the GUI thread.
+    auto faces = std::make_shared<Eigen::MatrixXi>(std::move(F));
     QMetaObject::invokeMethod(
-        this, [this, generation, faces, proxy] { finish(generation, *faces, *proxy); }, Qt::QueuedConnection);
+        this, [this, generation, faces, proxy] { finish(generation, std::move(*faces), *proxy); },
+        Qt::QueuedConnection);
   });
 }
 
-void InteractiveProxyBuilder::finish(unsigned generation, const Eigen::MatrixXi& faces, const Eigen::MatrixXi& proxy) {
+void InteractiveProxyBuilder::finish(unsigned generation, Eigen::MatrixXi faces, const Eigen::MatrixXi& proxy) {
   m_running = false;
-  m_lastFaces = faces;
+  m_lastFaces = std::move(faces);
   m_lastProxy = proxy;
   // A waiting build starts first (unless its mesh was replaced since), so that a slot of proxyApplied() that
   // calls build() only queues behind it.

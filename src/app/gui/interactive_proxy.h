@@ -55,7 +55,7 @@ class InteractiveProxyBuilder : public QObject {
 
  private:
   void start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsigned generation);
-  void finish(unsigned generation, const Eigen::MatrixXi& faces, const Eigen::MatrixXi& proxy);
+  void finish(unsigned generation, Eigen::MatrixXi faces, const Eigen::MatrixXi& proxy);
 
   QPointer<MeshViewport> m_viewport;
   unsigned m_generation = 0;  // bumped by every meshChanged()

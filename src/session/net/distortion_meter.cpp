@@ -1,12 +1,18 @@
 #include "session/net/distortion_meter.h"
 
+#include "session/net/distortion_worker.h"
 #include "session/net/session_client.h"
-#include "spectral/hausdorff.h"
 
+#include "spectral/display_level.h"
+
+#include <Eigen/Core>
 #include <QtCore/QTimer>
 
 #include <algorithm>
+#include <cstdint>
 #include <iterator>
+#include <utility>
+#include <vector>
 
 namespace sc::session {
 
@@ -26,6 +32,10 @@ DistortionMeter::DistortionMeter(SessionClient& client, Mode mode, QObject* pare
     // The new level shows the current Z at once: that is what is displayed from now on.
     if (channel.hasFrame()) m_probe.displayed(channel.currentFrame(), channel.coefficients());
   });
+  if (m_mode == Mode::Live) {
+    m_worker = new DistortionWorker(this);
+    connect(m_worker, &DistortionWorker::measured, this, &DistortionMeter::onMeasured);
+  }
   m_timer = new QTimer(this);
   connect(m_timer, &QTimer::timeout, this, &DistortionMeter::tick);
   m_timer->start(period);
@@ -37,18 +47,28 @@ void DistortionMeter::tick() {
     std::move(ready.begin(), ready.end(), std::back_inserter(m_recorded));
     return;
   }
-  const spectral::ResolutionLevel* level = m_client.level();
-  if (level == nullptr || ready.empty()) return;
+  const spectral::SharedDisplayLevel& level = m_client.displayLevel();
+  if (!level || ready.empty()) return;
+  if (m_worker->busy()) {
+    m_skipped += static_cast<std::uint64_t>(ready.size());
+    return;
+  }
   const auto first = ready.size() > static_cast<std::size_t>(m_maxPerTick) ? ready.end() - m_maxPerTick : ready.begin();
   m_skipped += static_cast<std::uint64_t>(first - ready.begin());
-  const double diagonal = spectral::boundingBoxDiagonal(level->restV);
+  const auto m = static_cast<Eigen::Index>(level->basisSize());
+  std::vector<DistortionPair> batch;
   for (auto it = first; it != ready.end(); ++it) {
     // Without any displayed frame at or before the reference (just joined, or a new level) there is nothing to
     // compare yet; the rest shape would make a meaningless distortion.
     if (!it->displayedAny) continue;
-    if (it->shown.rows() != level->K.cols() || it->exact.rows() != level->K.cols()) continue;
-    m_summary.add(distortionPercent(*level, it->shown, it->exact, diagonal));
+    if (it->shown.rows() != m || it->exact.rows() != m) continue;
+    batch.push_back(std::move(*it));
   }
+  m_worker->start(level, std::move(batch));
+}
+
+void DistortionMeter::onMeasured(const std::vector<double>& percents) {
+  for (const double pct : percents) m_summary.add(pct);
   m_client.setDistortion(m_summary.maxPct, m_summary.meanPct, m_summary.lastPct);
 }
 

@@ -6,7 +6,11 @@
 // processing).
 //
 // Live mode measures at most `maxPerTick` pairs per tick (the newest; older ones are skipped and counted) so a
-// full-resolution client at a high reference rate stays cheap: ≈ 10–20 ms per pair at 23k vertices.
+// full-resolution client at a high reference rate stays cheap: ≈ 10–20 ms per pair at 23k vertices, about a second
+// at a million. The measurement runs on a DistortionWorker's thread, never on the client's: a tick only takes the
+// ready pairs and hands them over with the shared display level; while the worker measures or rests (it keeps at
+// most a quarter of one core, distortion_worker.h) the pairs that become ready are skipped and counted, and the
+// figures reach the client (setDistortion) when the batch is done.
 // Lives in the client's thread; a new level resets the probe (frames of another resolution are not comparable) and
 // records the current Z as displayed. Live mode skips references for which nothing was displayed yet.
 
@@ -23,6 +27,8 @@ namespace sc::session {
 
 class SessionClient;
 
+class DistortionWorker;
+
 class DistortionMeter final : public QObject {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(DistortionMeter)
@@ -34,9 +40,9 @@ class DistortionMeter final : public QObject {
   DistortionMeter(SessionClient& client, Mode mode, QObject* parent = nullptr,
                   std::chrono::milliseconds period = std::chrono::milliseconds{1000}, int maxPerTick = 4);
 
-  /// Live: every measurement so far. Record: empty until measureRecorded().
+  /// Live: every measurement finished so far. Record: empty until measureRecorded().
   [[nodiscard]] const DistortionSummary& summary() const { return m_summary; }
-  /// Pairs skipped in Live mode (more ready than maxPerTick in one tick).
+  /// Pairs skipped in Live mode (more ready than maxPerTick in one tick, or ready while the worker was busy).
   [[nodiscard]] std::uint64_t skipped() const { return m_skipped; }
 
   /// Record mode: the pairs kept so far plus every reference still pending (takeAll()); clears them.
@@ -46,6 +52,7 @@ class DistortionMeter final : public QObject {
 
  private:
   void tick();
+  void onMeasured(const std::vector<double>& percents);
 
   SessionClient& m_client;
   Mode m_mode;
@@ -55,6 +62,7 @@ class DistortionMeter final : public QObject {
   std::vector<DistortionPair> m_recorded;
   std::uint64_t m_skipped = 0;
   QTimer* m_timer = nullptr;
+  DistortionWorker* m_worker = nullptr;  ///< Live mode's measurements (a child of this meter)
 };
 
 }  // namespace sc::session
