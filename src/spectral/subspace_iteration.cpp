@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <thread>
+#include <utility>
 
 namespace sc::spectral::detail {
 namespace {
@@ -59,19 +60,26 @@ class SharedFactor : public Eigen::CholmodSimplicialLLT<SparseMatrix, Eigen::Low
 /// this large with mmap and unmaps them on free) that measured about a quarter of the run time.
 struct Workspace {
   Eigen::MatrixXd Y, SY, W, previous;  ///< #V by b: the block, S·block, scratch, the Chebyshev recursion's Y_{k−1}
-  Eigen::MatrixXd locked, massLocked;  ///< #V by m: locked vectors and M·locked
+  Eigen::MatrixXd locked;              ///< #V by m: the locked vectors
   Eigen::VectorXd sqrtMass, inverseMass;
 };
 
-/// W = A·X = (S − σM)⁻¹ M X, then M-orthogonalised against the l locked vectors. X and W distinct, #V by a.
+/// X ← X − L(LᵀMX) for the l locked vectors L (M-orthonormal): M-orthogonal to them. `scratch` (#V by a, like X)
+/// is overwritten.
+void deflate(Block X, const Workspace& ws, Eigen::Index l, const Eigen::VectorXd& mass, Block scratch) {
+  if (l == 0) return;
+  scratch.noalias() = mass.asDiagonal() * X;
+  const Eigen::MatrixXd C = ws.locked.leftCols(l).transpose() * scratch;
+  X.noalias() -= ws.locked.leftCols(l) * C;
+}
+
+/// W = A·X = (S − σM)⁻¹ M X, then M-orthogonalised against the l locked vectors. X, W and scratch distinct,
+/// #V by a.
 bool applyA(const SharedFactor& factor, const Eigen::VectorXd& mass, const Workspace& ws, Eigen::Index l,
-            const Block& X, Block W, int threads) {
+            const Block& X, Block W, Block scratch, int threads) {
   W.noalias() = mass.asDiagonal() * X;
   if (!factor.solveInPlace(W, threads)) return false;
-  if (l > 0) {
-    const Eigen::MatrixXd C = ws.massLocked.leftCols(l).transpose() * W;
-    W.noalias() -= ws.locked.leftCols(l) * C;
-  }
+  deflate(W, ws, l, mass, scratch);
   return true;
 }
 
@@ -159,7 +167,6 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
   ws.W.resize(n, b);
   ws.previous.resize(n, b);
   ws.locked.resize(n, m);
-  ws.massLocked.resize(n, m);
   ws.sqrtMass = ops.mass.cwiseSqrt();
   ws.inverseMass = ops.mass.cwiseInverse();
   Eigen::VectorXd lockedValues(m);
@@ -178,25 +185,20 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
     auto W = [&] { return ws.W.leftCols(a); };
     const int threads = options.threads > 0 ? options.threads
                                             : static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u));
-    bool solved = applyA(factor, ops.mass, ws, l, Y(), W(), threads);
+    bool solved = applyA(factor, ops.mass, ws, l, Y(), W(), ws.SY.leftCols(a), threads);
     result.solves += static_cast<int>(a) * (cut <= 0.0 ? 1 : degree);
     if (cut > 0.0) {
       W() = (2.0 / cut) * W() - Y();
       for (int k = 1; k < degree && solved; ++k) {
         ws.previous.swap(ws.Y);  // previous = Y_{k−1}
         ws.Y.swap(ws.W);         // Y = Y_k
-        solved = applyA(factor, ops.mass, ws, l, Y(), W(), threads);
+        solved = applyA(factor, ops.mass, ws, l, Y(), W(), ws.SY.leftCols(a), threads);
         W() = 2.0 * ((2.0 / cut) * W() - Y()) - ws.previous.leftCols(a);
       }
     }
     if (!solved) break;  // out of memory in CHOLMOD: NotConverged
     ws.Y.swap(ws.W);
-    if (l > 0) {
-      for (int pass = 0; pass < 2; ++pass) {
-        const Eigen::MatrixXd C = ws.massLocked.leftCols(l).transpose() * Y();
-        Y().noalias() -= ws.locked.leftCols(l) * C;
-      }
-    }
+    for (int pass = 0; pass < 2; ++pass) deflate(Y(), ws, l, ops.mass, ws.SY.leftCols(a));
     ws.SY.leftCols(a).noalias() = ops.stiffness * Y();
     if (!rayleighRitz(Y(), ws.SY.leftCols(a), ws.sqrtMass, W(), theta, Q)) break;
     rotate(Y(), ws.SY.leftCols(a), Q, W());
@@ -206,7 +208,6 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
     Eigen::Index k = 0;
     while (k < a && l + k < m && r(k) <= options.tolerance) ++k;
     ws.locked.middleCols(l, k) = Y().leftCols(k);
-    ws.massLocked.middleCols(l, k).noalias() = ops.mass.asDiagonal() * Y().leftCols(k);
     lockedValues.segment(l, k) = theta.head(k);
     l += k;
     if (options.progress && !options.progress(static_cast<double>(l) / static_cast<double>(m))) {
@@ -254,9 +255,9 @@ SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double si
   ws.SY.leftCols(m).noalias() = ops.stiffness * X;
   if (!rayleighRitz(X, ws.SY.leftCols(m), ws.sqrtMass, ws.W.leftCols(m), theta, Q)) return result;
   rotate(X, ws.SY.leftCols(m), Q, ws.W.leftCols(m));
-  result.vectors = X;
   result.eigenvalues = theta;
   result.residuals = residualsOf(ws.SY.leftCols(m), X, ops.mass, ws.inverseMass, theta, sigma);
+  result.vectors = std::move(ws.locked);  // #V by m exactly: no copy at the peak
   result.status = Status::Converged;
   return result;
 }

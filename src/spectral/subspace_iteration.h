@@ -59,7 +59,7 @@ Eigen::VectorXd relativeResiduals(const Eigen::MatrixXd& Sx, const Eigen::Matrix
 /// @param[in] sigma  shift < 0 (S − σM SPD).
 /// @param[in] start  #V by b start block, b > wanted (e.g. coarse eigenvectors prolonged to the fine mesh).
 /// Cost: one sparse Cholesky, then per sweep d·a triangular solve pairs (a = active columns) and O(#V·a·(a + l))
-/// dense work (BLAS-3, in buffers allocated once); memory O(nnz(L) + 4·#V·b + 2·#V·m + start).
+/// dense work (BLAS-3, in buffers allocated once); memory O(nnz(L) + 4·#V·b + #V·m).
 SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double sigma, Eigen::MatrixXd start,
                                           const SubspaceIterationOptions& options);
 
