@@ -1,5 +1,5 @@
 // shapecast-bench-basis: manifold-harmonic-basis time for every mesh in assets/meshes, median of N runs, with both
-// eigensolvers side by side (Lanczos, the reference, and the hierarchical subspace iteration, the default).
+// eigensolvers side by side (Lanczos, the default and reference, and the hierarchical subspace iteration).
 //
 // Each run is a separate `shapecast-cli basis MESH --no-cache --json --solver S` process, so the peak memory is per
 // mesh and solver; the two solvers alternate run by run so that they share the machine's noise.
@@ -13,6 +13,7 @@
 #include <QCoreApplication>
 #include <QDateTime>
 #include <QDir>
+#include <QFile>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QProcess>
@@ -37,6 +38,14 @@ struct MeshFigures {
 
 const char* const kSolvers[] = {"lanczos", "hierarchical"};
 
+/// The first three fields of /proc/loadavg ("1.20 0.95 0.80"), or "unknown": the figures are only comparable
+/// with the load they were measured under.
+QString loadAverage() {
+  QFile file(QStringLiteral("/proc/loadavg"));
+  if (!file.open(QIODevice::ReadOnly)) return QStringLiteral("unknown");
+  return QString::fromLatin1(file.readAll()).section(QLatin1Char(' '), 0, 2);
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -59,12 +68,12 @@ double peak(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_e
 QString tableOf(const std::vector<MeshFigures>& meshes) {
   QString t = QStringLiteral(
       "| mesh | vertices | components | operators (s) | Lanczos eigensolve (s) | hierarchical eigensolve (s) | "
-      "speed-up | peak RSS L / H (MB) | sweeps | max residual L / H | max abs(HᵀMH − I) L / H |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "speed-up | peak RSS L / H (MB) | solves L / H | sweeps | max residual L / H | max abs(HᵀMH − I) L / H |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const MeshFigures& f : meshes) {
     const QJsonObject& l = f.lanczos.first;
     const QJsonObject& h = f.hierarchical.first;
-    t += QStringLiteral("| %1 | %2 | %3 | %4 | %5 | %6 | %7× | %8 / %9 | %10 | %11 / %12 | %13 / %14 |\n")
+    t += QStringLiteral("| %1 | %2 | %3 | %4 | %5 | %6 | %7× | %8 / %9 | %15 / %16 | %10 | %11 / %12 | %13 / %14 |\n")
              .arg(f.name)
              .arg(l[QStringLiteral("vertices")].toInt())
              .arg(l[QStringLiteral("components")].toInt())
@@ -80,7 +89,9 @@ QString tableOf(const std::vector<MeshFigures>& meshes) {
              .arg(l[QStringLiteral("max_residual")].toDouble(), 0, 'e', 1)
              .arg(h[QStringLiteral("max_residual")].toDouble(), 0, 'e', 1)
              .arg(l[QStringLiteral("orthonormality_error")].toDouble(), 0, 'e', 1)
-             .arg(h[QStringLiteral("orthonormality_error")].toDouble(), 0, 'e', 1);
+             .arg(h[QStringLiteral("orthonormality_error")].toDouble(), 0, 'e', 1)
+             .arg(l[QStringLiteral("solves")].toInt())
+             .arg(h[QStringLiteral("solves")].toInt());
   }
   return t;
 }
@@ -106,6 +117,7 @@ int main(int argc, char* argv[]) {
   const int m = parser.value(mOption).toInt();
   QTextStream log(stdout);
   std::vector<MeshFigures> figures;
+  const QString loadBefore = loadAverage();
   const QDir dir(parser.value(meshes));
   for (const QFileInfo& file : dir.entryInfoList(
            {QStringLiteral("*.off"), QStringLiteral("*.ply"), QStringLiteral("*.obj"), QStringLiteral("*.stl")},
@@ -136,13 +148,15 @@ int main(int argc, char* argv[]) {
                            "## Manifold harmonic basis (m = %1)\n\nMeasured %2 with `scripts/bench.sh` "
                            "(median of %3 runs per solver, each a fresh `shapecast-cli basis MESH --no-cache --json "
                            "--solver lanczos|hierarchical` process, the two solvers alternating; load time excluded; "
-                           "OPENBLAS_NUM_THREADS=%6). Max residual: ‖Sh − λMh‖ in the M⁻¹-norm over (|λ| + |σ|), the "
+                           "OPENBLAS_NUM_THREADS=%6; load average %7 before, %8 after). Max residual: ‖Sh − λMh‖ in "
+                           "the M⁻¹-norm over (|λ| + |σ|), the "
                            "largest over the m pairs.\n\nMachine: %4\n\n%5\n")
                            .arg(m)
                            .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
                            .arg(parser.value(repeats))
                            .arg(sc::report::machineDescription(), tableOf(figures),
-                                qEnvironmentVariable("OPENBLAS_NUM_THREADS", QStringLiteral("unset (all cores)")));
+                                qEnvironmentVariable("OPENBLAS_NUM_THREADS", QStringLiteral("unset (all cores)")),
+                                loadBefore, loadAverage());
   log << '\n' << body;
   if (!sc::report::writeMarkdownSection(parser.value(out), QStringLiteral("basis-bench"), body)) return 1;
   log << "written to " << parser.value(out) << '\n';

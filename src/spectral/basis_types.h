@@ -25,10 +25,10 @@ enum class BasisSolver {
   /// Spectra's shift-invert Lanczos on a simplicial CHOLMOD factor: one right-hand side at a time, converged to
   /// `tolerance` on the Ritz values. The reference (tests compare against it) and the fallback.
   Lanczos,
-  /// Coarse start + block subspace iteration (hierarchical_basis.h): eigenvectors of a Galerkin-aggregated level of
-  /// ≥ 8(m + guard) vertices, prolonged, then shift-invert subspace iterations with Rayleigh–Ritz and locking on
-  /// the fine mesh until every wanted pair's relative residual is below `residualTolerance`. Meshes too small to
-  /// coarsen (or with #V < 8(m + guard)) use Lanczos.
+  /// Coarse start + block subspace iteration (hierarchical_basis.h): eigenvectors of the coarsest of a few
+  /// smoothed-aggregation Galerkin levels (each ≥ 2(m + guard) vertices), prolonged level by level with shift-invert
+  /// subspace iterations, Rayleigh–Ritz and locking on each, until every wanted pair's relative residual on the
+  /// mesh is below `residualTolerance`. Meshes too small to coarsen (#V < about 10(m + guard)) use Lanczos.
   Hierarchical,
 };
 
@@ -45,7 +45,7 @@ struct BasisOptions {
   /// Hierarchical: extra columns b − m of the iterated block; 0 means max(m/2, 16). More: fewer sweeps, more
   /// dense work per sweep.
   int guardVectors = 0;
-  int maxSweeps = 100;  ///< Hierarchical: sweeps before NotConverged (the 23k and 100k dragons need 4 at 1e-6).
+  int maxSweeps = 100;  ///< Hierarchical: sweeps per level before NotConverged (the 100k dragon needs 4 at 1e-6).
   /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
   /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
   int ncv = 0;

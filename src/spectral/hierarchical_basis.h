@@ -9,12 +9,16 @@ namespace sc::spectral::detail {
 /// The first options.m eigenpairs of S h = λ M h (ascending, M-orthonormal, residuals ≤ options.residualTolerance)
 /// into result.basis, before localisation and sign fixing.
 ///
-/// 1. b = m + guard columns; aggregateOperators() coarsens (S, M) to ≥ 8b vertices (a Galerkin level, P piecewise
-///    constant); when no pass can coarsen, the plain Lanczos solver runs instead (result.solver says so).
-/// 2. Lanczos (tolerance 1e-6) gives the b smallest coarse eigenvectors; P prolongs them to the fine mesh.
-/// 3. subspaceIteration() on the fine mesh around the same σ, until every wanted pair's residual is below tolerance.
-/// Cost: aggregation O(nnz(S)), the coarse Lanczos (small), one supernodal Cholesky of S − σM and a few sweeps of
-/// block solves plus O(#V·b²) dense work; memory O(nnz(L) + about 5·#V·b doubles).
+/// 1. b = m + guard columns; aggregationHierarchy() coarsens (S, M) level by level (smoothed aggregation, Galerkin)
+///    while a level keeps ≥ 2b vertices; when no step can, the plain Lanczos solver runs instead (result.solver
+///    says so).
+/// 2. Lanczos (tolerance 1e-6) gives the b smallest eigenvectors of the coarsest level.
+/// 3. Level by level towards the mesh: prolong the block through the level's smoothed P and run subspaceIteration()
+///    on it (tolerance 1e-3 on intermediate levels: only a start), until every wanted pair of the mesh itself has a
+///    residual below options.residualTolerance. result.sweeps counts the mesh's sweeps; operatorApplications all
+///    right-hand sides solved on every level.
+/// Cost: aggregation O(nnz(S)) per level, the coarse Lanczos (small), per level one simplicial Cholesky of S − σM and
+/// a few sweeps of block solves plus O(#V·b²) dense work; memory O(nnz(L) + about 7·#V·b doubles) on the mesh.
 BasisResult hierarchicalEigenpairs(const LaplaceOperators& ops, double sigma, const BasisOptions& options);
 
 }  // namespace sc::spectral::detail

@@ -14,6 +14,7 @@ struct SubspaceIterationOptions {
   double tolerance = 1e-6;        ///< on relativeResidual() of every wanted pair.
   int maxSweeps = 200;            ///< sweeps (solve, Rayleigh–Ritz) before giving up.
   double maxGramCondition = 1e8;  ///< bounds the solves per sweep (see subspaceIteration()).
+  int threads = 0;                ///< threads solving column chunks at once; 0: the hardware's concurrency, at most 4.
   /// Called with the estimated fraction done in [0, 1] after each sweep; return false to cancel.
   std::function<bool(double fraction)> progress;
 };
@@ -24,8 +25,11 @@ struct SubspaceIterationResult {
   Eigen::VectorXd eigenvalues;  ///< m ascending Ritz values.
   Eigen::MatrixXd vectors;      ///< #V by m, M-orthonormal Ritz vectors.
   Eigen::VectorXd residuals;    ///< m relative residuals (relativeResidual()).
-  int sweeps{};                 ///< Rayleigh–Ritz steps done.
-  int solves{};                 ///< right-hand sides solved with the factor (columns, not blocks).
+  /// #V by b − m: the unlocked Ritz vectors of the last sweep (the next pairs, unconverged), for starting a finer
+  /// level with the full block width.
+  Eigen::MatrixXd guard;
+  int sweeps{};  ///< Rayleigh–Ritz steps done.
+  int solves{};  ///< right-hand sides solved with the factor (columns, not blocks).
 };
 
 /// The relative residual of an M-normalised pair (θ, x): ‖Sx − θMx‖_{M⁻¹} / (|θ| + |σ|).
@@ -43,19 +47,19 @@ Eigen::VectorXd relativeResiduals(const Eigen::MatrixXd& Sx, const Eigen::Matrix
 
 /// The `wanted` smallest eigenpairs of S h = λ M h by subspace iteration with the operator A = (S − σM)⁻¹M.
 ///
-/// Each sweep applies A d times to the active block with one supernodal CHOLMOD factor of S − σM (a block of
-/// right-hand sides at once: BLAS-3), M-orthogonalises it against the locked pairs, and does Rayleigh–Ritz (the
-/// small generalized problem YᵀSY w = θ YᵀMY w). Leading pairs whose relativeResiduals() is below the tolerance are
-/// locked and leave the active block, which then shrinks while its top index stays at the start block's width b:
-/// the guard vectors b − m set the convergence rate (|λ_i − σ| / |λ_{b+1} − σ| per application for pair i).
-/// d is the largest count (≤ 4) for which the Gram matrix of the filtered block stays below maxGramCondition,
-/// estimated from the Ritz values ((θ_top − σ)/(θ_low − σ))^{2d}. A final Rayleigh–Ritz on the m locked vectors
-/// makes them M-orthonormal to round-off.
+/// Each sweep applies A d times to the active block with one simplicial CHOLMOD factor of S − σM (chunks of 4
+/// right-hand sides per sweep over the factor, the chunks spread over options.threads threads), M-orthogonalises it
+/// against the locked pairs, and does Rayleigh–Ritz (the small generalized problem YᵀSY w = θ YᵀMY w). Leading pairs
+/// whose relativeResiduals() is below the tolerance are locked and leave the active block, which then shrinks while its
+/// top index stays at the start block's width b: the guard vectors b − m set the convergence rate (|λ_i − σ| / |λ_{b+1}
+/// − σ| per application for pair i). d is the largest count (≤ 4) for which the Gram matrix of the filtered block stays
+/// below maxGramCondition, estimated from the Ritz values ((θ_top − σ)/(θ_low − σ))^{2d}. A final Rayleigh–Ritz on the
+/// m locked vectors makes them M-orthonormal to round-off.
 /// @param[in] ops  S (#V by #V, PSD) and lumped mass (> 0).
 /// @param[in] sigma  shift < 0 (S − σM SPD).
 /// @param[in] start  #V by b start block, b > wanted (e.g. coarse eigenvectors prolonged to the fine mesh).
 /// Cost: one sparse Cholesky, then per sweep d·a triangular solve pairs (a = active columns) and O(#V·a·(a + l))
-/// dense work; memory O(nnz(L) + 4·#V·b).
+/// dense work (BLAS-3, in buffers allocated once); memory O(nnz(L) + 4·#V·b + #V·m).
 SubspaceIterationResult subspaceIteration(const LaplaceOperators& ops, double sigma, Eigen::MatrixXd start,
                                           const SubspaceIterationOptions& options);
 

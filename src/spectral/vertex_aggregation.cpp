@@ -1,5 +1,7 @@
 #include "spectral/vertex_aggregation.h"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace sc::spectral {
@@ -32,43 +34,61 @@ Eigen::VectorXi aggregationPass(const SparseMatrix& S, Eigen::Index& aggregates)
   return aggregate;
 }
 
-/// PᵀSP and Pᵀmass for the 0/1 prolongation given by `aggregate`.
-LaplaceOperators galerkin(const LaplaceOperators& fine, const Eigen::VectorXi& aggregate, Eigen::Index aggregates) {
+/// P = (I − ω D⁻¹S) P₀ for the 0/1 prolongation P₀ given by `aggregate`.
+SparseMatrix smoothedProlongation(const SparseMatrix& S, const Eigen::VectorXi& aggregate, Eigen::Index aggregates) {
+  const Eigen::Index n = S.rows();
+  Eigen::VectorXd inverseDiagonal(n);
+  double rho = 0.0;  // Gershgorin bound on ρ(D⁻¹S)
+  for (Eigen::Index j = 0; j < n; ++j) {
+    double diagonal = 0.0, absolute = 0.0;
+    for (SparseMatrix::InnerIterator it(S, j); it; ++it) {
+      absolute += std::abs(it.value());
+      if (it.row() == j) diagonal = it.value();
+    }
+    inverseDiagonal(j) = diagonal > 0.0 ? 1.0 / diagonal : 0.0;  // a zero row (isolated vertex) stays unsmoothed
+    if (diagonal > 0.0) rho = std::max(rho, absolute / diagonal);
+  }
+  const double omega = rho > 0.0 ? (4.0 / 3.0) / rho : 0.0;
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(fine.stiffness.nonZeros()));
-  for (Eigen::Index j = 0; j < fine.stiffness.outerSize(); ++j)
-    for (SparseMatrix::InnerIterator it(fine.stiffness, j); it; ++it)
-      triplets.emplace_back(aggregate(it.row()), aggregate(it.col()), it.value());
-  LaplaceOperators coarse;
-  coarse.stiffness.resize(aggregates, aggregates);
-  coarse.stiffness.setFromTriplets(triplets.begin(), triplets.end());
-  coarse.mass = Eigen::VectorXd::Zero(aggregates);
-  for (Eigen::Index i = 0; i < aggregate.size(); ++i) coarse.mass(aggregate(i)) += fine.mass(i);
-  coarse.totalArea = fine.totalArea;
-  coarse.mollifyEpsilon = fine.mollifyEpsilon;
-  return coarse;
+  triplets.reserve(static_cast<std::size_t>(S.nonZeros() + n));
+  for (Eigen::Index i = 0; i < n; ++i) triplets.emplace_back(i, aggregate(i), 1.0);
+  // S symmetric: column j's entries S_ij are row j's, so −ω S_ij / S_ii goes to (i, aggregate(j))
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (SparseMatrix::InnerIterator it(S, j); it; ++it)
+      triplets.emplace_back(it.row(), aggregate(j), -omega * inverseDiagonal(it.row()) * it.value());
+  SparseMatrix P(n, aggregates);
+  P.setFromTriplets(triplets.begin(), triplets.end());
+  return P;
+}
+
+AggregatedOperators coarsen(const LaplaceOperators& fine, Eigen::VectorXi aggregate, Eigen::Index aggregates) {
+  AggregatedOperators level;
+  level.prolongation = smoothedProlongation(fine.stiffness, aggregate, aggregates);
+  level.aggregate = std::move(aggregate);
+  const SparseMatrix SP = fine.stiffness * level.prolongation;
+  const SparseMatrix Pt = level.prolongation.transpose();
+  SparseMatrix Sc = Pt * SP;
+  level.coarse.stiffness = 0.5 * (Sc + SparseMatrix(Sc.transpose()));
+  level.coarse.mass = Pt * fine.mass;
+  level.coarse.totalArea = fine.totalArea;
+  level.coarse.mollifyEpsilon = fine.mollifyEpsilon;
+  return level;
 }
 
 }  // namespace
 
-AggregatedOperators aggregateOperators(const LaplaceOperators& ops, Eigen::Index minVertices) {
-  AggregatedOperators out;
-  out.coarse = ops;
-  out.aggregate = Eigen::VectorXi::LinSpaced(ops.mass.size(), 0, static_cast<int>(ops.mass.size()) - 1);
+std::vector<AggregatedOperators> aggregationHierarchy(const LaplaceOperators& ops, Eigen::Index minVertices) {
+  std::vector<AggregatedOperators> levels;
   for (;;) {
+    const LaplaceOperators& finer = levels.empty() ? ops : levels.back().coarse;
     Eigen::Index aggregates = 0;
-    const Eigen::VectorXi pass = aggregationPass(out.coarse.stiffness, aggregates);
-    if (aggregates < minVertices || aggregates >= out.coarseSize()) break;  // too coarse, or nothing merged
-    out.coarse = galerkin(out.coarse, pass, aggregates);
-    for (Eigen::Index i = 0; i < out.aggregate.size(); ++i) out.aggregate(i) = pass(out.aggregate(i));
+    Eigen::VectorXi pass = aggregationPass(finer.stiffness, aggregates);
+    if (aggregates < minVertices || aggregates >= finer.mass.size()) break;  // too coarse, or nothing merged
+    AggregatedOperators level = coarsen(finer, std::move(pass), aggregates);
+    if (!(level.coarse.mass.minCoeff() > 0.0)) break;  // smoothing made an aggregate's mass vanish: stop here
+    levels.push_back(std::move(level));
   }
-  return out;
-}
-
-Eigen::MatrixXd prolong(const AggregatedOperators& levels, const Eigen::MatrixXd& Xc) {
-  Eigen::MatrixXd X(levels.aggregate.size(), Xc.cols());
-  for (Eigen::Index i = 0; i < X.rows(); ++i) X.row(i) = Xc.row(levels.aggregate(i));
-  return X;
+  return levels;
 }
 
 }  // namespace sc::spectral

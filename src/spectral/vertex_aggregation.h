@@ -1,38 +1,42 @@
 #pragma once
-// A cheap coarse level of the generalized eigenproblem S h = λ M h by vertex aggregation (Galerkin coarsening).
+// Coarse levels of the generalized eigenproblem S h = λ M h by smoothed vertex aggregation (Galerkin coarsening).
 
 #include "spectral/laplace_operators.h"
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace sc::spectral {
 
-/// A coarse copy of (S, M) on aggregates of fine vertices, with the piecewise-constant prolongation P (#V by #A,
-/// P_ia = 1 when vertex i belongs to aggregate a) stored as the aggregate index of every fine vertex.
+/// One coarsening step: aggregates of the finer level's vertices, the smoothed prolongation and the Galerkin
+/// operators on the aggregates.
 struct AggregatedOperators {
-  LaplaceOperators coarse;    ///< S_c = PᵀSP (#A by #A, PSD, S_c·1 = 0), mass_c = Pᵀmass (> 0), same total area.
-  Eigen::VectorXi aggregate;  ///< #V aggregate index of every fine vertex, in [0, #A).
+  /// S_c = PᵀSP (#A by #A, symmetric PSD, S_c·1 = 0) and mass_c = Pᵀmass (> 0, same total area): the fine problem
+  /// restricted to the span of P, with the mass lumped (row sums of PᵀMP, exact because P·1 = 1).
+  LaplaceOperators coarse;
+  /// P (#V by #A): the piecewise-constant prolongation P₀ (P₀_ia = 1 when vertex i is in aggregate a) after one
+  /// damped-Jacobi smoothing with S, P = (I − ω D⁻¹S) P₀, D = diag(S). P·1 = 1 (S·1 = 0) and a column only touches
+  /// vertices of its aggregate's connected component.
+  SparseMatrix prolongation;
+  Eigen::VectorXi aggregate;  ///< #V aggregate index of every finer vertex, in [0, #A).
   Eigen::Index coarseSize() const { return coarse.mass.size(); }
 };
 
-/// Aggregates the vertices of (S, M) pass after pass as long as a pass leaves at least `minVertices` aggregates (and
-/// merges something), and builds the Galerkin operators of the aggregates. With no such pass, the coarse level is
-/// the fine one (P = I).
+/// The levels below `ops`, finest first (levels[0] coarsens ops, levels[k] coarsens levels[k − 1].coarse), as long
+/// as a step leaves at least `minVertices` aggregates and merges something; empty when no step can.
 ///
-/// One pass is greedy graph aggregation on the pattern of S (as in smoothed-aggregation multigrid): every vertex not
+/// One step is greedy graph aggregation on the pattern of S (as in smoothed-aggregation multigrid): every vertex not
 /// yet taken, in index order, becomes a seed and takes its untaken neighbours; leftovers join a neighbouring
-/// aggregate. On a triangle mesh a pass divides the vertex count by about 5–7, so 100k vertices need two or three
-/// passes. Aggregates never span two connected components (they follow the edges of S), so S_c has exactly as many
-/// zero eigenvalues as S.
-/// Why Galerkin: S_c and mass_c are the restriction of the fine problem to piecewise-constant functions, so the
-/// coarse eigenvectors prolonged by P are a cheap start for fine subspace iterations; their accuracy does not
-/// matter for the final result, only the number of iterations does.
-/// @param[in] ops  fine operators (S symmetric with the mesh's edge pattern, mass > 0).
-/// @param[in] minVertices  lower bound on #A; the result has between minVertices and about 7·minVertices.
-/// Cost: O(nnz(S)) per pass; memory O(nnz(S)).
-AggregatedOperators aggregateOperators(const LaplaceOperators& ops, Eigen::Index minVertices);
-
-/// X = P·Xc: every fine vertex takes its aggregate's row. @param[in] Xc  #A by k. @return #V by k. Cost: O(#V·k).
-Eigen::MatrixXd prolong(const AggregatedOperators& levels, const Eigen::MatrixXd& Xc);
+/// aggregate. On a triangle mesh the first step divides the vertex count by about 5–7; later steps, on the wider
+/// stencil of S_c, by more. Aggregates never span two connected components (they follow the edges of S), so S_c has
+/// exactly as many zero eigenvalues as S.
+/// Why smoothed: the Galerkin operators of piecewise-constant P₀ overrate the energy of smooth functions (the jumps
+/// between aggregates), so their eigenpairs are poor starts; the smoothed columns are hat-like functions (a coarse
+/// linear finite-element space), whose Galerkin eigenpairs approximate the low spectrum to O(h²).
+/// ω = (4/3)/ρ with ρ ≥ ρ(D⁻¹S) the Gershgorin bound (2 for a Laplacian with non-positive off-diagonal).
+/// @param[in] ops  fine operators (S symmetric PSD with the mesh's edge pattern, S·1 = 0, mass > 0).
+/// Cost: O(nnz(S)) per step plus the sparse product PᵀSP; memory O(nnz(S) + nnz(P)).
+std::vector<AggregatedOperators> aggregationHierarchy(const LaplaceOperators& ops, Eigen::Index minVertices);
 
 }  // namespace sc::spectral
