@@ -205,17 +205,11 @@ TEST_F(HostDialogRelay, HostingFromTheDialogRelaysTheFramesToAWatchProcess) {
   ASSERT_TRUE(first.startsWith("watching session test"))
       << first.toStdString() << watch.readAllStandardError().toStdString();
 
-  QFile script(m_dir.filePath(QStringLiteral("drag.json")));
-  ASSERT_TRUE(script.open(QIODevice::WriteOnly));
-  script.write(R"({"handles":[{"sphere":{"vertex":0,"radius_pct":8}}],
-                   "anchors":{"farther_than_pct":40,"from_vertex":0},
-                   "frames":[{"t":0},{"t":1.0,"translate_pct":[0,15,0]},{"t":1.5,"translate_pct":[0,15,0]}]})");
-  script.close();
+  const QString script = writeLiftScript();
   QProcess drive;
-  drive.start(
-      QStringLiteral(SHAPECAST_CLI_EXE),
-      {QStringLiteral("drive"), QStringLiteral("127.0.0.1:%1").arg(host->tcpPort()), QStringLiteral("--script"),
-       script.fileName(), QStringLiteral("--fingerprint"), session::formatFingerprint(host->hostFingerprint())});
+  drive.start(QStringLiteral(SHAPECAST_CLI_EXE),
+              {QStringLiteral("drive"), QStringLiteral("127.0.0.1:%1").arg(host->tcpPort()), QStringLiteral("--script"),
+               script, QStringLiteral("--fingerprint"), session::formatFingerprint(host->hostFingerprint())});
   ASSERT_TRUE(drive.waitForStarted());
   ASSERT_TRUE(QTest::qWaitFor([&watch] { return watch.state() == QProcess::NotRunning; }, 60000));
   // The host runs in this process: wait with the event loop running.

@@ -91,15 +91,10 @@ TEST_F(RelayWatchWindow, ShowsTheRelayedLevelReadOnlyAndTheDeformedShapeAfterADr
   EXPECT_FALSE(lock->isEnabled());
   const std::vector<float> before = viewer->positions();
 
-  QFile script(m_dir.filePath(QStringLiteral("drag.json")));
-  ASSERT_TRUE(script.open(QIODevice::WriteOnly));
-  script.write(R"({"handles":[{"sphere":{"vertex":0,"radius_pct":8}}],
-                   "anchors":{"farther_than_pct":40,"from_vertex":0},
-                   "frames":[{"t":0},{"t":1.0,"translate_pct":[0,15,0]},{"t":1.5,"translate_pct":[0,15,0]}]})");
-  script.close();
+  const QString script = writeLiftScript();
   QProcess drive;
   drive.start(QStringLiteral(SHAPECAST_CLI),
-              {QStringLiteral("drive"), host.address(), QStringLiteral("--script"), script.fileName()});
+              {QStringLiteral("drive"), host.address(), QStringLiteral("--script"), script});
   ASSERT_TRUE(drive.waitForStarted());
   ASSERT_TRUE(QTest::qWaitFor([&drive] { return drive.state() == QProcess::NotRunning; }, 60000));
   EXPECT_EQ(drive.exitCode(), 0) << drive.readAllStandardError().toStdString();

@@ -2,6 +2,7 @@
 
 #include "app_test_support.h"
 
+#include <QFile>
 #include <QPointer>
 #include <QTest>
 
@@ -78,6 +79,15 @@ TorusSessionTest::LiveSession TorusSessionTest::hostAndJoin(app::MainWindow& hos
   static_cast<void>(QTest::qWaitForWindowExposed(&clientWindow));
   live.client = joinAndWait(clientWindow, loopbackJoinSettings(live.host->tcpPort(), knownHostsFile()));
   return live;
+}
+
+QString TorusSessionTest::writeLiftScript() const {
+  QFile script(m_dir.filePath(QStringLiteral("drag.json")));
+  EXPECT_TRUE(script.open(QIODevice::WriteOnly));
+  script.write(R"({"handles":[{"sphere":{"vertex":0,"radius_pct":8}}],
+                   "anchors":{"farther_than_pct":40,"from_vertex":0},
+                   "frames":[{"t":0},{"t":1.0,"translate_pct":[0,15,0]},{"t":1.5,"translate_pct":[0,15,0]}]})");
+  return script.fileName();
 }
 
 }  // namespace sc::testing

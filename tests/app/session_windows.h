@@ -51,6 +51,10 @@ class TorusSessionTest : public ::testing::Test {
   /// A known-hosts INI file in the temporary folder (for loopbackJoinSettings).
   [[nodiscard]] QString knownHostsFile() const;
 
+  /// Writes a `shapecast-cli drive` script into the temporary folder and returns its path: a handle around vertex 0
+  /// (8% of the diagonal), anchors farther than 40% from it, lifted by 15% over 1 s and held for 0.5 s.
+  [[nodiscard]] QString writeLiftScript() const;
+
   /// The two windows of a session: what hostAndJoin() returns.
   struct LiveSession {
     app::HostController* host = nullptr;
