@@ -1,6 +1,7 @@
 // shapecast-lab: the paper experiments and benchmarks (lab_command.h). Usage: shapecast-lab <subcommand> [options].
 
 #include "experiments/lab_command.h"
+#include "session/net/nats_client.h"
 
 #include <QCoreApplication>
 #include <QGuiApplication>
@@ -8,6 +9,7 @@
 #include <memory>
 
 int main(int argc, char* argv[]) {
+  sc::session::keepOpenSslStateUntilExit();  // before anything uses OpenSSL (the relay's TLS threads at exit)
   QStringList arguments;
   for (int i = 1; i < argc; ++i) arguments << QString::fromLocal8Bit(argv[i]);
   // The experiments run under a QGuiApplication (the loss experiment draws a PNG plot: QPainter text needs one),

@@ -3,6 +3,7 @@
 #include "address_sanitizer.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "keep_libraries_mapped.h"
+#include "session/net/nats_client.h"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +14,7 @@
 #include <QTemporaryDir>
 
 int main(int argc, char** argv) {
+  sc::session::keepOpenSslStateUntilExit();  // before anything uses OpenSSL (the relay's TLS threads at exit)
   ::testing::InitGoogleTest(&argc, argv);
   // Test discovery (gtest_discover_tests runs --gtest_list_tests at build time) needs no display.
   if (GTEST_FLAG_GET(list_tests)) {

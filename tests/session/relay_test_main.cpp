@@ -7,6 +7,7 @@
 #include <QtCore/QCoreApplication>
 
 int main(int argc, char** argv) {
+  sc::session::keepOpenSslStateUntilExit();  // before anything uses OpenSSL
   ::testing::InitGoogleTest(&argc, argv);
   int result = 0;
   {

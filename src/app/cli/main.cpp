@@ -50,6 +50,7 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  sc::session::keepOpenSslStateUntilExit();  // before anything uses OpenSSL (the relay's TLS threads at exit)
   // argv as given (QCoreApplication may take out the options it knows) for the shapecast-lab alias.
   const std::vector<char*> given(argv + 1, argv + argc);
   const QCoreApplication app(argc, argv);

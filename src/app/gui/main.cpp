@@ -24,6 +24,7 @@
 #include "app/gui/mesh_viewport.h"
 #include "app/gui/view_actions.h"
 #include "app/gui/viewport/renderer_defaults.h"
+#include "session/net/nats_client.h"
 
 #include <QApplication>
 #include <QImage>
@@ -136,6 +137,7 @@ int runWindow(const sc::app::LaunchOptions& options) {
 }  // namespace
 
 int main(int argc, char* argv[]) {
+  sc::session::keepOpenSslStateUntilExit();  // before anything uses OpenSSL (the relay's TLS threads at exit)
   // --help and --version print and exit inside QApplication's parser: they must work without a display too.
   const std::span<char*> arguments(argv, static_cast<std::size_t>(argc));
   const bool onlyPrints = std::any_of(arguments.begin() + 1, arguments.end(), [](const char* a) {

@@ -4,13 +4,19 @@
 #include <QtCore/QStringList>
 
 #include <nats/nats.h>
+#include <openssl/crypto.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <future>
 #include <utility>
 
 namespace sc::session {
 namespace {
+
+/// How long natsShutdown() waits for cnats' threads to end (a TLS connection's threads must be gone before OpenSSL's
+/// exit handler frees its state).
+constexpr std::int64_t kShutdownWaitMs = 5000;
 
 QString statusText(natsStatus status) {
   const char* last = nats_GetLastError(nullptr);
@@ -346,6 +352,8 @@ std::optional<QByteArray> NatsStream::lastMessage(const std::string& subject, qs
 
 std::string natsKeySubject(const std::string& bucket, const std::string& key) { return "$KV." + bucket + "." + key; }
 
-void natsShutdown() { nats_Close(); }
+void keepOpenSslStateUntilExit() { OPENSSL_init_crypto(OPENSSL_INIT_NO_ATEXIT, nullptr); }
+
+void natsShutdown() { nats_CloseAndWait(kShutdownWaitMs); }
 
 }  // namespace sc::session

@@ -161,7 +161,16 @@ class NatsStream {
 /// The subject a key's updates go to: publishing on it (without waiting for an acknowledgement) stores the value.
 std::string natsKeySubject(const std::string& bucket, const std::string& key);
 
-/// Releases cnats' library threads and memory (nats_Close); once, at process end, after every wrapper is gone.
+/// Called first in main() of every process that may use the relay: OpenSSL then keeps its global state until the
+/// process ends instead of freeing it in its own exit handler (OPENSSL_INIT_NO_ATEXIT; the operating system takes the
+/// memory back). That handler runs while threads that used OpenSSL may still be ending (cnats' TLS connection
+/// threads, std::async workers): freeing under them crashed at exit. Effective only before OpenSSL's first use in
+/// the process. Cost: OpenSSL's initialisation, once.
+void keepOpenSslStateUntilExit();
+
+/// Releases cnats' library threads and memory and waits (at most 5 s) until its threads have ended
+/// (nats_CloseAndWait): once, at process end, after every wrapper is gone. Without the wait, a TLS connection's
+/// threads can still be tearing down while OpenSSL's exit handler frees its state (a crash at exit).
 void natsShutdown();
 
 }  // namespace sc::session
