@@ -102,6 +102,21 @@ class HostDialogRelay : public testing::TorusSessionTest {
     if (host) host->trigger();
     return generated;
   }
+
+  /// Shows `window`, hosts the torus from its Host… dialog relaying through `server` as its host user with
+  /// `password`, and waits until the preparation has ended. Returns the host; nullptr (a test failure) when the
+  /// dialog did not host. A QSignalSpy on `window` made before the call sees every failure it reports.
+  HostController* hostThroughTheDialog(MainWindow& window, const session::LocalNatsServer& server,
+                                       const QString& password) {
+    testing::showSessionWindow(window, {900, 700});
+    window.setErrorDialogsEnabled(false);
+    hostFromTheDialog(window, {server.url(), server.config().sessionId, server.config().hostUser, password});
+    auto* host = qobject_cast<HostController*>(window.session());
+    EXPECT_NE(host, nullptr) << "the dialog did not host";
+    if (host == nullptr) return nullptr;
+    EXPECT_TRUE(QTest::qWaitFor([host] { return host->state() != State::Preparing; }, 60000));
+    return host;
+  }
 };
 
 TEST_F(HostDialogRelay, RefusesABadUrlOrSessionIdReadablyAndRemembersAllButThePassword) {
@@ -171,14 +186,9 @@ TEST_F(HostDialogRelay, HostingFromTheDialogRelaysTheFramesToAWatchProcess) {
   QString error;
   ASSERT_TRUE(server.start(&error)) << error.toStdString();
   MainWindow window;
-  testing::showSessionWindow(window, {900, 700});
-  window.setErrorDialogsEnabled(false);
   QSignalSpy failures(&window, &MainWindow::sessionFailed);
-  hostFromTheDialog(window,
-                    {server.url(), server.config().sessionId, server.config().hostUser, server.config().hostPassword});
-  auto* host = qobject_cast<HostController*>(window.session());
-  ASSERT_NE(host, nullptr) << "the dialog did not host";
-  ASSERT_TRUE(QTest::qWaitFor([host] { return host->state() != State::Preparing; }, 60000));
+  HostController* host = hostThroughTheDialog(window, server, server.config().hostPassword);
+  ASSERT_NE(host, nullptr);
   ASSERT_EQ(host->state(), State::Live) << host->errorText().toStdString();
   ASSERT_NE(host->relay(), nullptr) << (failures.isEmpty() ? std::string("no failure reported")
                                                            : failures.first().first().toString().toStdString());
@@ -229,14 +239,9 @@ TEST_F(HostDialogRelay, AWrongPasswordHostsWithoutTheRelayAndSaysWhy) {
   QString error;
   ASSERT_TRUE(server.start(&error)) << error.toStdString();
   MainWindow window;
-  testing::showSessionWindow(window, {900, 700});
-  window.setErrorDialogsEnabled(false);
   QSignalSpy failures(&window, &MainWindow::sessionFailed);
-  hostFromTheDialog(window,
-                    {server.url(), server.config().sessionId, server.config().hostUser, QStringLiteral("wrong")});
-  auto* host = qobject_cast<HostController*>(window.session());
-  ASSERT_NE(host, nullptr) << "the dialog did not host";
-  ASSERT_TRUE(QTest::qWaitFor([host] { return host->state() != State::Preparing; }, 60000));
+  HostController* host = hostThroughTheDialog(window, server, QStringLiteral("wrong"));
+  ASSERT_NE(host, nullptr);
   ASSERT_TRUE(QTest::qWaitFor([&failures] { return !failures.isEmpty(); }, 10000));
   EXPECT_EQ(host->state(), State::Live) << "the editors' session goes on";
   EXPECT_EQ(host->relay(), nullptr);
