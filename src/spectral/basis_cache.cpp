@@ -37,6 +37,8 @@ T get(const std::vector<std::byte>& in, std::size_t offset) {
 }
 
 /// The header's solver field (the reserved 0 of older files is Lanczos).
+/// Slices shares Lanczos's entries: both converge every pair with Spectra to BasisOptions::tolerance. The hierarchical
+/// solver converges to residualTolerance instead, so its bases are kept apart.
 std::uint32_t solverCode(BasisSolver solver) { return solver == BasisSolver::Hierarchical ? 1u : 0u; }
 
 std::vector<std::byte> serialize(const BasisCacheKey& key, const HarmonicBasis& basis) {
@@ -106,8 +108,12 @@ CacheReadStatus readBasisCache(const std::filesystem::path& file, const BasisCac
   if (get<std::uint32_t>(in, 8) != kBasisCacheVersion) return CacheReadStatus::Corrupt;
   const std::uint32_t solver = get<std::uint32_t>(in, 20);
   if (solver > 1) return CacheReadStatus::Corrupt;
+  // a Lanczos entry serves a Slices request too (solverCode): compare in the requested solver's terms
+  const BasisSolver stored = solver == 1                                    ? BasisSolver::Hierarchical
+                             : expected.solver == BasisSolver::Hierarchical ? BasisSolver::Lanczos
+                                                                            : expected.solver;
   const BasisCacheKey key{get<std::uint64_t>(in, 24), get<std::uint32_t>(in, 12), get<std::uint32_t>(in, 16),
-                          get<double>(in, 32), solver == 1 ? BasisSolver::Hierarchical : BasisSolver::Lanczos};
+                          get<double>(in, 32), stored};
   if (size != fileSizeFor(key.n, key.m)) return CacheReadStatus::Corrupt;
   if (get<std::uint64_t>(in, size - 8) != checksum64(std::span(in.data(), size - 8))) return CacheReadStatus::Corrupt;
   if (!(key == expected)) return CacheReadStatus::Mismatch;

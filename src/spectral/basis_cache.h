@@ -8,7 +8,8 @@
 //   8             4      u32 format version (kBasisCacheVersion)
 //   12            4      u32 n, vertex count
 //   16            4      u32 m, basis size
-//   20            4      u32 solver that computed it: 0 Lanczos, 1 hierarchical (BasisSolver; this field was
+//   20            4      u32 solver that computed it: 0 Lanczos or spectrum slicing, 1 hierarchical (BasisSolver; this
+//   field was
 //                          "reserved, 0" before issue 19, so older files read as Lanczos)
 //   24            8      u64 content hash of the cleaned mesh (meshContentHash)
 //   32            8      f64 σ, the shift the basis was computed at
@@ -37,8 +38,8 @@ struct BasisCacheKey {
   std::uint32_t n{};         ///< vertex count.
   std::uint32_t m{};         ///< basis size.
   double shift{};            ///< σ (depends on the mesh area and BasisOptions::shiftFactor).
-  /// The solver asked for (BasisOptions::solver): the two agree to their tolerances, not bit for bit, so a basis
-  /// benchmarked or compared as one solver's must be that solver's.
+  /// The solver asked for (BasisOptions::solver). Lanczos and Slices share entries (both converge every pair with
+  /// Spectra to BasisOptions::tolerance); the hierarchical solver's (converged to residualTolerance) are kept apart.
   BasisSolver solver = BasisSolver::Lanczos;
   bool operator==(const BasisCacheKey&) const = default;
 };

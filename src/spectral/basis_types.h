@@ -23,21 +23,27 @@ struct HarmonicBasis {
 /// Which eigensolver manifoldHarmonicBasis() uses.
 enum class BasisSolver {
   /// Spectra's shift-invert Lanczos on a simplicial CHOLMOD factor: one right-hand side at a time, converged to
-  /// `tolerance` on the Ritz values. The reference (tests compare against it) and the fallback.
+  /// `tolerance` on the Ritz values. The reference (tests compare against it). Single-vector Lanczos may miss copies
+  /// of an exactly multiple eigenvalue (equal components): measured on two equal spheres and a torus at m = 27.
   Lanczos,
   /// Coarse start + block subspace iteration (hierarchical_basis.h): eigenvectors of the coarsest of a few
   /// smoothed-aggregation Galerkin levels (each ≥ 2(m + guard) vertices), prolonged level by level with shift-invert
   /// subspace iterations, Rayleigh–Ritz and locking on each, until every wanted pair's relative residual on the
   /// mesh is below `residualTolerance`. Meshes too small to coarsen (#V < about 10(m + guard)) use Lanczos.
   Hierarchical,
+  /// Spectrum slicing (spectrum_slices.h): a few shift-invert Lanczos runs around shifts spread over the band, on
+  /// parallel threads, each placed in the spectrum by the inertia of its own LDLᵀ factor and checked against its
+  /// neighbours where their windows overlap. Falls back to Lanczos on small meshes or when a check fails.
+  Slices,
 };
 
 /// Settings of manifoldHarmonicBasis(). Defaults follow shared/design/spectral.md §2.2.
 struct BasisOptions {
   int m = 100;  ///< number of eigenpairs; must satisfy 1 ≤ m < #V.
-  /// See BasisSolver. Lanczos stays the default: the hierarchical solver is slower on the 2-core test machine
-  /// (docs/benchmarks.md, "Eigensolvers side by side").
-  BasisSolver solver = BasisSolver::Lanczos;
+  /// See BasisSolver. Spectrum slicing is the default: on the 2-core test machine it takes about half Lanczos's wall
+  /// time from 100k vertices up (docs/benchmarks.md, "Eigensolvers side by side"); below sliceMinimumVertices it is
+  /// Lanczos.
+  BasisSolver solver = BasisSolver::Slices;
   /// Hierarchical: bound on detail::relativeResiduals() ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) of every returned pair.
   /// 1e-6 bounds the eigenvalue error by about 1e-12·(|λ|+|σ|)²/gap and the angle to the eigenspace by
   /// 1e-6·(|λ|+|σ|)/gap (gap: distance to the rest of the spectrum), see subspace_iteration.h.
@@ -49,6 +55,13 @@ struct BasisOptions {
   /// Lanczos subspace size; 0 means min(#V, max(5m/2, m + 20)). More vectors: fewer restarts, more memory
   /// (#V·ncv doubles). 5m/2 measured faster than 2m on the 100k dragon (one fewer restart, same 251 solves).
   int ncv = 0;
+  /// Slices: how many (0: one per hardware thread, at least 2, at most m/12). More: less orthogonalisation, more
+  /// factorisations and overlap.
+  int slices = 0;
+  /// Slices: threads running them (0: the hardware's, at most `slices`).
+  int sliceThreads = 0;
+  /// Slices: meshes with fewer vertices use Lanczos (slicing pays for its extra factorisations on large meshes).
+  Eigen::Index sliceMinimumVertices = 20000;
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
   double shiftFactor = 1.0;
@@ -70,10 +83,11 @@ enum class BasisStatus {
 /// Result of manifoldHarmonicBasis(): a basis only when status == Ok.
 struct BasisResult {
   BasisStatus status = BasisStatus::InvalidInput;
-  std::string message;  ///< human-readable reason when status != Ok.
+  std::string message;  ///< human-readable reason when status != Ok; when Ok, why a solver fell back (or empty).
   HarmonicBasis basis;
   int operatorApplications{};  ///< solves with the factor (the dominant cost; right-hand sides, not blocks).
   BasisSolver solver = BasisSolver::Lanczos;  ///< the solver that produced the basis (after any fallback).
+  int slices{};                               ///< Slices: the number of slices (0 for the other solvers).
   int sweeps{};          ///< Hierarchical: Rayleigh–Ritz sweeps on the fine mesh (0 for Lanczos).
   double maxResidual{};  ///< max relative residual ‖Sh − λMh‖_{M⁻¹}/(|λ| + |σ|) over the basis.
   bool ok() const { return status == BasisStatus::Ok; }

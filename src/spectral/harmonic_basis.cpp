@@ -4,6 +4,7 @@
 #include "spectral/hierarchical_basis.h"
 #include "spectral/lanczos_solver.h"
 #include "spectral/mesh_components.h"
+#include "spectral/spectrum_slices.h"
 #include "spectral/subspace_iteration.h"
 
 #include <numbers>
@@ -39,6 +40,18 @@ void fixSigns(Eigen::MatrixXd& H) {
   }
 }
 
+BasisResult eigenpairs(const LaplaceOperators& ops, double sigma, const BasisOptions& options) {
+  switch (options.solver) {
+    case BasisSolver::Hierarchical:
+      return detail::hierarchicalEigenpairs(ops, sigma, options);
+    case BasisSolver::Slices:
+      return detail::slicedEigenpairs(ops, sigma, options);
+    case BasisSolver::Lanczos:
+      break;
+  }
+  return detail::lanczosEigenpairs(ops, options.m, sigma, options);
+}
+
 }  // namespace
 
 BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOptions& options) {
@@ -46,9 +59,7 @@ BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOption
 
   // === step 1: eigenpairs around σ < 0 (S − σM is SPD)
   const double sigma = -options.shiftFactor * 4.0 * std::numbers::pi / ops.totalArea;
-  BasisResult result = options.solver == BasisSolver::Hierarchical
-                           ? detail::hierarchicalEigenpairs(ops, sigma, options)
-                           : detail::lanczosEigenpairs(ops, options.m, sigma, options);
+  BasisResult result = eigenpairs(ops, sigma, options);
   if (!result.ok()) return result;
 
   // === step 2: one component per eigenvector, deterministic signs and a final sanity check
@@ -76,7 +87,23 @@ double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass
   return (gram - Eigen::MatrixXd::Identity(H.cols(), H.cols())).cwiseAbs().maxCoeff();
 }
 
-const char* toString(BasisSolver solver) { return solver == BasisSolver::Hierarchical ? "hierarchical" : "lanczos"; }
+const char* toString(BasisSolver solver) {
+  switch (solver) {
+    case BasisSolver::Hierarchical:
+      return "hierarchical";
+    case BasisSolver::Slices:
+      return "slices";
+    case BasisSolver::Lanczos:
+      break;
+  }
+  return "lanczos";
+}
+
+std::optional<BasisSolver> basisSolverNamed(std::string_view name) {
+  for (const BasisSolver solver : {BasisSolver::Lanczos, BasisSolver::Slices, BasisSolver::Hierarchical})
+    if (name == toString(solver)) return solver;
+  return std::nullopt;
+}
 
 const char* toString(BasisStatus status) {
   switch (status) {

@@ -4,6 +4,9 @@
 #include "spectral/basis_types.h"
 #include "spectral/laplace_operators.h"
 
+#include <optional>
+#include <string_view>
+
 namespace sc::spectral {
 
 /// Computes the first m eigenpairs of S h = λ M h with the solver chosen in the options (BasisSolver):
@@ -29,8 +32,11 @@ double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass
 /// Cost: O(nnz(S)·m + #V·m).
 double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& basis);
 
-/// "lanczos" or "hierarchical".
+/// "lanczos", "slices" or "hierarchical".
 const char* toString(BasisSolver solver);
+
+/// The solver toString() names `name`, or nullopt.
+std::optional<BasisSolver> basisSolverNamed(std::string_view name);
 
 /// Human-readable name of a status ("ok", "cancelled", …).
 const char* toString(BasisStatus status);

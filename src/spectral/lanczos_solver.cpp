@@ -1,36 +1,45 @@
 #include "spectral/lanczos_solver.h"
 
-#include "spectral/shift_invert_operator.h"
-
 #include <Spectra/SymGEigsShiftSolver.h>
 
 #include <algorithm>
+#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sc::spectral::detail {
 namespace {
 
 using Solver = Spectra::SymGEigsShiftSolver<ShiftInvertOperator, DiagonalMassOperator, Spectra::GEigsMode::ShiftInvert>;
 
-int lanczosSize(const BasisOptions& options, int pairs, Eigen::Index n) {
-  const int wanted = options.ncv > 0 ? options.ncv : std::max(5 * pairs / 2, pairs + 20);
-  return static_cast<int>(std::min<Eigen::Index>(n, std::max(wanted, pairs + 1)));
+/// Sorts the pairs by ascending eigenvalue (Spectra orders them by its selection rule).
+void sortAscending(HarmonicBasis& basis) {
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(basis.eigenvalues.size()));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&basis](Eigen::Index a, Eigen::Index b) { return basis.eigenvalues[a] < basis.eigenvalues[b]; });
+  if (std::is_sorted(order.begin(), order.end())) return;
+  Eigen::VectorXd values(basis.eigenvalues.size());
+  Eigen::MatrixXd vectors(basis.vectors.rows(), basis.vectors.cols());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    values[static_cast<Eigen::Index>(i)] = basis.eigenvalues[order[i]];
+    vectors.col(static_cast<Eigen::Index>(i)) = basis.vectors.col(order[i]);
+  }
+  basis.eigenvalues = std::move(values);
+  basis.vectors = std::move(vectors);
 }
 
 }  // namespace
 
-BasisResult lanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
-  const double expectedSolves = 2.5 * pairs + 10.0;  // ≈ 251 at m = 100 (shared/design/spectral.md §2.2)
-  auto observer = [&options, expectedSolves](int solves) {
-    return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
-  };
-  ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
-  DiagonalMassOperator massOp(ops.mass);
+BasisResult lanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int ncv, double sigma,
+                                const BasisOptions& options) {
+  DiagonalMassOperator massOp(mass);
   BasisResult result;
   result.solver = BasisSolver::Lanczos;
   try {
-    Solver solver(op, massOp, pairs, lanczosSize(options, pairs, ops.mass.size()), sigma);
+    const int size = static_cast<int>(std::min<Eigen::Index>(mass.size(), std::max(ncv, pairs + 1)));
+    Solver solver(op, massOp, pairs, size, sigma);
     solver.init();
     solver.compute(Spectra::SortRule::LargestMagn, options.maxRestarts, options.tolerance,
                    Spectra::SortRule::SmallestAlge);
@@ -51,8 +60,20 @@ BasisResult lanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sig
     result.message = e.what();
     return result;
   }
+  sortAscending(result.basis);
+  result.basis.shift = sigma;
   result.status = BasisStatus::Ok;
   return result;
+}
+
+BasisResult lanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
+  const double expectedSolves = 2.5 * pairs + 10.0;  // ≈ 251 at m = 100 (shared/design/spectral.md §2.2)
+  auto observer = [&options, expectedSolves](int solves) {
+    return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
+  };
+  ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
+  const int ncv = options.ncv > 0 ? options.ncv : std::max(5 * pairs / 2, pairs + 20);
+  return lanczosNearestPairs(op, ops.mass, pairs, ncv, sigma, options);
 }
 
 }  // namespace sc::spectral::detail

@@ -43,6 +43,8 @@ QJsonObject report(const QString& meshPath, const model::LoadedMesh& mesh, const
           {QStringLiteral("max_residual"), spectral::maxRelativeResidual(c.operators, basis)},
           {QStringLiteral("solver"), QString::fromLatin1(c.cached ? "cache" : spectral::toString(c.result.solver))},
           {QStringLiteral("sweeps"), c.result.sweeps},
+          {QStringLiteral("slices"), c.result.slices},
+          {QStringLiteral("note"), QString::fromStdString(c.result.message)},
           {QStringLiteral("shift"), basis.shift},
           {QStringLiteral("solves"), c.result.operatorApplications},
           {QStringLiteral("eigenvalues"), eigenvalues},
@@ -81,6 +83,8 @@ void printText(const QJsonObject& r) {
   line("solver", r[QStringLiteral("solver")].toString());
   line("solves", number("solves", 12));
   line("sweeps", number("sweeps", 12));
+  line("slices", number("slices", 12));
+  if (const QString note = r[QStringLiteral("note")].toString(); !note.isEmpty()) line("note", note);
   line("orthonormality_error", number("orthonormality_error", 3));
   line("max_residual", number("max_residual", 3));
   line("eigenvalues[0..4]", firstEigenvalues.join(QLatin1Char(' ')));

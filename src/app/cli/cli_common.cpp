@@ -2,6 +2,7 @@
 
 #include "app/common/host_address.h"
 #include "model/cache_location.h"
+#include "spectral/harmonic_basis.h"
 
 #include <QFile>
 #include <QJsonDocument>
@@ -21,9 +22,10 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
                  QStringLiteral("dir")),
       m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")),
       m_solver(QStringLiteral("solver"),
-               QStringLiteral("eigensolver: lanczos (default) or hierarchical (coarse start + block subspace "
-                              "iteration to a residual of 1e-6)"),
-               QStringLiteral("name"), QStringLiteral("lanczos")) {
+               QStringLiteral("eigensolver: slices (default; spectrum slicing: Lanczos runs around several "
+                              "shifts on parallel threads, Lanczos below 20,000 vertices), lanczos, or hierarchical "
+                              "(coarse start + block subspace iteration to a residual of 1e-6)"),
+               QStringLiteral("name"), QStringLiteral("slices")) {
   m_parser.setApplicationDescription(description);
   m_parser.addHelpOption();
   if (kind == SubcommandKind::Mesh) {
@@ -72,12 +74,12 @@ bool SubcommandParser::parse(const QStringList& arguments, int& exitCode) {
     return false;
   }
   const QString solver = m_parser.value(m_solver);
-  if (solver != QLatin1String("hierarchical") && solver != QLatin1String("lanczos")) {
-    error(QStringLiteral("--solver must be hierarchical or lanczos"));
+  const std::optional<spectral::BasisSolver> chosen = spectral::basisSolverNamed(solver.toStdString());
+  if (!chosen) {
+    error(QStringLiteral("--solver must be lanczos, slices or hierarchical"));
     return false;
   }
-  m_basis.solver =
-      solver == QLatin1String("lanczos") ? spectral::BasisSolver::Lanczos : spectral::BasisSolver::Hierarchical;
+  m_basis.solver = *chosen;
   m_basis.json = m_parser.isSet(m_json);
   m_basis.cacheDir.reset();
   if (!m_parser.isSet(m_noCache))

@@ -32,7 +32,7 @@ struct BasisArguments {
   int m = 100;                                    ///< --m: number of harmonics (≥ 1).
   std::optional<std::filesystem::path> cacheDir;  ///< --cache-dir, the per-user default, or nullopt (--no-cache).
   bool json = false;                              ///< --json: one JSON object on stdout.
-  /// --solver lanczos|hierarchical: the eigensolver (default lanczos, the reference; see spectral::BasisSolver).
+  /// --solver slices|lanczos|hierarchical: the eigensolver (default slices; see spectral::BasisSolver).
   spectral::BasisSolver solver = spectral::BasisSolver::Lanczos;
 };
 
