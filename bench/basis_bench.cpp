@@ -10,6 +10,7 @@
 // Prints the tables and writes them, with the machine and load average, into docs/benchmarks.md (--section).
 // Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR | --mesh FILE …] [--solvers lanczos,hierarchical]
 //                              [--python EXE] [--no-scipy] [--keep-problems DIR] [--out FILE] [--section basis-bench]
+//                              [--title TEXT]
 
 #include "experiments/report/machine_info.h"
 #include "experiments/report/markdown_section.h"
@@ -223,7 +224,12 @@ int main(int argc, char* argv[]) {
                                QStringLiteral(SHAPECAST_SOURCE_DIR "/docs/benchmarks.md"));
   const QCommandLineOption section(QStringLiteral("section"), QStringLiteral("generated section name in --out"),
                                    QStringLiteral("name"), QStringLiteral("basis-bench"));
-  parser.addOptions({repeats, mOption, meshes, meshFiles, solversOption, python, keepProblems, noScipy, out, section});
+  const QCommandLineOption title(QStringLiteral("title"),
+                                 QStringLiteral("heading of the generated section (default: \"## Manifold harmonic "
+                                                "basis (m = M)\")"),
+                                 QStringLiteral("text"));
+  parser.addOptions(
+      {repeats, mOption, meshes, meshFiles, solversOption, python, keepProblems, noScipy, out, section, title});
   parser.process(app);
 
   const QString cli = QCoreApplication::applicationDirPath() + QStringLiteral("/shapecast-cli");
@@ -300,25 +306,28 @@ int main(int argc, char* argv[]) {
   }
 
   // === step 3: the tables
-  QString body = QStringLiteral(
-                     "## Manifold harmonic basis (m = %1)\n\nMeasured %2 with `scripts/bench.sh` "
-                     "(median of %3 runs per solver, each a fresh `shapecast-cli basis MESH --no-cache --json "
-                     "--solver S` process, the solvers and the SciPy peer alternating; load time excluded; "
-                     "OPENBLAS_NUM_THREADS=%6; load average %7 before, %8 after). Max residual: ‖Sh − λMh‖ in "
-                     "the M⁻¹-norm over (|λ| + |σ|), the largest over the m pairs. %9.\n\nMachine: %4\n\n%5\n")
-                     .arg(m)
-                     .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate))
-                     .arg(parser.value(repeats))
-                     .arg(sc::report::machineDescription(), solverTable(figures, solvers),
-                          qEnvironmentVariable("OPENBLAS_NUM_THREADS", QStringLiteral("unset (all cores)")), loadBefore,
-                          loadAverage(), scipyNote);
+  const QString heading =
+      parser.isSet(title) ? parser.value(title) : QStringLiteral("## Manifold harmonic basis (m = %1)").arg(m);
+  const QString measured =
+      QStringLiteral(
+          "Measured %1 with `scripts/bench.sh` (median of %2 runs per solver, each a fresh `shapecast-cli basis MESH "
+          "--no-cache --json --solver S` process, the solvers and the SciPy peer alternating; load time excluded; "
+          "OPENBLAS_NUM_THREADS=%5; load average %6 before, %7 after). Max residual: ‖Sh − λMh‖ in the M⁻¹-norm over "
+          "(|λ| + |σ|), the largest over the m pairs. %8.\n\nMachine: %3\n\n%4\n")
+          .arg(QDateTime::currentDateTimeUtc().toString(Qt::ISODate), parser.value(repeats),
+               sc::report::machineDescription(), solverTable(figures, solvers),
+               qEnvironmentVariable("OPENBLAS_NUM_THREADS", QStringLiteral("unset (all cores)")), loadBefore,
+               loadAverage(), scipyNote);
+  QString body = heading + QStringLiteral("\n\n") + measured;
   if (scipy)
-    body += QStringLiteral(
-                "\nSciPy set-ups (each its own process; solve = factorisation + eigsh, file loading excluded; "
-                "peak RSS includes Python, SciPy and the loaded matrices; eigenvalue difference: max |λ − λ_ref| / "
-                "(|λ_ref| + |σ|); SciPy best: the fastest set-up with residual and difference below 1e-6; speed-up "
-                "vs SciPy = SciPy best / eigensolve):\n\n") +
-            scipyTable(figures, solvers.first());
+    body +=
+        QStringLiteral(
+            "\nSciPy set-ups (each its own process; solve = factorisation + eigsh at ARPACK tol 1e-10, file loading "
+            "excluded; "
+            "peak RSS includes Python, SciPy and the loaded matrices; eigenvalue difference: max |λ − λ_ref| / "
+            "(|λ_ref| + |σ|); SciPy best: the fastest set-up with residual and difference below 1e-6; speed-up "
+            "vs SciPy = SciPy best / eigensolve):\n\n") +
+        scipyTable(figures, solvers.first());
   log << '\n' << body;
   if (!sc::report::writeMarkdownSection(parser.value(out), parser.value(section), body)) return 1;
   log << "written to " << parser.value(out) << '\n';
