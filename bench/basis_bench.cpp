@@ -320,14 +320,13 @@ int main(int argc, char* argv[]) {
                loadAverage(), scipyNote);
   QString body = heading + QStringLiteral("\n\n") + measured;
   if (scipy)
-    body +=
-        QStringLiteral(
-            "\nSciPy set-ups (each its own process; solve = factorisation + eigsh at ARPACK tol 1e-10, file loading "
-            "excluded; "
-            "peak RSS includes Python, SciPy and the loaded matrices; eigenvalue difference: max |λ − λ_ref| / "
-            "(|λ_ref| + |σ|); SciPy best: the fastest set-up with residual and difference below 1e-6; speed-up "
-            "vs SciPy = SciPy best / eigensolve):\n\n") +
-        scipyTable(figures, solvers.first());
+    body += QStringLiteral(
+                "SciPy set-ups (each its own process; solve = factorisation + eigsh at ARPACK tol 1e-10, file loading "
+                "excluded; "
+                "peak RSS includes Python, SciPy and the loaded matrices; eigenvalue difference: max |λ − λ_ref| / "
+                "(|λ_ref| + |σ|); SciPy best: the fastest set-up with residual and difference below 1e-6; speed-up "
+                "vs SciPy = SciPy best / eigensolve):\n\n") +
+            scipyTable(figures, solvers.first());
   log << '\n' << body;
   if (!sc::report::writeMarkdownSection(parser.value(out), parser.value(section), body)) return 1;
   log << "written to " << parser.value(out) << '\n';

@@ -14,8 +14,11 @@ Set-ups (each runs in its own child process, so that its peak RSS is its own):
   a  eigsh(S, k=m, M=M, sigma=σ, which='LM'): SciPy's default shift-invert through SuperLU (COLAMD ordering).
   b  the same with OPinv = symmetric-mode SuperLU of S − σM (MMD on AᵀA + A, no pivoting), usually much faster.
   c  b in standard form: D S D with D = M^(−1/2) (M is diagonal), so ARPACK needs no M-inner products; h = D y.
-Tried and left out (100k dragon, this machine): lobpcg (block of m + guard vectors preconditioned by the same
-factor) needs dense Rayleigh–Ritz work of O(#V·m²) per iteration and many iterations; it was slower than a.
+Tried and left out (100k dragon, this machine, 2026-11-26): lobpcg(S, X, B=M, M=the symmetric-mode SuperLU solve of
+S − σM, largest=False) with a block of m + 20 random vectors took 118 s for 30 iterations (then 100 pairs below
+residual 1e-6) and over 1.4 GB: about 3.5 s per iteration of dense O(#V·b²) work, so even 5 iterations cost more
+than b or c (about 10 s). ncv = 5m/2 (as the project's Lanczos) instead of ARPACK's default changed b and c by
+under 5%.
 
 Every set-up uses ARPACK's tolerance 1e-10 on the Ritz values (the project's Lanczos tolerance, Spectra's) and its
 default ncv = max(2m + 1, 20). Timing excludes loading the files; it includes the factorisation.
