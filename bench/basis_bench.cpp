@@ -8,10 +8,9 @@
 // (bench/scipy_peer_problem.h); it runs each of its set-ups in its own process. Solvers and the peer alternate run
 // by run so that they share the machine's noise. Without SciPy the project's figures are printed alone, with a note.
 // Prints the tables and writes them, with the machine and load average, into docs/benchmarks.md (--section).
-// Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR | --mesh FILE …] [--solvers lanczos,hierarchical]
-//                              [--python EXE] [--no-scipy] [--scipy-max-vertices 200000] [--keep-problems DIR] [--out
-//                              FILE] [--section basis-bench]
-//                              [--title TEXT]
+// Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR | --mesh FILE …]
+//          [--solvers lanczos,hierarchical] [--python EXE] [--no-scipy] [--scipy-max-vertices 200000]
+//          [--keep-problems DIR] [--out FILE] [--section basis-bench] [--title TEXT]
 
 #include "experiments/report/machine_info.h"
 #include "experiments/report/markdown_section.h"
