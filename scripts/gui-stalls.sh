@@ -10,6 +10,8 @@
 # (/usr/bin/time -v on shapecast itself), the machine and the load average. One process chain at a time, `nice`.
 #   scripts/gui-stalls.sh [MESH ...]   (default: assets/meshes/dragon_1m.off)
 #   SHAPECAST_BUILD_DIR picks another build (default build/), e.g. a build of the previous commit for "before".
+#   GUI_STALLS_KEEP=PREFIX keeps each client's stderr as PREFIX.5%.err and PREFIX.full.err (the stalls, and the
+#   client's own lines: each level install's GUI-thread time and its first paint's stages).
 set -u
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 bin=${SHAPECAST_BUILD_DIR:-$root/build}/bin
@@ -94,6 +96,7 @@ for mesh in "$@"; do
     fi
     kill -TERM "$gui_pid" 2> /dev/null
     wait "$xvfb" 2> /dev/null
+    [[ -n ${GUI_STALLS_KEEP:-} ]] && cp "$out/gui.err" "$GUI_STALLS_KEEP.$level.err"
     gui_pid=""
     echo "$level: client peak RSS $(gui_rss); $(machine)"
   done

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace {
@@ -249,6 +250,35 @@ TEST_F(InteractiveProxyBuilderTest, AppliesTheProxyOfTheCurrentDenseMeshOnly) {
   QTest::qWait(50);
   EXPECT_EQ(applied.size(), 2);
   EXPECT_EQ(viewport.proxyTriangleCount(), 0);
+}
+
+// A client's shared display level: the worker reads the level in place (nothing is copied on the GUI thread), the
+// same level again gets its proxy at once, and the builder remembers the level without keeping it alive.
+TEST_F(InteractiveProxyBuilderTest, BuildsFromASharedLevelInPlaceWithoutHoldingIt) {
+  InteractiveProxyBuilder builder(&viewport);
+  QSignalSpy applied(&builder, &InteractiveProxyBuilder::proxyApplied);
+  sc::spectral::SharedDisplayLevel level = sc::spectral::makeDisplayLevel({dense.V, dense.F, {}, {}});
+  viewport.setDisplayLevel(level);
+  builder.build(level);
+  EXPECT_TRUE(builder.busy());
+  EXPECT_EQ(viewport.proxyTriangleCount(), 0) << "built on a worker thread, not in build()";
+  ASSERT_TRUE(applied.wait(30000));
+  EXPECT_NEAR(viewport.proxyTriangleCount(), InteractiveProxyBuilder::kProxyTriangles,
+              0.1 * InteractiveProxyBuilder::kProxyTriangles);
+  const int built = viewport.proxyTriangleCount();
+
+  viewport.setDisplayLevel(level);  // shown again: the proxy was dropped, and comes back at once
+  ASSERT_EQ(viewport.proxyTriangleCount(), 0);
+  builder.build(level);
+  EXPECT_FALSE(builder.busy());
+  EXPECT_EQ(applied.size(), 2);
+  EXPECT_EQ(viewport.proxyTriangleCount(), built);
+
+  const std::weak_ptr<const sc::spectral::DisplayLevel> watch = level;
+  viewport.clearMesh();
+  level.reset();
+  // The build's worker thread lets go of its job when it ends, a moment after it handed the proxy over.
+  QTRY_VERIFY_WITH_TIMEOUT(watch.expired(), 5000);
 }
 
 // A mesh replaced while its proxy is being built: the waiting build of the new mesh runs next and is applied.

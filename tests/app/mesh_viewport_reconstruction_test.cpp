@@ -97,6 +97,40 @@ class MeshViewportReconstructionTest : public ::testing::Test {
   QImage m_background;
 };
 
+// setDisplayLevel() copies nothing per vertex on the GUI thread (issue 19 item 3): the vertex buffers show the
+// level's own rest positions, normals and faces (spectral::DisplayGeometry, computed with the level) and the picture
+// of the rest shape is setMesh()'s. The first CPU frame of the full mesh writes positions of its own; the level's
+// arrays are never written.
+TEST_F(MeshViewportReconstructionTest, SetDisplayLevelShowsTheLevelsOwnArraysUntilAFrameWritesItsOwn) {
+  const QImage plain = m_viewport.grabFramebuffer();  // setMesh()'s rest shape
+  const int m = 12;
+  const auto K = syntheticBasis(m_sphere.V, m, 0.05f);
+  const sc::spectral::SharedDisplayLevel level = levelWith(K);
+  const std::vector<float> levelRest = level->geometry.rest;
+  const std::vector<float> levelNormals = level->geometry.normals;
+  m_viewport.setReconstructionPath(ReconstructionPath::Cpu);
+  m_viewport.setDisplayLevel(level);
+  EXPECT_TRUE(m_viewport.showsLevelArrays());
+  EXPECT_EQ(m_viewport.triangleCount(), m_sphere.F.rows());
+  const double diagonal = diagonalOf(m_rest);
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), m_rest), 1e-5 * diagonal);
+  const QImage shown = m_viewport.grabFramebuffer();
+  ASSERT_EQ(shown.size(), plain.size());
+  int differ = 0;
+  for (int y = 0; y < shown.height(); ++y)
+    for (int x = 0; x < shown.width(); ++x) differ += shown.pixel(x, y) != plain.pixel(x, y) ? 1 : 0;
+  EXPECT_LT(differ, shown.width() * shown.height() / 200) << "the level's rest shape looks like setMesh()'s";
+  EXPECT_TRUE(m_viewport.showsLevelArrays()) << "a paint uploads them, nothing writes them";
+
+  const Eigen::MatrixXf Z = randomCoefficients(m, 1.0f, 5U);
+  m_viewport.showFrame({1, Z});
+  static_cast<void>(m_viewport.grabFramebuffer());  // a frame of the full mesh on the CPU path
+  EXPECT_FALSE(m_viewport.showsLevelArrays());
+  EXPECT_LE(maxDifference(m_viewport.hostPositions(), cpuPositions(K, Z)), 1e-5 * diagonal);
+  EXPECT_EQ(level->geometry.rest, levelRest) << "the shared level is immutable";
+  EXPECT_EQ(level->geometry.normals, levelNormals);
+}
+
 TEST_F(MeshViewportReconstructionTest, GpuAgreesWithCpuWithin1e5OfTheDiagonal) {
   ASSERT_TRUE(m_viewport.gpuReconstructionAvailable());
   for (const int m : {100, 7, 1}) {  // 7 and 1: K padded to a multiple of 4 columns

@@ -58,9 +58,10 @@ sc::spectral::QuantizedBasis basisWithASpeck(const Eigen::MatrixXd& V, const Eig
 TEST(ShownLevelBounds, AHugeRowOfAModeTheFrameLeavesAloneDoesNotWidenTheBox) {
   const auto sphere = sc::testing::icosphere(3);
   const sc::spectral::QuantizedBasis K = basisWithASpeck(sphere.V, Eigen::RowVector3d(1.0, 0.0, 0.0), 0.4, 1.0);
-  const std::vector<float> rest = sc::spectral::interleavedPositions(sphere.V);
+  const sc::spectral::SharedDisplayLevel level = sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, K});
+  const std::vector<float>& rest = level->geometry.rest;  // relative to the box centre, as the viewport shows it
   sc::app::ShownLevel shown;
-  shown.hold(sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, K}), rest);
+  shown.hold(level);
   Eigen::MatrixXf Z = Eigen::MatrixXf::Zero(4, 3);
   Z(0, 0) = 0.8f;  // the handle's bump moves out along +x and up
   Z(0, 2) = 0.5f;

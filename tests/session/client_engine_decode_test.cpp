@@ -1,9 +1,14 @@
 // Tests for the client's level check and decode (src/session/engine/client_level_decode.cpp), the pure function the
-// adapter's worker thread runs: checksum, decode, the session's shape, the interleaved rest positions.
+// adapter's worker thread runs: checksum, decode, the session's shape, the interleaved rest positions and what a view
+// draws (spectral::DisplayGeometry).
 #include "client_engine_fixture.h"
 
 #include "session/wire/level_codec.h"
 #include "spectral/resolution_level.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace sc::session::test {
 namespace {
@@ -20,6 +25,11 @@ TEST(ClientLevelDecode, AGoodPayloadBecomesADisplayLevel) {
   EXPECT_EQ(out.level->basisSize(), kRows);
   EXPECT_EQ(out.level->level.K, tinyLevel(0.5f).K);
   EXPECT_EQ(out.level->rest, (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1})) << "X̂' interleaved";
+  // What the viewport draws is decoded with the level, on the decode worker, not on the thread that shows it
+  // (issue 19 item 3): the faces as an element buffer and the rest normals, here those of the face x + y + z = 1.
+  EXPECT_EQ(out.level->geometry.indices, (std::vector<std::uint32_t>{0, 1, 2}));
+  ASSERT_EQ(out.level->geometry.normals.size(), 9u);
+  for (const float c : out.level->geometry.normals) EXPECT_NEAR(c, 1.0 / std::sqrt(3.0), 1e-6);
 }
 
 TEST(ClientLevelDecode, AWrongChecksumIsRefused) {

@@ -51,6 +51,47 @@ TEST(DisplayLevel, AnEmptyZIsTheRestShape) {
   EXPECT_EQ(reconstructed(*display, DisplayFrame{}), display->rest);
 }
 
+// What a view draws comes with the level (issue 19 item 3: built where the level is built or decoded, not on the
+// thread that shows it): rest positions relative to the box centre, faces as an element buffer, rest normals, the
+// box and the bounds of K that the camera's conservative box uses.
+TEST(DisplayLevel, CarriesTheGeometryAViewDraws) {
+  ResolutionLevel level;
+  level.restV.resize(4, 3);  // a unit square in the plane z = 5, far from the origin
+  level.restV << 100, 20, 5, 101, 20, 5, 101, 21, 5, 100, 21, 5;
+  level.F.resize(2, 3);
+  level.F << 0, 1, 2, 0, 2, 3;  // counter-clockwise seen from +z
+  Eigen::MatrixXd K(4, 2);
+  K << 0.5, -2, 1, 0, -3, 0.25, 0, 1;
+  level.K = quantizeBasis(K);
+  const SharedDisplayLevel display = makeDisplayLevel(level);
+  const DisplayGeometry& g = display->geometry;
+  EXPECT_EQ(g.origin, Eigen::RowVector3d(100.5, 20.5, 5.0));
+  ASSERT_EQ(g.rest.size(), 12u);
+  for (int i = 0; i < 4; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(g.rest[3 * i + c], static_cast<float>(level.restV(i, c) - g.origin(c)));
+  EXPECT_EQ(g.indices, (std::vector<std::uint32_t>{0, 1, 2, 0, 2, 3}));
+  ASSERT_EQ(g.normals.size(), 12u);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(Eigen::Vector3f(g.normals[3 * i], g.normals[3 * i + 1], g.normals[3 * i + 2]), Eigen::Vector3f(0, 0, 1));
+  EXPECT_EQ(g.lo, Eigen::Vector3f(-0.5f, -0.5f, 0.0f));
+  EXPECT_EQ(g.hi, Eigen::Vector3f(0.5f, 0.5f, 0.0f));
+  const Eigen::MatrixXf Kf = dequantized(level.K);
+  EXPECT_FLOAT_EQ(g.maxRowNorm, Kf.rowwise().norm().maxCoeff());
+  ASSERT_EQ(g.maxAbsColumn.size(), 2);
+  EXPECT_FLOAT_EQ(g.maxAbsColumn(0), Kf.col(0).cwiseAbs().maxCoeff());
+  EXPECT_FLOAT_EQ(g.maxAbsColumn(1), Kf.col(1).cwiseAbs().maxCoeff());
+}
+
+// makeDisplayLevel() never reads outside the vertices: a face index out of range leaves the normals at zero (the
+// client's decoder refuses such a level before; this is the wrapper's own guard).
+TEST(DisplayLevel, AFaceIndexOutOfRangeLeavesTheNormalsAtZero) {
+  ResolutionLevel level = smallLevel(3, 2);
+  level.F << 0, 1, 7;
+  const SharedDisplayLevel display = makeDisplayLevel(level);
+  EXPECT_EQ(display->geometry.indices, (std::vector<std::uint32_t>{0, 1, 7}));
+  EXPECT_EQ(display->geometry.normals, std::vector<float>(9, 0.0f));
+}
+
 TEST(VertexIds, ConvertToAndFromPlainIndicesInOrder) {
   const std::vector<std::uint32_t> plain{4, 0, 9};
   const DisplayVertexIds ids = vertexIds<DisplayVertexId>(plain);

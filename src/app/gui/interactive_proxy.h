@@ -3,27 +3,30 @@
 // of the mesh's own vertices, model::proxyTriangles()), computed on a worker thread so that the window never
 // waits for it.
 
+#include "spectral/display_level.h"
+
 #include <Eigen/Core>
 
 #include <QObject>
 #include <QPointer>
 
+#include <memory>
 #include <optional>
 #include <thread>
-#include <utility>
 
 namespace sc::app {
 
 class MeshViewport;
 
-/// Builds proxies for one viewport. After each MeshViewport::setMesh() of a mesh with more than kMinTriangles
-/// triangles, call build() with the same V and F: the proxy (about kProxyTriangles triangles) is computed on a
-/// worker thread and handed to MeshViewport::setInteractiveProxy() on the GUI thread, unless the viewport's mesh
-/// changed in the meantime (meshChanged() makes a build in flight stale). Nothing is built while the viewport's
-/// adaptive resolution is off (the proxy would never be drawn). The same faces as the previous build (e.g. a host
-/// that shows its mesh again) get the previous proxy at once (it names vertices only, so it stays valid). One build
-/// runs at a time; a build asked for while one runs waits for it (only the latest waits; a stale one is dropped). The
-/// destructor waits for the build in flight (about 0.7 s at most for the 100k-vertex, 201k-triangle dragon).
+/// Builds proxies for one viewport. After each MeshViewport::setMesh() (setDisplayLevel()) of a mesh with more than
+/// kMinTriangles triangles, call build() with the same V and F (the same level): the proxy (about kProxyTriangles
+/// triangles) is computed on a worker thread and handed to MeshViewport::setInteractiveProxy() on the GUI thread,
+/// unless the viewport's mesh changed in the meantime (meshChanged() makes a build in flight stale). Nothing is built
+/// while the viewport's adaptive resolution is off (the proxy would never be drawn). The same faces as the previous
+/// build (e.g. a host that shows its mesh again), or the same shared level, get the previous proxy at once (it names
+/// vertices only, so it stays valid). One build runs at a time; a build asked for while one runs waits for it (only the
+/// latest waits; a stale one is dropped). The destructor waits for the build in flight (about 0.7 s at most for the
+/// 100k-vertex, 201k-triangle dragon).
 class InteractiveProxyBuilder : public QObject {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(InteractiveProxyBuilder)
@@ -46,6 +49,10 @@ class InteractiveProxyBuilder : public QObject {
   /// most kMinTriangles triangles or without adaptive resolution, and applies the previous proxy at once when F is
   /// the previous build's. Copies V and F. Cost on the calling thread: the copies (and O(#F) to compare F).
   void build(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
+  /// The same for a shared display level (MeshViewport::setDisplayLevel()): the worker reads its X̂' and F' in place
+  /// and holds the level while it runs (and while the build waits); nothing is copied. The level last built is
+  /// remembered without being held (a weak pointer). Cost on the calling thread: O(1).
+  void build(const spectral::SharedDisplayLevel& level);
   /// Whether a build runs or waits.
   [[nodiscard]] bool busy() const { return m_running || m_pending.has_value(); }
 
@@ -54,16 +61,27 @@ class InteractiveProxyBuilder : public QObject {
   void proxyApplied(int triangles);
 
  private:
-  void start(Eigen::MatrixXd V, Eigen::MatrixXi F, unsigned generation);
-  void finish(unsigned generation, Eigen::MatrixXi faces, const Eigen::MatrixXi& proxy);
+  /// One build's input: a copy of a plain mesh's V and F, or a shared level's, held while the build needs it.
+  struct Job {
+    std::shared_ptr<const Eigen::MatrixXd> V;
+    std::shared_ptr<const Eigen::MatrixXi> F;
+    std::weak_ptr<const spectral::DisplayLevel> level;  // expired or empty for a plain mesh
+    bool plain = true;
+  };
+  void submit(Job job);
+  void start(Job job, unsigned generation);
+  void finish(unsigned generation, const Job& job, const Eigen::MatrixXi& proxy);
+  void applyLast();
 
   QPointer<MeshViewport> m_viewport;
   unsigned m_generation = 0;  // bumped by every meshChanged()
   bool m_running = false;
-  std::optional<std::pair<Eigen::MatrixXd, Eigen::MatrixXi>> m_pending;
+  std::optional<Job> m_pending;
   unsigned m_pendingGeneration = 0;
   std::thread m_worker;
-  Eigen::MatrixXi m_lastFaces;  // the faces of the last proxy built, and that proxy
+  // The input of the last proxy built (a plain mesh's faces, kept; a level, not held), and that proxy.
+  std::shared_ptr<const Eigen::MatrixXi> m_lastFaces;
+  std::weak_ptr<const spectral::DisplayLevel> m_lastLevel;
   Eigen::MatrixXi m_lastProxy;
 };
 

@@ -166,7 +166,8 @@ int main(int argc, char* argv[]) {
     return kLaunchExitNoOpenGl;
   }
   sc::app::applySystemColorScheme();
-  // SHAPECAST_STALL_MS=N: say on stderr each time the window's event loop stood still for N ms or more.
+  // SHAPECAST_STALL_MS=N: say on stderr each time the window's event loop stood still for N ms or more (and, from
+  // MainWindow, each session level's install time on the GUI thread and its first paint's stages).
   bool stallsAsked = false;
   const int stallMs = qEnvironmentVariableIntValue("SHAPECAST_STALL_MS", &stallsAsked);
   std::optional<sc::app::EventLoopStalls> stalls;

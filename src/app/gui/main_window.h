@@ -261,6 +261,9 @@ class MainWindow : public QMainWindow {
   SessionDocks* m_docks = nullptr;
   NetworkConditionsDock* m_networkDock = nullptr;
   bool m_redrawPending = false;
+  // SHAPECAST_STALL_MS set: say each level install's GUI-thread time and its first paint's stages on stderr.
+  bool m_reportLevelInstalls = qEnvironmentVariableIsSet("SHAPECAST_STALL_MS");
+  bool m_installPaintPending = false;
   double m_viewReconstructMs = 0.0;
   double m_redrawMs = 0.0;
   FrameTimes m_labelFrame;  ///< the viewport frame the timing label describes

@@ -16,6 +16,7 @@
 #include "app/gui/vertex_id_lists.h"
 
 #include <QComboBox>
+#include <QElapsedTimer>
 #include <QFileInfo>
 #include <QLabel>
 #include <QMessageBox>
@@ -23,6 +24,7 @@
 #include <QStatusBar>
 #include <QToolButton>
 
+#include <cstdio>
 #include <optional>
 #include <utility>
 
@@ -115,8 +117,15 @@ double MainWindow::reconstructionMs() const { return m_viewReconstructMs; }
 void MainWindow::onSessionLevel(const spectral::SharedDisplayLevel& level) {
   // The viewport holds the shared level and reconstructs rest + K·Z itself: in the vertex shader on the GPU path;
   // on the CPU path only the vertices its frame needs (the interactive proxy's while the shape moves).
+  QElapsedTimer timer;
+  timer.start();
   ui->viewport->setDisplayLevel(level);
-  if (level) m_proxyBuilder->build(level->level.restV, level->level.F);
+  m_proxyBuilder->build(level);  // reads the shared level in place, on its worker thread
+  if (m_reportLevelInstalls && level) {
+    std::fprintf(stderr, "shapecast: level of %u vertices installed in %.1f ms on the GUI thread\n",
+                 level->vertexCount(), static_cast<double>(timer.nsecsElapsed()) / 1e6);
+    m_installPaintPending = true;
+  }
 }
 
 void MainWindow::onSessionFrame(const spectral::DisplayFrame& frame) {

@@ -24,6 +24,8 @@
 #include <QToolBar>
 #include <QToolButton>
 
+#include <cstdio>
+
 namespace sc::app {
 
 // Session menu, tools, lock toolbar, resolution selector.
@@ -133,6 +135,13 @@ void MainWindow::connectViewportToSession() {
   });
   connect(ui->viewport, &MeshViewport::frameSwapped, this, [this] {
     const FrameTimes& frame = ui->viewport->frameTimes();
+    if (m_installPaintPending) {
+      m_installPaintPending = false;
+      std::fprintf(stderr,
+                   "shapecast: first paint of the level: upload %.1f ms, background %.1f ms, mesh %.1f ms (%d "
+                   "triangles), compose %.1f ms\n",
+                   frame.uploadMs, frame.backgroundMs, frame.meshMs, frame.triangles, frame.composeMs);
+    }
     if (m_redrawPending) {
       m_redrawPending = false;
       // As shapecast-bench-viewport: the viewport's own reconstruction, normals, paint and composition.

@@ -108,14 +108,18 @@ void MeshViewport::positionsGiven() {
 
 // The camera's scene bounds (LevelFrames::bounds()), timed as the frame's bounds stage; then a repaint.
 void MeshViewport::updateBounds() {
-  ++m_shapeVersion;
   QElapsedTimer timer;
   timer.start();
   const auto [lo, hi] = m_frames.bounds();
+  setSceneBounds(lo, hi, m_frames.boundsConservative());
+  m_frameTimes.boundsMs = lapMs(timer);
+}
+
+void MeshViewport::setSceneBounds(const QVector3D& lo, const QVector3D& hi, bool conservative) {
+  ++m_shapeVersion;
   m_camera.setSceneBounds(lo, hi);
   m_sceneDiagonal = (hi - lo).length();
-  m_boundsConservative = m_frames.boundsConservative();
-  m_frameTimes.boundsMs = lapMs(timer);
+  m_boundsConservative = conservative;
   markMoved();
 }
 
@@ -155,14 +159,31 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
     clearMesh();
     return;
   }
-  setMesh(level->level.restV, level->level.F);
-  const spectral::QuantizedBasis& K = level->level.K;
-  if (m_vertexCount == 0 || K.rows() != m_vertexCount || K.cols() == 0 ||
-      level->rest.size() != 3 * static_cast<std::size_t>(K.rows())) {
-    return;  // shown as a plain mesh
+  const spectral::DisplayGeometry& g = level->geometry;
+  const std::size_t n = level->vertexCount();
+  if (n == 0 || g.indices.empty() || g.rest.size() != 3 * n || g.normals.size() != 3 * n) {
+    clearMesh();
+    return;
   }
-  shifted(level->rest, -m_origin, m_buffers.writeRest());
-  m_frames.hold(std::move(level));
+  // Everything per vertex is the level's, computed with it off the GUI thread (spectral::DisplayGeometry): the
+  // buffers show its arrays and the camera its box, so this costs O(#V) only for the tints (and O(m) for K).
+  m_input.endGesture();
+  m_frames.drop();
+  m_origin = g.origin;
+  m_vertexCount = static_cast<int>(n);
+  const spectral::QuantizedBasis& K = level->level.K;
+  const bool basis = K.rows() == m_vertexCount && K.cols() > 0 && level->rest.size() == 3 * n;
+  m_buffers.shareLevel(level, basis);
+  m_frames.restShared(m_frameTimes);
+  m_frameTimes.boundsMs = 0.0;
+  setSceneBounds(QVector3D(g.lo.x(), g.lo.y(), g.lo.z()), QVector3D(g.hi.x(), g.hi.y(), g.hi.z()), false);
+  m_selection.clear();
+  rebuildTints();
+  if (basis) {
+    m_frames.hold(std::move(level));
+  }  // else shown as a plain mesh
+  emit meshChanged();
+  resetView();
 }
 
 bool MeshViewport::showFrame(const spectral::DisplayFrame& frame) {

@@ -30,6 +30,7 @@
 #include <QString>
 #include <QSurfaceFormat>
 #include <QTimer>
+#include <QVector3D>
 #include <QWidget>
 
 #include <functional>
@@ -141,8 +142,11 @@ class MeshViewport : public QWidget,
   /// The one-way frame path (docs/architecture.md): shows `level`'s rest mesh and faces and frames the camera on it,
   /// like setMesh(). The viewport HOLDS the shared level: both reconstruction paths read its K in place (the CPU
   /// kernel directly, the GPU path's texture is filled from it at upload time, padded to 4·⌈m/4⌉ columns, only
-  /// once the GPU path draws); the only per-level copy is the rest positions relative to the origin (3·n' floats).
-  /// Nothing moves until showFrame(). nullptr: clearMesh(). A level without basis columns shows as a plain mesh.
+  /// once the GPU path draws), and the vertex buffers are filled from its DisplayGeometry (rest positions relative
+  /// to its origin, normals, faces, box; computed with the level, off the GUI thread) with no copy here: the first
+  /// CPU frame writes its own positions and normals. Cost: O(#V) for the selection tints, O(m) else; the upload in
+  /// the next paint. Nothing moves until showFrame(). nullptr, or a level without vertices or faces: clearMesh().
+  /// A level without basis columns shows as a plain mesh.
   void setDisplayLevel(spectral::SharedDisplayLevel level);
   /// Shows one frame of the displayed level, X̂' + K·frame.Z (the rest shape for an empty Z), on the current path
   /// (the per-frame call of a client). Ignored without a level or for a Z that is not m by 3, and a Z already shown
@@ -155,6 +159,9 @@ class MeshViewport : public QWidget,
   bool showFrame(const spectral::DisplayFrame& frame);
   /// The level setDisplayLevel() shows (nullptr: a plain mesh, or none).
   [[nodiscard]] const spectral::SharedDisplayLevel& displayLevel() const { return m_frames.shown().level(); }
+  /// Whether the vertex buffers show the display level's own arrays (positions, normals, faces: setDisplayLevel()
+  /// copies none) rather than arrays of their own (a CPU frame of the full mesh writes its own). For tests.
+  [[nodiscard]] bool showsLevelArrays() const { return m_buffers.sharesLevel(); }
   /// Whether frames are reconstructed here (a display level with basis columns is shown).
   [[nodiscard]] bool hasReconstructionBasis() const { return !m_frames.shown().empty(); }
 
@@ -319,6 +326,8 @@ class MeshViewport : public QWidget,
 
   void positionsGiven();
   void updateBounds();
+  /// The camera's scene bounds (relative to the origin) and a repaint; `conservative`: a lagging frame's box.
+  void setSceneBounds(const QVector3D& lo, const QVector3D& hi, bool conservative);
   /// The camera's bounds become exact where they were conservative and the positions are current now (a gesture or
   /// a paint of the full mesh made them so). Returns whether they changed. Cost: O(#V) then, else O(1).
   bool tightenBounds();

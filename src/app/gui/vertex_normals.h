@@ -1,10 +1,9 @@
 #pragma once
 // Per-vertex normals for shading, computed on the CPU from (V, F).
 
-#include <Eigen/Core>
+#include "spectral/vertex_normals.h"
 
-#include <cstdint>
-#include <span>
+#include <Eigen/Core>
 
 namespace sc::app {
 
@@ -18,12 +17,7 @@ namespace sc::app {
 /// Cost: O(#V + #F).
 Eigen::MatrixXd vertexNormals(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F);
 
-/// The same area-weighted normals in float, on flat arrays: the per-frame path of MeshViewport, which avoids any
-/// Eigen matrix conversion.
-/// @param[in]  xyz      3·#V floats, x y z per vertex.
-/// @param[in]  indices  3·#F vertex indices in [0, #V), counter-clockwise per face.
-/// @param[out] normals  3·#V floats (same size as xyz), overwritten with unit normals or zero (as above).
-/// Cost: O(#V + #F), no allocation.
-void vertexNormals(std::span<const float> xyz, std::span<const std::uint32_t> indices, std::span<float> normals);
+/// The same normals in float on flat arrays (the viewport's per-frame path): spectral::vertexNormals().
+using spectral::vertexNormals;
 
 }  // namespace sc::app

@@ -9,7 +9,7 @@
 namespace sc::app {
 
 void LevelFrames::hold(spectral::SharedDisplayLevel level) {
-  m_shown.hold(std::move(level), m_buffers.rest());
+  m_shown.hold(std::move(level));
   m_buffers.mark(ViewportBuffers::kBasis);
   setPath(m_path);  // nothing is shown yet: no frame to apply again
 }
@@ -18,6 +18,13 @@ void LevelFrames::drop() {
   m_shown.clear();
   m_buffers.writeRest().clear();
   m_cpu.reset();
+}
+
+void LevelFrames::restShared(FrameTimes& times) {
+  m_shown.stopShowing();
+  m_cpu.reset();
+  times.reconstructMs = times.normalsMs = 0.0;
+  refreshProxy();
 }
 
 void LevelFrames::positionsGiven(FrameTimes& times) {

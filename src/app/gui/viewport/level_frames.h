@@ -29,11 +29,15 @@ class LevelFrames {
   [[nodiscard]] GpuReconstructor& gpu() { return m_gpu; }
   [[nodiscard]] ReconstructionPath path() const { return m_path; }
 
-  /// Holds `level` (its K has one row per vertex of the buffers; buffers.rest() holds its rest positions relative to
-  /// the viewport's origin) and marks the basis for upload. Nothing is shown until show().
+  /// Holds `level` (its K has one row per vertex of the buffers; buffers.rest() shows its rest positions relative to
+  /// the viewport's origin, ViewportBuffers::shareLevel()) and marks the basis for upload. Nothing is shown until
+  /// show(). Cost: O(m).
   void hold(spectral::SharedDisplayLevel level);
   /// Drops the level and the rest positions (a plain mesh, or none).
   void drop();
+  /// A level's rest shape was shared into the buffers with its normals (ViewportBuffers::shareLevel()): it replaces
+  /// the shown frame, like positionsGiven() but with nothing to compute. Cost: O(1).
+  void restShared(FrameTimes& times);
   /// Shows X̂' + K·Z (see ShownLevel::show()); false, and nothing changes, for a Z of the wrong shape.
   bool show(const Eigen::MatrixXf& Z) { return m_shown.show(Z); }
 

@@ -9,6 +9,8 @@
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
 
+#include <span>
+
 namespace sc::app {
 
 namespace {
@@ -85,7 +87,7 @@ void ScenePasses::drawFrame(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buff
 // index buffer, otherwise from the compact proxy's VAO).
 int ScenePasses::drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffers, GpuReconstructor& gpu,
                           const MeshPass& pass) {
-  const std::vector<std::uint32_t>& indices = buffers.indices();
+  const std::span<const std::uint32_t> indices = buffers.indices();
   if (indices.empty() || !m_meshProgram) {
     return 0;
   }

@@ -1,7 +1,8 @@
 #pragma once
 // ShownLevel: the display level a MeshViewport shows and its current frame. It holds the session's shared level
 // (spectral::SharedDisplayLevel: K is read in place by both reconstruction paths, never copied) and the frame's Z;
-// the rest positions relative to the viewport's origin live in ViewportBuffers::rest().
+// the rest positions relative to the viewport's origin are the level's (DisplayGeometry::rest, shown through
+// ViewportBuffers::rest()).
 
 #include "spectral/display_level.h"
 
@@ -9,17 +10,16 @@
 
 #include <QVector3D>
 
-#include <span>
 #include <utility>
 
 namespace sc::app {
 
 class ShownLevel {
  public:
-  /// Holds `level` (non-null; its K has #V rows); Z starts at zero and nothing is shown yet (showing() false).
-  /// `rest`: 3·n' rest positions relative to the viewport's origin (for the camera bounds). Cost: O(n'·m) once
-  /// (max_i ‖K_i‖ and max_i |K_ik|).
-  void hold(spectral::SharedDisplayLevel level, std::span<const float> rest);
+  /// Holds `level` (non-null; its K has #V rows; the viewport's origin is its DisplayGeometry::origin); Z starts at
+  /// zero and nothing is shown yet (showing() false). Cost: O(m): the rest box and the bounds of K are the level's
+  /// (DisplayGeometry, computed with it off the GUI thread).
+  void hold(spectral::SharedDisplayLevel level);
   /// Drops the level (the viewport then shows a plain mesh).
   void clear();
 
@@ -54,10 +54,6 @@ class ShownLevel {
   Eigen::MatrixXf m_Z;
   Eigen::MatrixXf m_scaledZ;
   bool m_showing = false;
-  float m_maxRowNorm = 0.0f;
-  Eigen::RowVectorXf m_maxAbsColumn;  // 1 by m: max_i |K_ik| of each column
-  Eigen::Vector3f m_restLo = Eigen::Vector3f::Zero();
-  Eigen::Vector3f m_restHi = Eigen::Vector3f::Zero();
 };
 
 }  // namespace sc::app

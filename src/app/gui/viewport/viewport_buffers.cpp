@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <span>
 
 namespace sc::app {
 
@@ -49,14 +50,14 @@ void recordVertexArray(QOpenGLFunctions_3_3_Core& gl, QOpenGLVertexArrayObject& 
   buffers.indices->bind();  // VAO state
 }
 
-template <typename Values>
-void send(QOpenGLBuffer& buffer, const Values& values) {
+template <typename T>
+void send(QOpenGLBuffer& buffer, std::span<const T> values) {
   buffer.bind();
-  buffer.allocate(values.data(), static_cast<int>(values.size() * sizeof(values[0])));
+  buffer.allocate(values.data(), static_cast<int>(values.size() * sizeof(T)));
   buffer.release();
 }
 
-int bytesOf(const std::vector<std::uint32_t>& v) { return static_cast<int>(v.size() * sizeof(std::uint32_t)); }
+int bytesOf(std::span<const std::uint32_t> v) { return static_cast<int>(v.size() * sizeof(std::uint32_t)); }
 
 }  // namespace
 
@@ -68,7 +69,21 @@ void ViewportBuffers::gatherProxyTints() {
 }
 
 void ViewportBuffers::setIndices(std::vector<std::uint32_t> indices) {
-  m_indices = std::move(indices);
+  m_indices.own() = std::move(indices);
+  setProxy(CompactProxy(), {});
+}
+
+void ViewportBuffers::shareLevel(const spectral::SharedDisplayLevel& level, bool rest) {
+  const spectral::DisplayGeometry& g = level->geometry;
+  m_positions.share(level, g.rest);
+  m_normals.share(level, g.normals);
+  m_indices.share(level, g.indices);
+  if (rest) {
+    m_rest.share(level, g.rest);
+  } else {
+    m_rest.own().clear();
+  }
+  m_dirty |= kPositions | kNormals | kRest;
   setProxy(CompactProxy(), {});
 }
 
@@ -79,10 +94,10 @@ void ViewportBuffers::setProxy(CompactProxy proxy, std::vector<std::uint32_t> me
 }
 
 void ViewportBuffers::clear() {
-  m_positions.clear();
-  m_normals.clear();
+  m_positions.own().clear();
+  m_normals.own().clear();
   m_tints.clear();
-  m_rest.clear();
+  m_rest.own().clear();
   setIndices({});
   m_dirty = kAll;
 }
@@ -125,14 +140,14 @@ void ViewportBuffers::destroy(QOpenGLFunctions_3_3_Core& gl) {
 }
 
 void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis* K) {
-  if (isMarked(kPositions)) send(m_positionBuffer, m_positions);
-  if (isMarked(kNormals)) send(m_normalBuffer, m_normals);
-  if (isMarked(kTints)) send(m_tintBuffer, m_tints);
+  if (isMarked(kPositions)) send(m_positionBuffer, positions());
+  if (isMarked(kNormals)) send(m_normalBuffer, normals());
+  if (isMarked(kTints)) send<std::uint8_t>(m_tintBuffer, m_tints);
   if (isMarked(kProxyVertices)) {
-    send(m_proxyPositionBuffer, m_proxy.positions());
-    send(m_proxyNormalBuffer, m_proxy.normals());
+    send<float>(m_proxyPositionBuffer, m_proxy.positions());
+    send<float>(m_proxyNormalBuffer, m_proxy.normals());
   }
-  if (isMarked(kProxyTints)) send(m_proxyTintBuffer, m_proxy.tints());
+  if (isMarked(kProxyTints)) send<std::uint8_t>(m_proxyTintBuffer, m_proxy.tints());
   if (isMarked(kProxyIndices)) {
     QOpenGLVertexArrayObject::Binder vaoBinder(&m_proxyVao);
     m_proxyIndexBuffer.bind();  // stays bound: VAO state
@@ -141,11 +156,12 @@ void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::Quan
   if (isMarked(kIndices)) {
     QOpenGLVertexArrayObject::Binder vaoBinder(&m_meshVao);
     m_indexBuffer.bind();  // stays bound: the element array binding is VAO state
-    m_indexBuffer.allocate(bytesOf(m_indices) + bytesOf(m_proxyIndices));
-    m_indexBuffer.write(0, m_indices.data(), bytesOf(m_indices));
-    m_indexBuffer.write(bytesOf(m_indices), m_proxyIndices.data(), bytesOf(m_proxyIndices));
+    const std::span<const std::uint32_t> mesh = indices();
+    m_indexBuffer.allocate(bytesOf(mesh) + bytesOf(m_proxyIndices));
+    m_indexBuffer.write(0, mesh.data(), bytesOf(mesh));
+    m_indexBuffer.write(bytesOf(mesh), m_proxyIndices.data(), bytesOf(m_proxyIndices));
   }
-  if (isMarked(kRest)) send(m_restBuffer, m_rest);
+  if (isMarked(kRest)) send(m_restBuffer, rest());
   m_dirty &= kBasis;
   if (isMarked(kBasis) && K != nullptr && m_basisBuffer != 0) {
     uploadBasis(gl, *K);

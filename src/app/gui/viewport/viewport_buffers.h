@@ -1,9 +1,13 @@
 #pragma once
 // ViewportBuffers: MeshViewport's vertex data, host side and GL side, with one dirty mask (Polyscope's
 // ManagedBuffer habit): whoever writes a host array marks its bit (the write*() accessors do it), and upload(), in
-// paintGL(), sends exactly what is marked. No other class of the viewport holds a GL buffer of vertex data.
+// paintGL(), sends exactly what is marked. No other class of the viewport holds a GL buffer of vertex data. The
+// positions, normals, rest positions and triangles of a shown display level are the level's own arrays
+// (shareLevel(): SharedArray, no copy on the GUI thread) until a frame writes new positions or normals.
 
 #include "app/gui/compact_proxy.h"
+#include "app/gui/viewport/shared_array.h"
+#include "spectral/display_level.h"
 #include "spectral/resolution_level.h"
 
 #include <QOpenGLBuffer>
@@ -34,21 +38,29 @@ class ViewportBuffers {
   };
 
   // === host side. Positions are relative to the viewport's origin (MeshViewport::setMesh()).
-  [[nodiscard]] const std::vector<float>& positions() const { return m_positions; }      ///< 3·#V
-  [[nodiscard]] const std::vector<float>& normals() const { return m_normals; }          ///< 3·#V
-  [[nodiscard]] const std::vector<std::uint8_t>& tints() const { return m_tints; }       ///< 4·#V, RGBA
-  [[nodiscard]] const std::vector<std::uint32_t>& indices() const { return m_indices; }  ///< 3·#F
+  [[nodiscard]] std::span<const float> positions() const { return m_positions.view(); }      ///< 3·#V
+  [[nodiscard]] std::span<const float> normals() const { return m_normals.view(); }          ///< 3·#V
+  [[nodiscard]] const std::vector<std::uint8_t>& tints() const { return m_tints; }           ///< 4·#V, RGBA
+  [[nodiscard]] std::span<const std::uint32_t> indices() const { return m_indices.view(); }  ///< 3·#F
   /// 3·#P indices into the mesh's vertices: the proxy's triangles as the GPU path draws them.
   [[nodiscard]] const std::vector<std::uint32_t>& proxyIndices() const { return m_proxyIndices; }
   /// The proxy's own vertices, for the CPU path (empty: no proxy).
   [[nodiscard]] const CompactProxy& proxy() const { return m_proxy; }
   /// 3·#V rest positions of a shown display level (relative to the origin; empty for a plain mesh).
-  [[nodiscard]] const std::vector<float>& rest() const { return m_rest; }
+  [[nodiscard]] std::span<const float> rest() const { return m_rest.view(); }
+  /// Whether positions, normals and indices are a shared level's arrays (shareLevel(); no write since).
+  [[nodiscard]] bool sharesLevel() const { return m_positions.shared() && m_normals.shared() && m_indices.shared(); }
 
-  std::vector<float>& writePositions() { return marked(kPositions, m_positions); }
-  std::vector<float>& writeNormals() { return marked(kNormals, m_normals); }
+  /// Write access for a write that sets every entry (resize, then fill): a shared level's array is let go, not
+  /// copied (SharedArray::own()).
+  std::vector<float>& writePositions() { return marked(kPositions, m_positions).own(); }
+  std::vector<float>& writeNormals() { return marked(kNormals, m_normals).own(); }
   std::vector<std::uint8_t>& writeTints() { return marked(kTints, m_tints); }
-  std::vector<float>& writeRest() { return marked(kRest, m_rest); }
+  std::vector<float>& writeRest() { return marked(kRest, m_rest).own(); }
+  /// Shows `level`'s geometry (spectral::DisplayGeometry, non-empty) without copying: positions are its rest
+  /// positions, normals its rest normals, indices its faces, and with `rest` the GPU path's rest positions too; they
+  /// hold the level until written. Drops the proxy and marks them for upload. Cost: O(1) (frees the own arrays).
+  void shareLevel(const spectral::SharedDisplayLevel& level, bool rest);
   /// The proxy, for new positions or normals (marks kProxyVertices).
   CompactProxy& writeProxyVertices() { return marked(kProxyVertices, m_proxy); }
   /// The proxy's tints gathered from tints() (no proxy: nothing). Cost: O(#P).
@@ -85,13 +97,13 @@ class ViewportBuffers {
   void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K);
 
   unsigned m_dirty = kAll;
-  std::vector<float> m_positions;
-  std::vector<float> m_normals;
+  SharedArray<float> m_positions;
+  SharedArray<float> m_normals;
   std::vector<std::uint8_t> m_tints;
-  std::vector<std::uint32_t> m_indices;
+  SharedArray<std::uint32_t> m_indices;
   std::vector<std::uint32_t> m_proxyIndices;
   CompactProxy m_proxy;
-  std::vector<float> m_rest;
+  SharedArray<float> m_rest;
 
   QOpenGLVertexArrayObject m_meshVao;
   QOpenGLVertexArrayObject m_proxyVao;
