@@ -1,6 +1,6 @@
 // shapecast-bench-basis: manifold-harmonic-basis time per mesh, median of N runs, with the project's eigensolvers
-// (--solvers, default Lanczos, the reference, and the hierarchical subspace iteration) and the SciPy peer side by
-// side in the same run.
+// (--solvers, default spectrum slicing, the product's default, then Lanczos, the reference, and the hierarchical
+// subspace iteration) and the SciPy peer side by side in the same run.
 //
 // Each project run is a separate `shapecast-cli basis MESH --no-cache --json --solver S` process, so the peak memory
 // is per mesh and solver. The SciPy peer (bench/scipy_basis_peer.py, when a Python with SciPy is found) solves the
@@ -9,7 +9,7 @@
 // by run so that they share the machine's noise. Without SciPy the project's figures are printed alone, with a note.
 // Prints the tables and writes them, with the machine and load average, into docs/benchmarks.md (--section).
 // Usage: shapecast-bench-basis [--repeats 3] [--m 100] [--meshes DIR | --mesh FILE …]
-//          [--solvers lanczos,hierarchical] [--python EXE] [--no-scipy] [--scipy-max-vertices 200000]
+//          [--solvers slices,lanczos,hierarchical] [--python EXE] [--no-scipy] [--scipy-max-vertices 200000]
 //          [--keep-problems DIR] [--out FILE] [--section basis-bench] [--title TEXT]
 
 #include "experiments/report/machine_info.h"
@@ -220,7 +220,7 @@ int main(int argc, char* argv[]) {
   const QCommandLineOption solversOption(QStringLiteral("solvers"),
                                          QStringLiteral("shapecast-cli --solver values, comma-separated; the first "
                                                         "one's σ and eigenvalues are the SciPy peer's reference"),
-                                         QStringLiteral("list"), QStringLiteral("lanczos,hierarchical"));
+                                         QStringLiteral("list"), QStringLiteral("slices,lanczos,hierarchical"));
   const QCommandLineOption python(QStringLiteral("python"),
                                   QStringLiteral("Python with SciPy (default: the first of python3, /usr/bin/python3 "
                                                  "that imports scipy)"),

@@ -33,7 +33,8 @@ enum class BasisSolver {
   Hierarchical,
   /// Spectrum slicing (spectrum_slices.h): a few shift-invert Lanczos runs around shifts spread over the band, on
   /// parallel threads, each placed in the spectrum by the inertia of its own LDLᵀ factor and checked against its
-  /// neighbours where their windows overlap. Falls back to Lanczos on small meshes or when a check fails.
+  /// neighbours where their windows overlap. Lanczos outside [sliceMinimumVertices, sliceMaximumVertices]; the
+  /// hierarchical solver when a check fails.
   Slices,
 };
 
@@ -62,6 +63,10 @@ struct BasisOptions {
   int sliceThreads = 0;
   /// Slices: meshes with fewer vertices use Lanczos (slicing pays for its extra factorisations on large meshes).
   Eigen::Index sliceMinimumVertices = 20000;
+  /// Slices: meshes with more vertices use Lanczos. Each running slice holds its own factor and #V·ncv Lanczos
+  /// vectors: at 1M vertices two slices peaked at 4.07 GB against Lanczos's 3.24 GB, and took 72.7 s against 63.5 s
+  /// (2 cores shared with a build, docs/benchmarks.md); at 437k slicing still wins (18.6 s against 26.4 s).
+  Eigen::Index sliceMaximumVertices = 600000;
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
   double shiftFactor = 1.0;

@@ -271,7 +271,8 @@ BasisResult slicedEigenpairs(const LaplaceOperators& ops, double sigma, const Ba
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int count =
       options.slices > 0 ? options.slices : std::clamp(hardware, 2, std::max(2, m / kMinimumPairsPerSlice));
-  if (ops.mass.size() < options.sliceMinimumVertices || count < 2 || m < 2 * count) {
+  const Eigen::Index n = ops.mass.size();
+  if (n < options.sliceMinimumVertices || n > options.sliceMaximumVertices || count < 2 || m < 2 * count) {
     return lanczosEigenpairs(ops, m, sigma, options);
   }
   const int guard = std::max(3, m / (10 * count));

@@ -52,7 +52,8 @@ MergedSlices mergeSlices(std::vector<SpectrumSlice> slices, int m, double scale,
 /// 3. Checks: Sylvester's count at a gap just above index m − 1 (one more factorisation: the top slice's part above
 ///    its own shift is the only one no overlap checks), mergeSlices(), and the M-orthonormality of the columns around
 ///    each hand-over (≤ 1e-8). Every index is thus placed by an exact count and checked by a second one.
-/// Falls back to lanczosEigenpairs() when #V < options.sliceMinimumVertices, k < 2, or a check of step 3 fails.
+/// Runs lanczosEigenpairs() instead when #V is outside [options.sliceMinimumVertices, sliceMaximumVertices] or
+/// k < 2; falls back to hierarchicalEigenpairs() when a check of step 3 fails (result.message says which).
 /// Cost: k + 1 simplicial factorisations, about 5/2·(m + 2·guard·k) solves and O(#V·Σ ncv_j²) orthogonalisation
 /// (against O(#V·(5m/2)²) for one run), spread over the threads; memory O(threads·(nnz(L) + #V·ncv) + #V·m).
 BasisResult slicedEigenpairs(const LaplaceOperators& ops, double sigma, const BasisOptions& options);
