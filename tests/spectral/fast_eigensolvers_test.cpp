@@ -42,20 +42,7 @@ int mAtClusterEnd(const Eigen::VectorXd& lambda, int atMost, double clusterGap, 
   return m;
 }
 
-/// Three components: two equal spheres (every eigenvalue doubled) and a torus.
-testing::GeneratedMesh spheresAndTorus() {
-  const testing::GeneratedMesh spheres = testing::twoSpheres(4);
-  testing::GeneratedMesh torus = testing::torus(48, 16);
-  torus.V.col(1).array() += 4.0;
-  testing::GeneratedMesh all;
-  all.V.resize(spheres.V.rows() + torus.V.rows(), 3);
-  all.V << spheres.V, torus.V;
-  all.F.resize(spheres.F.rows() + torus.F.rows(), 3);
-  all.F << spheres.F, (torus.F.array() + static_cast<int>(spheres.V.rows())).matrix();
-  return all;
-}
-
-/// Compares the hierarchical basis with Lanczos cluster by cluster. `reference` has more pairs than `fast`, so the
+/// Compares a fast solver's basis with Lanczos cluster by cluster. `reference` has more pairs than `fast`, so the
 /// gap above the last compared cluster is known. Clusters: consecutive reference eigenvalues closer than
 /// `clusterGap`·(λ + |σ|) (a relative threshold: discrete spheres split the 2l+1 multiplets slightly).
 void expectSameEigenpairs(const LaplaceOperators& ops, const HarmonicBasis& fast, const HarmonicBasis& reference,
@@ -123,7 +110,7 @@ TEST_P(FastEigensolver, SphereMatchesLanczosPerMultiplet) {
 }
 
 TEST_P(FastEigensolver, ThreeComponentsWithEqualSpheresMatchLanczos) {
-  const auto mesh = spheresAndTorus();
+  const auto mesh = testing::twoSpheresAndATorus();
   const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
   const BasisResult reference = solve(ops, 44, BasisSolver::Lanczos);
   ASSERT_TRUE(reference.ok()) << reference.message;

@@ -74,7 +74,7 @@ TEST(SubspaceIteration, SolvesOnSeveralThreadsGiveTheSameBasisAsOne) {
 }
 
 TEST(VertexAggregation, SmoothedGalerkinLevelsKeepAreaNullSpaceAndComponents) {
-  const auto mesh = spheresAndTorus();
+  const auto mesh = testing::twoSpheresAndATorus();
   const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
   const std::vector<AggregatedOperators> levels = aggregationHierarchy(ops, 100);
   ASSERT_FALSE(levels.empty());

@@ -102,17 +102,11 @@ TEST(SpectrumSlices, MergeRefusesAHandOverInsideACluster) {
 
 /// Two components without symmetries, like a scan with a loose part: a torus and a sphere with jittered vertices.
 testing::GeneratedMesh torusAndJitteredSphere() {
-  const testing::GeneratedMesh torus = testing::torus(64, 24);
   testing::GeneratedMesh sphere = testing::icosphere(4);
   std::srand(7);
   sphere.V = sphere.V * 0.8 + 0.02 * Eigen::MatrixXd::Random(sphere.V.rows(), 3);
   sphere.V.col(0).array() += 4.0;
-  testing::GeneratedMesh all;
-  all.V.resize(torus.V.rows() + sphere.V.rows(), 3);
-  all.V << torus.V, sphere.V;
-  all.F.resize(torus.F.rows() + sphere.F.rows(), 3);
-  all.F << torus.F, (sphere.F.array() + static_cast<int>(torus.V.rows())).matrix();
-  return all;
+  return testing::joined(testing::torus(64, 24), sphere);
 }
 
 TEST(SpectrumSlices, ManySlicesOnOneThreadAndOnSeveralGiveTheLanczosEigenvalues) {

@@ -105,8 +105,16 @@ GeneratedMesh tube(int around, int along, double length, double r) {
 }
 
 GeneratedMesh twoSpheres(int subdivisions) {
-  const GeneratedMesh a = icosphere(subdivisions, 1.0, {0, 0, 0});
-  const GeneratedMesh b = icosphere(subdivisions, 1.0, {3, 0, 0});
+  return joined(icosphere(subdivisions, 1.0, {0, 0, 0}), icosphere(subdivisions, 1.0, {3, 0, 0}));
+}
+
+GeneratedMesh twoSpheresAndATorus() {
+  GeneratedMesh ring = torus(48, 16);
+  ring.V.col(1).array() += 4.0;
+  return joined(twoSpheres(4), ring);
+}
+
+GeneratedMesh joined(const GeneratedMesh& a, const GeneratedMesh& b) {
   GeneratedMesh both;
   both.V.resize(a.V.rows() + b.V.rows(), 3);
   both.V << a.V, b.V;

@@ -28,4 +28,10 @@ GeneratedMesh tube(int around, int along, double length = 4.0, double r = 0.25);
 /// Two disjoint icospheres (unit radius, centres 3 apart): two connected components.
 GeneratedMesh twoSpheres(int subdivisions);
 
+/// Three components: twoSpheres(4) (every eigenvalue doubled) and a torus(48, 16) beside them.
+GeneratedMesh twoSpheresAndATorus();
+
+/// a and b as one mesh of two components: b's vertices follow a's, b's faces renumbered.
+GeneratedMesh joined(const GeneratedMesh& a, const GeneratedMesh& b);
+
 }  // namespace sc::testing
