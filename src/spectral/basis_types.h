@@ -31,10 +31,10 @@ enum class BasisSolver {
   /// subspace iterations, Rayleigh–Ritz and locking on each, until every wanted pair's relative residual on the
   /// mesh is below `residualTolerance`. Meshes too small to coarsen (#V < about 10(m + guard)) use Lanczos.
   Hierarchical,
-  /// Spectrum slicing (spectrum_slices.h): a few shift-invert Lanczos runs around shifts spread over the band, on
-  /// parallel threads, each placed in the spectrum by the inertia of its own LDLᵀ factor and checked against its
-  /// neighbours where their windows overlap. Lanczos outside [sliceMinimumVertices, sliceMaximumVertices]; the
-  /// hierarchical solver when a check fails.
+  /// Spectrum slicing (spectrum_slices.h): a few block shift-invert Lanczos runs (block_lanczos.h) around shifts
+  /// spread over the band, on parallel threads, each placed in the spectrum by the inertia of its own LDLᵀ factor
+  /// and checked against its neighbours where their windows overlap. Lanczos below sliceMinimumVertices, one block
+  /// Lanczos run above sliceMaximumVertices; the hierarchical solver when a check fails.
   Slices,
 };
 
@@ -61,6 +61,9 @@ struct BasisOptions {
   int slices = 0;
   /// Slices: threads running them (0: the hardware's, at most `slices`).
   int sliceThreads = 0;
+  /// Slices: each slice runs block Lanczos (block_lanczos.h), or Spectra's single-vector Lanczos when false or when
+  /// the block run does not converge within 4 columns per pair.
+  bool blockLanczos = true;
   /// Slices: meshes with fewer vertices use Lanczos (slicing pays for its extra factorisations on large meshes).
   Eigen::Index sliceMinimumVertices = 20000;
   /// Slices: meshes with more vertices use Lanczos. Each running slice holds its own factor and #V·ncv Lanczos
@@ -70,7 +73,7 @@ struct BasisOptions {
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
   double shiftFactor = 1.0;
-  double tolerance = 1e-10;  ///< Spectra's relative convergence tolerance on the Ritz values.
+  double tolerance = 1e-10;  ///< relative convergence tolerance on the Ritz values (Spectra's test, block Lanczos's too)
   int maxRestarts = 1000;    ///< Spectra's iteration limit.
   /// Called with the estimated fraction done in [0, 1] from inside the solve; return false to cancel.
   std::function<bool(double fraction)> progress;

@@ -29,7 +29,8 @@ BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOption
 double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass);
 
 /// max over columns of the relative residual ‖S h − λ M h‖_{M⁻¹}/(|λ| + |σ|) (see subspace_iteration.h).
-/// Cost: O(nnz(S)·m + #V·m).
+/// Cost: O(nnz(S)·m + #V·m), in column chunks on the hardware's threads; memory O(#V) per chunk column (not a
+/// whole S·H: 350 MB at 437k vertices and m = 100, and 1.4 s on one thread there).
 double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& basis);
 
 /// "lanczos", "slices" or "hierarchical".

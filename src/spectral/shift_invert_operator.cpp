@@ -45,6 +45,14 @@ void ShiftInvertOperator::perform_op(const double* x, double* y) const {
   if (m_observer && !m_observer(m_solves)) throw SolveCancelled{};
 }
 
+void ShiftInvertOperator::solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
+  y = m_factor.solve(x);
+  for (Eigen::Index column = 0; column < x.cols(); ++column) {
+    ++m_solves;
+    if (m_observer && !m_observer(m_solves)) throw SolveCancelled{};
+  }
+}
+
 void DiagonalMassOperator::perform_op(const double* x, double* y) const {
   Eigen::Map<Eigen::VectorXd>(y, rows()) = m_mass.cwiseProduct(Eigen::Map<const Eigen::VectorXd>(x, rows()));
 }

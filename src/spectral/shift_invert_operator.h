@@ -47,6 +47,9 @@ class ShiftInvertOperator {
   void set_shift(const double& sigma);
   /// y = (S − σM)⁻¹ x. Throws SolveCancelled when the observer returns false.
   void perform_op(const double* x, double* y) const;
+  /// Y = (S − σM)⁻¹ X, every column of X at once (CHOLMOD's multi-column solve); counts X.cols() solves. Throws
+  /// SolveCancelled when the observer returns false.
+  void solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
 
   int solveCount() const { return m_solves; }
   /// Eigenvalues of S h = λ M h below the factored σ (Sylvester's law of inertia). Requires set_shift().

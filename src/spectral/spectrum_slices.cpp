@@ -1,5 +1,6 @@
 #include "spectral/spectrum_slices.h"
 
+#include "spectral/block_lanczos.h"
 #include "spectral/hierarchical_basis.h"
 #include "spectral/lanczos_solver.h"
 #include "spectral/mesh_components.h"
@@ -107,15 +108,15 @@ int pairsCovering(const SliceTask& task, int below, Eigen::Index vertexCount) {
 /// Sylvester's count just above the basis: in the top slice, the first index t ≥ m − 1 followed by a
 /// relative gap of at least kMinimumGap, else its last index t; S − σM factored halfway across that gap (or, past the
 /// last, half a minimum gap above it) must have exactly t + 1 eigenvalues below. This checks the part of the top slice
-/// above its own shift, which no overlap does. Empty when it holds. Cost: one more simplicial factorisation.
-std::string checkCountAboveBasis(const LaplaceOperators& ops, const SpectrumSlice& top, int m, double scale) {
+/// above its own shift, which no overlap does. Empty when it holds. Cost: one more simplicial factorisation, on
+/// the top slice's operator (its symbolic analysis is reused; the slice's own factor is gone afterwards).
+std::string checkCountAboveBasis(ShiftInvertOperator& op, const SpectrumSlice& top, int m, double scale) {
   if (top.last() < m - 1) return "the top slice ends at index " + std::to_string(top.last()) + ", below m - 1";
   const auto value = [&top](int index) { return top.eigenvalues[index - top.first]; };
   int t = std::max(m - 1, top.first);
   while (t < top.last() && (value(t + 1) - value(t)) / (std::abs(value(t + 1)) + scale) < kMinimumGap) ++t;
   const double shift =
       t < top.last() ? 0.5 * (value(t) + value(t + 1)) : value(t) + 0.5 * kMinimumGap * (std::abs(value(t)) + scale);
-  ShiftInvertOperator op(ops.stiffness, ops.mass, {});
   try {
     op.set_shift(shift);
   } catch (const std::runtime_error& e) {
@@ -141,7 +142,11 @@ SliceRun runSlice(const LaplaceOperators& ops, const SliceTask& task, const std:
   const int below = op.eigenvaluesBelowShift();
   int pairs = pairsCovering(task, below, ops.mass.size());
   for (int attempt = 0;; ++attempt) {
-    run.result = lanczosNearestPairs(op, ops.mass, pairs, std::max(5 * pairs / 2, pairs + 20), task.shift, options);
+    run.result = options.blockLanczos
+                     ? blockLanczosNearestPairs(op, ops.mass, pairs, 4 * pairs + 40, task.shift, options)
+                     : BasisResult{};
+    if (!options.blockLanczos || run.result.status == BasisStatus::NotConverged)  // Spectra restarts
+      run.result = lanczosNearestPairs(op, ops.mass, pairs, std::max(5 * pairs / 2, pairs + 20), task.shift, options);
     if (!run.result.ok()) return run;
     const auto& values = run.result.basis.eigenvalues;
     const int first = below - static_cast<int>((values.array() < task.shift).count());
@@ -158,7 +163,7 @@ SliceRun runSlice(const LaplaceOperators& ops, const SliceTask& task, const std:
   run.slice.shift = task.shift;
   run.slice.eigenvalues = std::move(run.result.basis.eigenvalues);
   run.slice.vectors = std::move(run.result.basis.vectors);
-  if (task.top) run.countCheck = checkCountAboveBasis(ops, run.slice, options.m, task.scale);
+  if (task.top) run.countCheck = checkCountAboveBasis(op, run.slice, options.m, task.scale);
   return run;
 }
 
@@ -169,7 +174,7 @@ std::vector<SliceRun> runSlices(const LaplaceOperators& ops, const std::vector<S
   std::atomic<bool> cancelled{false};
   std::mutex progressMutex;
   double expected = 0.0;
-  for (const SliceTask& task : tasks) expected += 2.5 * 1.3 * (task.hi - task.lo) + 10.0;
+  for (const SliceTask& task : tasks) expected += 3.5 * (task.hi - task.lo) + 10.0;  // 188 solves for 53 at 100k
   const std::function<bool(int)> observer = [&](int) {
     const int done = ++solves;
     if (cancelled) return false;
@@ -301,6 +306,7 @@ BasisResult slicedEigenpairs(const LaplaceOperators& ops, double sigma, const Ba
   const int count =
       options.slices > 0 ? options.slices : std::clamp(hardware, 2, std::max(2, m / kMinimumPairsPerSlice));
   const Eigen::Index n = ops.mass.size();
+  if (n > options.sliceMaximumVertices && options.blockLanczos) return blockLanczosEigenpairs(ops, m, sigma, options);
   if (n < options.sliceMinimumVertices || n > options.sliceMaximumVertices || count < 2 || m < 2 * count) {
     return lanczosEigenpairs(ops, m, sigma, options);
   }

@@ -45,17 +45,20 @@ MergedSlices mergeSlices(std::vector<SpectrumSlice> slices, int m, double scale,
 ///    by a guard of max(3, m/(10k)) indices. Slice 0 is shifted to σ < 0 (its window is the bottom of the spectrum);
 ///    slice j > 0 to the eigenvalue Weyl's law predicts at its window's centre, λ ≈ (index − components)·4π/area.
 /// 2. Each slice, on one of min(k, hardware threads) threads: LDLᵀ of S − σ_j M, whose negative pivots count the
-///    eigenvalues below σ_j exactly; from that count, how many pairs nearest σ_j cover its window; Spectra's
-///    shift-invert Lanczos for them (ncv = 5/2 of that), asked again (at most twice, same factor) for twice the
-///    shortfall when the spectrum's uneven density leaves an end of the window uncovered. The count places every
-///    pair it returns at its index.
+///    eigenvalues below σ_j exactly; from that count, how many pairs nearest σ_j cover its window; block Lanczos
+///    for them (block_lanczos.h; Spectra's restarted Lanczos with ncv = 5/2 of that when options.blockLanczos is
+///    false or the block run does not converge in 4 columns per pair), asked again (at most twice, same factor) for
+///    twice the shortfall when the spectrum's uneven density leaves an end of the window uncovered. The count places
+///    every pair it returns at its index.
 /// 3. Checks: Sylvester's count at a gap just above index m − 1 (one more factorisation: the top slice's part above
 ///    its own shift is the only one no overlap checks), mergeSlices(), and the M-orthonormality of the columns around
 ///    each hand-over (≤ 1e-8). Every index is thus placed by an exact count and checked by a second one.
-/// Runs lanczosEigenpairs() instead when #V is outside [options.sliceMinimumVertices, sliceMaximumVertices] or
-/// k < 2; falls back to hierarchicalEigenpairs() when a check of step 3 fails (result.message says which).
-/// Cost: k + 1 simplicial factorisations, about 5/2·(m + 2·guard·k) solves and O(#V·Σ ncv_j²) orthogonalisation
-/// (against O(#V·(5m/2)²) for one run), spread over the threads; memory O(threads·(nnz(L) + #V·ncv) + #V·m).
+/// Runs blockLanczosEigenpairs() instead above options.sliceMaximumVertices (one factor and one Krylov basis in
+/// memory; lanczosEigenpairs() when options.blockLanczos is false), and lanczosEigenpairs() when #V is below
+/// options.sliceMinimumVertices or k < 2; falls back to hierarchicalEigenpairs() when a check of step 3 fails
+/// (result.message says which). Cost: k + 1 simplicial factorisations (k symbolic analyses), about 3.5·(m + 2·guard·k)
+/// solves in blocks of four and O(#V·Σ K_j²) orthogonalisation for K_j ≈ 3.5·m/k Krylov columns (against O(#V·(5m/2)²)
+/// for one run), spread over the threads; memory O(threads·(nnz(L) + #V·K_j) + #V·m).
 BasisResult slicedEigenpairs(const LaplaceOperators& ops, double sigma, const BasisOptions& options);
 
 }  // namespace sc::spectral::detail

@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sc::spectral {
@@ -116,14 +117,16 @@ TEST(SpectrumSlices, ManySlicesOnOneThreadAndOnSeveralGiveTheLanczosEigenvalues)
   reference.m = 60;
   const BasisResult lanczos = manifoldHarmonicBasis(ops, reference);
   ASSERT_TRUE(lanczos.ok()) << lanczos.message;
-  for (const int threads : {1, 3}) {
-    const BasisResult sliced = manifoldHarmonicBasis(ops, slicing(60, 5, threads));
+  for (const auto& [threads, block] : {std::pair{1, true}, std::pair{3, true}, std::pair{3, false}}) {
+    BasisOptions options = slicing(60, 5, threads);
+    options.blockLanczos = block;  // false: each slice runs Spectra's restarted Lanczos
+    const BasisResult sliced = manifoldHarmonicBasis(ops, options);
     ASSERT_TRUE(sliced.ok()) << sliced.message;
     EXPECT_EQ(sliced.solver, BasisSolver::Slices) << sliced.message;
     EXPECT_EQ(sliced.slices, 5);
     const Eigen::VectorXd scale = lanczos.basis.eigenvalues.cwiseAbs().array() + std::abs(lanczos.basis.shift);
     EXPECT_LE((sliced.basis.eigenvalues - lanczos.basis.eigenvalues).cwiseQuotient(scale).cwiseAbs().maxCoeff(), 1e-9)
-        << threads << " threads";
+        << threads << " threads, block Lanczos " << block;
     EXPECT_LE(orthonormalityError(sliced.basis.vectors, ops.mass), 1e-8);
     EXPECT_LE(sliced.maxResidual, 1e-6);
   }
@@ -138,6 +141,26 @@ TEST(SpectrumSlices, SmallMeshesUseLanczos) {
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.solver, BasisSolver::Lanczos);
   EXPECT_EQ(r.slices, 0);
+}
+
+TEST(SpectrumSlices, LargeMeshesRunOneBlockLanczos) {
+  const auto mesh = torusAndJitteredSphere();
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  BasisOptions reference;
+  reference.m = 40;
+  reference.solver = BasisSolver::Lanczos;
+  const BasisResult lanczos = manifoldHarmonicBasis(ops, reference);
+  ASSERT_TRUE(lanczos.ok()) << lanczos.message;
+  BasisOptions options = slicing(40, 0, 0);
+  options.sliceMaximumVertices = ops.mass.size() - 1;  // "too large" for slicing: one block Lanczos run instead
+  const BasisResult block = manifoldHarmonicBasis(ops, options);
+  ASSERT_TRUE(block.ok()) << block.message;
+  EXPECT_EQ(block.solver, BasisSolver::Lanczos);
+  EXPECT_EQ(block.slices, 0);
+  const Eigen::VectorXd scale = lanczos.basis.eigenvalues.cwiseAbs().array() + std::abs(lanczos.basis.shift);
+  EXPECT_LE((block.basis.eigenvalues - lanczos.basis.eigenvalues).cwiseQuotient(scale).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LE(orthonormalityError(block.basis.vectors, ops.mass), 1e-8);
+  EXPECT_LE(block.maxResidual, 1e-6);
 }
 
 TEST(SpectrumSlices, CancelledFromTheProgressCallback) {

@@ -1,0 +1,228 @@
+#include "spectral/block_lanczos.h"
+
+#include "spectral/lanczos_solver.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sc::spectral::detail {
+namespace {
+
+/// A column whose M-norm after orthogonalisation is below this fraction of its norm before lies in the span of the
+/// earlier ones (the Krylov space is exhausted in that direction): it is replaced by a random direction.
+constexpr double kDeflation = 1e-10;
+constexpr unsigned kSeed = 0x5eed;
+
+/// Thrown when a block cannot be completed to an M-orthonormal one (only on tiny meshes); reported NotConverged.
+struct BasisExhausted {};
+/// orthogonalise() repeats its full pass for a column that pass shortened below this fraction of its length.
+constexpr double kSecondPass = 0.5;
+
+/// The Krylov basis Q (M-orthonormal columns) and the projected matrix T = QᵀM(S − σM)⁻¹MQ built block by block.
+class KrylovBasis {
+ public:
+  KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity)
+      : m_mass(mass), m_q(mass.size(), capacity), m_t(Eigen::MatrixXd::Zero(capacity, capacity)) {}
+
+  Eigen::Index size() const { return m_size; }
+  Eigen::Index capacity() const { return m_q.cols(); }
+  auto columns() const { return m_q.leftCols(m_size); }
+  auto lastBlock() const { return m_q.middleCols(m_size - kLanczosBlock, kLanczosBlock); }
+  const Eigen::MatrixXd& projected() const { return m_t; }
+
+  /// Makes W orthogonal to Q and records the coefficients in T's column block of the last block: first against the
+  /// last two blocks (the block three-term recurrence, which removes nearly all of W's length there), then one pass
+  /// against every column (two GEMMs), and a second pass for a column the first shortened below
+  /// kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has cancellation left it
+  /// less orthogonal than round-off).
+  void orthogonalise(Eigen::MatrixXd& w, bool record) {
+    const Eigen::Index local = std::min<Eigen::Index>(m_size, 2 * kLanczosBlock);
+    Eigen::MatrixXd total = Eigen::MatrixXd::Zero(m_size, w.cols());
+    if (local > 0) {
+      const auto recent = m_q.middleCols(m_size - local, local);
+      const Eigen::MatrixXd h = recent.transpose() * (m_mass.asDiagonal() * w);
+      w.noalias() -= recent * h;
+      total.bottomRows(local) += h;
+    }
+    for (int pass = 0; pass < 2 && m_size > 0; ++pass) {
+      const Eigen::VectorXd before = mNorms(w);
+      const auto q = columns();
+      const Eigen::MatrixXd h = q.transpose() * (m_mass.asDiagonal() * w);
+      w.noalias() -= q * h;
+      total += h;
+      if ((mNorms(w).array() >= kSecondPass * before.array()).all()) break;
+    }
+    if (record) m_t.block(0, m_size - kLanczosBlock, m_size, kLanczosBlock) = total;
+  }
+
+  /// The M-norm of each column of W. Cost: O(#V·cols).
+  Eigen::VectorXd mNorms(const Eigen::MatrixXd& w) const {
+    return (w.transpose() * (m_mass.asDiagonal() * w)).diagonal().cwiseMax(0.0).cwiseSqrt();
+  }
+
+  /// Makes W (already orthogonal to Q) M-orthonormal column by column (Gram–Schmidt twice within the block);
+  /// a column that vanishes is replaced by a random one orthogonalised against Q and the block. Returns
+  /// R = W_newᵀ M W_old, the coupling of the new block to the last one. `scale`: the columns' norms before
+  /// orthogonalisation against Q.
+  Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, Eigen::VectorXd& scale, std::mt19937& random) {
+    const Eigen::MatrixXd original = w;
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (Eigen::Index c = 0; c < w.cols(); ++c) {
+      for (int attempt = 0;; ++attempt) {
+        for (int pass = 0; pass < 2; ++pass) {
+          for (Eigen::Index p = 0; p < c; ++p) w.col(c) -= w.col(p).dot(m_mass.cwiseProduct(w.col(c))) * w.col(p);
+        }
+        const double norm = std::sqrt(w.col(c).dot(m_mass.cwiseProduct(w.col(c))));
+        if (norm > kDeflation * scale[c] && norm > 0.0) {
+          w.col(c) /= norm;
+          break;
+        }
+        if (attempt == 3) throw BasisExhausted{};
+        Eigen::MatrixXd fresh = Eigen::MatrixXd::NullaryExpr(w.rows(), 1, [&] { return uniform(random); });
+        orthogonalise(fresh, false);
+        w.col(c) = fresh;
+        scale[c] = std::sqrt(fresh.col(0).dot(m_mass.cwiseProduct(fresh.col(0))));
+      }
+    }
+    return w.transpose() * (m_mass.asDiagonal() * original);
+  }
+
+  /// Appends an M-orthonormal block; its coupling R to the previous block goes below that block in T.
+  void append(const Eigen::MatrixXd& block, const Eigen::MatrixXd& coupling) {
+    m_q.middleCols(m_size, kLanczosBlock) = block;
+    if (m_size > 0) m_t.block(m_size, m_size - kLanczosBlock, kLanczosBlock, kLanczosBlock) = coupling;
+    m_size += kLanczosBlock;
+  }
+
+ private:
+  const Eigen::VectorXd& m_mass;
+  Eigen::MatrixXd m_q;
+  Eigen::MatrixXd m_t;
+  Eigen::Index m_size = 0;
+};
+
+/// Ritz pairs of the projected matrix that are wanted and converged, or the reason they are not yet.
+struct RitzCheck {
+  bool converged = false;
+  Eigen::VectorXd theta;        ///< the `pairs` wanted Ritz values (largest |θ|)
+  Eigen::MatrixXd coordinates;  ///< their eigenvectors in the Krylov basis
+};
+
+RitzCheck checkRitzPairs(const KrylovBasis& krylov, const Eigen::MatrixXd& coupling, int pairs, double tolerance) {
+  const Eigen::Index k = krylov.size();
+  const Eigen::MatrixXd t = krylov.projected().topLeftCorner(k, k);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (t + t.transpose()));
+  RitzCheck check;
+  if (eigen.info() != Eigen::Success) return check;
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(k));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  const Eigen::VectorXd& theta = eigen.eigenvalues();
+  std::stable_sort(order.begin(), order.end(),
+                   [&theta](Eigen::Index a, Eigen::Index b) { return std::abs(theta[a]) > std::abs(theta[b]); });
+  const double floor = std::pow(std::numeric_limits<double>::epsilon(), 2.0 / 3.0);
+  check.theta.resize(pairs);
+  check.coordinates.resize(k, pairs);
+  check.converged = true;
+  for (int i = 0; i < pairs; ++i) {
+    const Eigen::Index j = order[static_cast<std::size_t>(i)];
+    check.theta[i] = theta[j];
+    check.coordinates.col(i) = eigen.eigenvectors().col(j);
+    // ‖Op y − θ y‖_M = ‖R s_last‖: the next block's coupling times the Ritz vector's last-block coordinates
+    const double residual = (coupling * eigen.eigenvectors().col(j).tail(kLanczosBlock)).norm();
+    if (residual > tolerance * std::max(std::abs(theta[j]), floor)) check.converged = false;
+  }
+  return check;
+}
+
+BasisResult failure(BasisStatus status, std::string message, const ShiftInvertOperator& op) {
+  BasisResult result;
+  result.solver = BasisSolver::Lanczos;
+  result.status = status;
+  result.message = std::move(message);
+  result.operatorApplications = op.solveCount();
+  return result;
+}
+
+}  // namespace
+
+BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int maxColumns,
+                                     double sigma, const BasisOptions& options) {
+  const Eigen::Index n = mass.size();
+  const Eigen::Index least = pairs + 2 * kLanczosBlock;
+  const Eigen::Index capacity =
+      std::min<Eigen::Index>(std::max<Eigen::Index>(maxColumns, least), n / 2) / kLanczosBlock * kLanczosBlock;
+  if (pairs < 1 || capacity < least)
+    return failure(BasisStatus::NotConverged, "the mesh is too small for block Lanczos", op);
+  try {
+    op.set_shift(sigma);
+    KrylovBasis krylov(mass, capacity);
+    std::mt19937 random(kSeed);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::MatrixXd w = Eigen::MatrixXd::NullaryExpr(n, kLanczosBlock, [&] { return uniform(random); });
+    Eigen::VectorXd scale = krylov.mNorms(w);
+    krylov.append(w, krylov.orthonormalise(w, scale, random));
+    // the dense check costs O(K³); doing it every few blocks keeps it well below the solves' cost
+    const int checkEvery = std::max(1, pairs / (6 * kLanczosBlock));
+    for (int block = 0;; ++block) {
+      op.solve(mass.asDiagonal() * krylov.lastBlock(), w);
+      scale = krylov.mNorms(w);
+      krylov.orthogonalise(w, true);
+      const Eigen::MatrixXd coupling = krylov.orthonormalise(w, scale, random);
+      const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
+      if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
+        const RitzCheck check = checkRitzPairs(krylov, coupling, pairs, options.tolerance);
+        if (check.converged) {
+          BasisResult result;
+          result.solver = BasisSolver::Lanczos;
+          result.operatorApplications = op.solveCount();
+          std::vector<Eigen::Index> order(static_cast<std::size_t>(pairs));
+          std::iota(order.begin(), order.end(), Eigen::Index{0});
+          const Eigen::VectorXd lambda = (1.0 / check.theta.array()).matrix().array() + sigma;
+          std::sort(order.begin(), order.end(),
+                    [&lambda](Eigen::Index a, Eigen::Index b) { return lambda[a] < lambda[b]; });
+          Eigen::MatrixXd coordinates(krylov.size(), pairs);
+          result.basis.eigenvalues.resize(pairs);
+          for (int i = 0; i < pairs; ++i) {
+            coordinates.col(i) = check.coordinates.col(order[static_cast<std::size_t>(i)]);
+            result.basis.eigenvalues[i] = lambda[order[static_cast<std::size_t>(i)]];
+          }
+          result.basis.vectors.noalias() = krylov.columns() * coordinates;
+          result.basis.shift = sigma;
+          result.status = BasisStatus::Ok;
+          return result;
+        }
+      }
+      if (full)
+        return failure(BasisStatus::NotConverged,
+                       "block Lanczos did not converge in " + std::to_string(krylov.size()) + " columns", op);
+      krylov.append(w, coupling);
+    }
+  } catch (const SolveCancelled&) {
+    return failure(BasisStatus::Cancelled, "cancelled", op);
+  } catch (const BasisExhausted&) {
+    return failure(BasisStatus::NotConverged, "block Lanczos could not extend its basis", op);
+  } catch (const std::runtime_error& e) {
+    return failure(BasisStatus::FactorizationFailed, e.what(), op);
+  }
+}
+
+BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
+  const double expectedSolves = 2.8 * pairs + 20.0;
+  auto observer = [&options, expectedSolves](int solves) {
+    return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
+  };
+  ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
+  BasisResult result = blockLanczosNearestPairs(op, ops.mass, pairs, 4 * pairs + 40, sigma, options);
+  if (result.status != BasisStatus::NotConverged) return result;
+  return lanczosEigenpairs(ops, pairs, sigma, options);
+}
+
+}  // namespace sc::spectral::detail

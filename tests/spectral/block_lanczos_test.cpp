@@ -1,0 +1,103 @@
+// Block shift-invert Lanczos (the solver inside each spectrum slice) against Spectra's restarted Lanczos on the same
+// factor: bottom and interior shifts, and how it ends when it cannot finish (columns used up, cancellation).
+
+#include "spectral/block_lanczos.h"
+#include "spectral/lanczos_solver.h"
+#include "spectral/subspace_iteration.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace sc::spectral {
+namespace {
+
+struct Problem {
+  LaplaceOperators ops;
+  double bottomShift{};  ///< σ < 0, as manifoldHarmonicBasis() uses
+};
+
+Problem torusProblem() {
+  const auto mesh = testing::torus(48, 16);  // 768 vertices
+  Problem problem{laplaceOperators(mesh.V, mesh.F), 0.0};
+  problem.bottomShift = -4.0 * std::numbers::pi / problem.ops.totalArea;
+  return problem;
+}
+
+BasisResult spectraPairs(const Problem& problem, int pairs, double sigma) {
+  detail::ShiftInvertOperator op(problem.ops.stiffness, problem.ops.mass, {});
+  return detail::lanczosNearestPairs(op, problem.ops.mass, pairs, 5 * pairs / 2, sigma, BasisOptions{});
+}
+
+BasisResult blockPairs(const Problem& problem, int pairs, double sigma, int maxColumns = 0) {
+  detail::ShiftInvertOperator op(problem.ops.stiffness, problem.ops.mass, {});
+  return detail::blockLanczosNearestPairs(op, problem.ops.mass, pairs, maxColumns > 0 ? maxColumns : 4 * pairs + 40,
+                                          sigma, BasisOptions{});
+}
+
+/// Same eigenvalues (relative to |λ| + |σ|), M-orthonormal vectors with small residuals.
+void expectSamePairs(const Problem& problem, const BasisResult& block, const BasisResult& spectra, double sigma) {
+  ASSERT_TRUE(block.ok()) << block.message;
+  ASSERT_TRUE(spectra.ok()) << spectra.message;
+  ASSERT_EQ(block.basis.eigenvalues.size(), spectra.basis.eigenvalues.size());
+  const Eigen::VectorXd scale = spectra.basis.eigenvalues.cwiseAbs().array() + std::abs(sigma);
+  EXPECT_LE((block.basis.eigenvalues - spectra.basis.eigenvalues).cwiseQuotient(scale).cwiseAbs().maxCoeff(), 1e-9);
+  const Eigen::MatrixXd& h = block.basis.vectors;
+  const Eigen::MatrixXd gram = h.transpose() * problem.ops.mass.asDiagonal() * h;
+  EXPECT_LE((gram - Eigen::MatrixXd::Identity(h.cols(), h.cols())).cwiseAbs().maxCoeff(), 1e-10);
+  const Eigen::VectorXd residuals = detail::relativeResiduals(
+      problem.ops.stiffness * h, problem.ops.mass.asDiagonal() * h, problem.ops.mass, block.basis.eigenvalues, sigma);
+  EXPECT_LE(residuals.maxCoeff(), 1e-7);
+}
+
+TEST(BlockLanczos, BottomOfTheSpectrumMatchesSpectra) {
+  const Problem problem = torusProblem();
+  const BasisResult block = blockPairs(problem, 40, problem.bottomShift);
+  expectSamePairs(problem, block, spectraPairs(problem, 40, problem.bottomShift), problem.bottomShift);
+  EXPECT_EQ(block.operatorApplications % detail::kLanczosBlock, 0);  // solves come in whole blocks
+}
+
+TEST(BlockLanczos, InteriorShiftFindsThePairsNearestItOnBothSides) {
+  const Problem problem = torusProblem();
+  const BasisResult bottom = spectraPairs(problem, 60, problem.bottomShift);
+  ASSERT_TRUE(bottom.ok()) << bottom.message;
+  const Eigen::VectorXd& lambda = bottom.basis.eigenvalues;
+  int split = 35;  // a shift in a gap between the 35th and 36th eigenvalues (not inside a multiplet)
+  while (lambda(split) - lambda(split - 1) < 1e-3 * lambda(split)) ++split;
+  const double sigma = 0.5 * (lambda(split - 1) + lambda(split));
+  const BasisResult block = blockPairs(problem, 16, sigma);
+  expectSamePairs(problem, block, spectraPairs(problem, 16, sigma), sigma);
+  EXPECT_LT((block.basis.eigenvalues.array() < sigma).count(), 16);  // pairs on both sides of the shift
+  EXPECT_GT((block.basis.eigenvalues.array() < sigma).count(), 0);
+}
+
+TEST(BlockLanczos, UsingUpItsColumnsIsNotConverged) {
+  const Problem problem = torusProblem();
+  // pairs + 2 blocks of columns: far too few for 60 pairs to converge to 1e-10
+  const BasisResult block = blockPairs(problem, 60, problem.bottomShift, 1);
+  EXPECT_EQ(block.status, BasisStatus::NotConverged);
+  EXPECT_NE(block.message.find("did not converge"), std::string::npos) << block.message;
+  EXPECT_EQ(block.basis.size(), 0);
+}
+
+TEST(BlockLanczos, TooSmallAMeshIsNotConverged) {
+  const auto mesh = testing::icosphere(1);  // 42 vertices: half of them cannot hold 30 pairs and two blocks
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  detail::ShiftInvertOperator op(ops.stiffness, ops.mass, {});
+  const BasisResult block = detail::blockLanczosNearestPairs(op, ops.mass, 30, 200, -1.0, BasisOptions{});
+  EXPECT_EQ(block.status, BasisStatus::NotConverged);
+}
+
+TEST(BlockLanczos, CancelledByTheSolveObserver) {
+  const Problem problem = torusProblem();
+  detail::ShiftInvertOperator op(problem.ops.stiffness, problem.ops.mass, [](int solves) { return solves < 10; });
+  const BasisResult block =
+      detail::blockLanczosNearestPairs(op, problem.ops.mass, 40, 200, problem.bottomShift, BasisOptions{});
+  EXPECT_EQ(block.status, BasisStatus::Cancelled);
+  EXPECT_EQ(block.operatorApplications, 10);
+}
+
+}  // namespace
+}  // namespace sc::spectral
