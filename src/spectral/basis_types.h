@@ -73,8 +73,9 @@ struct BasisOptions {
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
   double shiftFactor = 1.0;
-  double tolerance = 1e-10;  ///< relative convergence tolerance on the Ritz values (Spectra's test, block Lanczos's too)
-  int maxRestarts = 1000;    ///< Spectra's iteration limit.
+  /// Relative convergence tolerance on the Ritz values (Spectra's test; block Lanczos uses the same).
+  double tolerance = 1e-10;
+  int maxRestarts = 1000;  ///< Spectra's iteration limit.
   /// Called with the estimated fraction done in [0, 1] from inside the solve; return false to cancel.
   std::function<bool(double fraction)> progress;
 };
