@@ -66,9 +66,9 @@ struct BasisOptions {
   bool blockLanczos = true;
   /// Slices: meshes with fewer vertices use Lanczos (slicing pays for its extra factorisations on large meshes).
   Eigen::Index sliceMinimumVertices = 20000;
-  /// Slices: meshes with more vertices use Lanczos. Each running slice holds its own factor and #V·ncv Lanczos
-  /// vectors: at 1M vertices two slices peaked at 4.07 GB against Lanczos's 3.24 GB, and took 72.7 s against 63.5 s
-  /// (2 cores shared with a build, docs/benchmarks.md); at 437k slicing still wins (18.6 s against 26.4 s).
+  /// Slices: meshes with more vertices run one block Lanczos (blockLanczosEigenpairs(): one factor, one Krylov
+  /// basis). Each running slice holds its own factor and #V·K Krylov vectors: at 1M vertices two (Spectra) slices
+  /// peaked at 4.07 GB against Lanczos's 3.24 GB, and the one block run peaks at 3.07 GB (docs/benchmarks.md).
   Eigen::Index sliceMaximumVertices = 600000;
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.

@@ -30,7 +30,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
 /// The first `pairs` eigenpairs around σ < 0 by one blockLanczosNearestPairs() run on a new factor (at most
 /// 4·pairs + 40 columns), or by lanczosEigenpairs() (Spectra, restarting) when that does not converge; progress and
 /// cancellation through options.progress. For meshes too large for spectrum slicing's several factors and bases.
-/// Cost: one factorisation, about 2.8·pairs solves, O(#V·K²) GEMM work; memory nnz(L) + #V·K doubles, K ≈ 2.8·pairs.
+/// Cost: one factorisation, about 3.2·pairs solves, O(#V·K²) GEMM work; memory nnz(L) + #V·K doubles, K ≈ 3.2·pairs.
 BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options);
 
 }  // namespace sc::spectral::detail

@@ -21,13 +21,13 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
       m_cacheDir(QStringLiteral("cache-dir"), QStringLiteral("cache folder (default: per user)"),
                  QStringLiteral("dir")),
       m_json(QStringLiteral("json"), QStringLiteral("print one JSON object on stdout")),
-      m_solver(
-          QStringLiteral("solver"),
-          QStringLiteral(
-              "eigensolver: slices (default; spectrum slicing: Lanczos runs around several "
-              "shifts on parallel threads; Lanczos below 20,000 and above 600,000 vertices), lanczos, or hierarchical "
-              "(coarse start + block subspace iteration to a residual of 1e-6)"),
-          QStringLiteral("name"), QStringLiteral("slices")) {
+      m_solver(QStringLiteral("solver"),
+               QStringLiteral(
+                   "eigensolver: slices (default; spectrum slicing: block Lanczos runs around several "
+                   "shifts on parallel threads; Lanczos below 20,000 vertices, one block Lanczos run above 600,000), "
+                   "lanczos (Spectra's, the reference), or hierarchical (coarse start + block subspace iteration to a "
+                   "residual of 1e-6)"),
+               QStringLiteral("name"), QStringLiteral("slices")) {
   m_parser.setApplicationDescription(description);
   m_parser.addHelpOption();
   if (kind == SubcommandKind::Mesh) {
