@@ -163,6 +163,28 @@ RitzCheck checkRitzPairs(const KrylovBasis& krylov, const Eigen::MatrixXd& coupl
   return check;
 }
 
+/// The converged Ritz pairs as a result: eigenvalues λ = σ + 1/θ ascending, vectors formed in the Krylov basis.
+BasisResult convergedPairs(const RitzCheck& check, KrylovBasis&& krylov, double sigma, int solves) {
+  const auto pairs = check.theta.size();
+  BasisResult result;
+  result.solver = BasisSolver::Lanczos;
+  result.operatorApplications = solves;
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(pairs));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  const Eigen::VectorXd lambda = (1.0 / check.theta.array()).matrix().array() + sigma;
+  std::sort(order.begin(), order.end(), [&lambda](Eigen::Index a, Eigen::Index b) { return lambda[a] < lambda[b]; });
+  Eigen::MatrixXd coordinates(krylov.size(), pairs);
+  result.basis.eigenvalues.resize(pairs);
+  for (Eigen::Index i = 0; i < pairs; ++i) {
+    coordinates.col(i) = check.coordinates.col(order[static_cast<std::size_t>(i)]);
+    result.basis.eigenvalues[i] = lambda[order[static_cast<std::size_t>(i)]];
+  }
+  result.basis.vectors = std::move(krylov).ritzVectors(coordinates);
+  result.basis.shift = sigma;
+  result.status = BasisStatus::Ok;
+  return result;
+}
+
 BasisResult failure(BasisStatus status, std::string message, const ShiftInvertOperator& op) {
   BasisResult result;
   result.solver = BasisSolver::Lanczos;
@@ -209,26 +231,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
       if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
         const RitzCheck check = checkRitzPairs(krylov, coupling, pairs, options.tolerance);
-        if (check.converged) {
-          BasisResult result;
-          result.solver = BasisSolver::Lanczos;
-          result.operatorApplications = op.solveCount();
-          std::vector<Eigen::Index> order(static_cast<std::size_t>(pairs));
-          std::iota(order.begin(), order.end(), Eigen::Index{0});
-          const Eigen::VectorXd lambda = (1.0 / check.theta.array()).matrix().array() + sigma;
-          std::sort(order.begin(), order.end(),
-                    [&lambda](Eigen::Index a, Eigen::Index b) { return lambda[a] < lambda[b]; });
-          Eigen::MatrixXd coordinates(krylov.size(), pairs);
-          result.basis.eigenvalues.resize(pairs);
-          for (int i = 0; i < pairs; ++i) {
-            coordinates.col(i) = check.coordinates.col(order[static_cast<std::size_t>(i)]);
-            result.basis.eigenvalues[i] = lambda[order[static_cast<std::size_t>(i)]];
-          }
-          result.basis.vectors = std::move(krylov).ritzVectors(coordinates);
-          result.basis.shift = sigma;
-          result.status = BasisStatus::Ok;
-          return result;
-        }
+        if (check.converged) return convergedPairs(check, std::move(krylov), sigma, op.solveCount());
       }
       if (full)
         return failure(BasisStatus::NotConverged,
@@ -244,15 +247,22 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
   }
 }
 
+BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
+                         const BasisOptions& options) {
+  if (options.blockLanczos) {
+    BasisResult result = blockLanczosNearestPairs(op, mass, pairs, 4 * pairs + 40, sigma, options);
+    if (result.status != BasisStatus::NotConverged) return result;
+  }
+  return lanczosNearestPairs(op, mass, pairs, std::max(5 * pairs / 2, pairs + 20), sigma, options);
+}
+
 BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
   const double expectedSolves = 3.2 * pairs + 20.0;  // 316 solves at 1M vertices and m = 100
   auto observer = [&options, expectedSolves](int solves) {
     return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
   };
   ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
-  BasisResult result = blockLanczosNearestPairs(op, ops.mass, pairs, 4 * pairs + 40, sigma, options);
-  if (result.status != BasisStatus::NotConverged) return result;
-  return lanczosEigenpairs(ops, pairs, sigma, options);
+  return nearestPairs(op, ops.mass, pairs, sigma, options);
 }
 
 }  // namespace sc::spectral::detail

@@ -22,14 +22,19 @@ inline constexpr int kLanczosBlock = 4;
 /// the solve count through op), except: NotConverged when `maxColumns` (clamped to [pairs + 2·block, #V / 2]) columns
 /// are used up first, or when #V is too small for that range; the caller then uses lanczosNearestPairs(), which
 /// restarts. The start block is pseudo-random with a fixed seed, so the result is reproducible.
-/// Cost: about (pairs·1.2 … 2) solves in blocks of four; O(#V·K²) GEMM work for K columns; memory #V·maxColumns
-/// doubles reserved, of which only the K used are touched.
+/// Cost: about 2.2·pairs + 55 solves in blocks of four (188 for 60 pairs at 100k); O(#V·K²) GEMM work for K columns;
+/// memory #V·maxColumns doubles reserved, of which only the K used are touched.
 BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int maxColumns,
                                      double sigma, const BasisOptions& options);
 
-/// The first `pairs` eigenpairs around σ < 0 by one blockLanczosNearestPairs() run on a new factor (at most
-/// 4·pairs + 40 columns), or by lanczosEigenpairs() (Spectra, restarting) when that does not converge; progress and
-/// cancellation through options.progress. For meshes too large for spectrum slicing's several factors and bases.
+/// The `pairs` eigenpairs nearest σ on op: blockLanczosNearestPairs() with 4·pairs + 40 columns when
+/// options.blockLanczos, else or when that does not converge Spectra's lanczosNearestPairs() (ncv = max(5/2·pairs,
+/// pairs + 20), restarting) on the same factor. Same contract as lanczosNearestPairs().
+BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
+                         const BasisOptions& options);
+
+/// The first `pairs` eigenpairs around σ < 0 by nearestPairs() on a new factor; progress and cancellation through
+/// options.progress. For meshes too large for spectrum slicing's several factors and bases.
 /// Cost: one factorisation, about 3.2·pairs solves, O(#V·K²) GEMM work; memory nnz(L) + #V·K doubles, K ≈ 3.2·pairs.
 BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options);
 

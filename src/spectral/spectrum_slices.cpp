@@ -142,11 +142,7 @@ SliceRun runSlice(const LaplaceOperators& ops, const SliceTask& task, const std:
   const int below = op.eigenvaluesBelowShift();
   int pairs = pairsCovering(task, below, ops.mass.size());
   for (int attempt = 0;; ++attempt) {
-    run.result = options.blockLanczos
-                     ? blockLanczosNearestPairs(op, ops.mass, pairs, 4 * pairs + 40, task.shift, options)
-                     : BasisResult{};
-    if (!options.blockLanczos || run.result.status == BasisStatus::NotConverged)  // Spectra restarts
-      run.result = lanczosNearestPairs(op, ops.mass, pairs, std::max(5 * pairs / 2, pairs + 20), task.shift, options);
+    run.result = nearestPairs(op, ops.mass, pairs, task.shift, options);
     if (!run.result.ok()) return run;
     const auto& values = run.result.basis.eigenvalues;
     const int first = below - static_cast<int>((values.array() < task.shift).count());

@@ -143,7 +143,7 @@ TEST(SpectrumSlices, SmallMeshesUseLanczos) {
   EXPECT_EQ(r.slices, 0);
 }
 
-TEST(SpectrumSlices, LargeMeshesRunOneBlockLanczos) {
+TEST(SpectrumSlices, MeshesAboveTheSliceMaximumAreSolvedInOneRunWithTheLanczosEigenvalues) {
   const auto mesh = torusAndJitteredSphere();
   const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
   BasisOptions reference;
