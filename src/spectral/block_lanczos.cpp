@@ -2,12 +2,14 @@
 
 #include "spectral/lanczos_solver.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -24,9 +26,53 @@ constexpr unsigned kSeed = 0x5eed;
 /// Applications of the operator to the random start block before it becomes the first Krylov block.
 constexpr int kStartSmoothing = 2;
 
+/// Cholesky QR is used for a block whose every column keeps at least this fraction of its length after the
+/// earlier ones are removed (its Gram matrix's condition number then stays below 10⁸, which two passes make exact).
+constexpr double kCholeskyConditioning = 1e-4;
 /// Thrown when a block cannot be completed to an M-orthonormal one (only on tiny meshes); reported NotConverged.
 struct BasisExhausted {};
-/// orthogonalise() repeats its full pass for a column that pass shortened below this fraction of its length.
+/// When a new block is re-orthogonalised against the whole basis (partial re-orthogonalisation: the full pass, two
+/// reads of the #V × K basis, took 25–40% of a run on every block). Lanczos vectors lose M-orthogonality to the old
+/// ones by a factor of 30–50 per block on the dragons, and by 10⁻¹¹–10⁻¹⁰ in a single block at interior shifts
+/// (the solve's error there lies along the eigenvectors near σ, which the basis already holds). Each full pass
+/// measures the drift it removes, the largest |q_kᵀ M w|/‖w‖_M, which is the most the skipped blocks reached: above
+/// kDriftTarget the interval of skipped blocks shrinks by one (to zero above ten times it), below kDriftTarget/kGrowth
+/// it grows by one, up to kMaximumInterval. kDriftTarget stays 15 times below √ε, Simon's semi-orthogonality, which
+/// keeps the Ritz values as accurate as full re-orthogonalisation does. Blocks are re-orthogonalised in consecutive
+/// pairs, because the recurrence carries the drift of both into the next block; the interval starts at zero.
+class ReorthogonalisationSchedule {
+ public:
+  /// Whether the next block needs the full pass.
+  bool due() const { return m_pending > 0 || m_skipped >= m_interval; }
+
+  /// After each block: the drift its full pass removed, or a negative value when it had none.
+  void record(double drift) {
+    if (drift < 0.0) {
+      ++m_skipped;
+      return;
+    }
+    if (m_pending == 0) {
+      if (drift > kDriftTarget)
+        m_interval = drift > 10.0 * kDriftTarget ? 0 : std::max(0, m_interval - 1);
+      else if (drift < kDriftTarget / kGrowth)
+        m_interval = std::min(m_interval + 1, kMaximumInterval);
+      m_pending = 1;
+    } else {
+      --m_pending;
+    }
+    m_skipped = 0;
+  }
+
+ private:
+  static constexpr double kDriftTarget = 1e-9;
+  static constexpr int kMaximumInterval = 8;
+  static constexpr double kGrowth = 50.0;
+  int m_interval = 0;
+  int m_skipped = 0;
+  int m_pending = 0;
+};
+
+/// orthogonaliseFully() repeats its pass for a column that pass shortened below this fraction of its length.
 constexpr double kSecondPass = 0.5;
 
 /// The Krylov basis Q (M-orthonormal columns) and the projected matrix T = QᵀM(S − σM)⁻¹MQ built block by block.
@@ -41,34 +87,48 @@ class KrylovBasis {
   auto lastBlock() const { return m_q.middleCols(m_size - kLanczosBlock, kLanczosBlock); }
   const Eigen::MatrixXd& projected() const { return m_t; }
 
-  /// Makes W orthogonal to Q and records the coefficients in T's column block of the last block: first against the
-  /// last two blocks (the block three-term recurrence, which removes nearly all of W's length there), then one pass
-  /// against every column (two GEMMs), and a second pass for a column the first shortened below
-  /// kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has cancellation left it
-  /// less orthogonal than round-off).
-  void orthogonalise(Eigen::MatrixXd& w, bool record) {
+  /// Makes W orthogonal to the last two blocks (the block three-term recurrence), with a second pass for a column the
+  /// first shortened below kSecondPass of its length, and records the coefficients, A_j and B_{j−1}ᵀ, in T's
+  /// column block of the last block. Cost: O(#V·block²).
+  void orthogonaliseLocally(Eigen::MatrixXd& w) {
     const Eigen::Index local = std::min<Eigen::Index>(m_size, 2 * kLanczosBlock);
-    Eigen::MatrixXd total = Eigen::MatrixXd::Zero(m_size, w.cols());
-    if (local > 0) {
-      const auto recent = m_q.middleCols(m_size - local, local);
+    if (local == 0) return;
+    const auto recent = m_q.middleCols(m_size - local, local);
+    Eigen::MatrixXd total = Eigen::MatrixXd::Zero(local, w.cols());
+    for (int pass = 0; pass < 2; ++pass) {
+      const Eigen::VectorXd before = mNorms(w);
       const Eigen::MatrixXd h = recent.transpose() * (m_mass.asDiagonal() * w);
       w.noalias() -= recent * h;
-      total.bottomRows(local) += h;
+      total += h;
+      if ((mNorms(w).array() >= kSecondPass * before.array()).all()) break;
     }
+    m_t.block(m_size - local, m_size - kLanczosBlock, local, kLanczosBlock) = total;
+  }
+
+  /// Makes W orthogonal to every column: one pass (two GEMMs, each a read of Q), and a second for a column the
+  /// first shortened below kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has
+  /// cancellation left it less orthogonal than round-off). The coefficients are not recorded: T stays the block
+  /// tridiagonal matrix of the recurrence, which is what semi-orthogonality keeps accurate. Cost: O(#V·size()).
+  /// Returns the drift the first pass removed: max |q_kᵀ M w|/‖w‖_M over W's columns.
+  double orthogonaliseFully(Eigen::MatrixXd& w) const {
+    double drift = 0.0;
     for (int pass = 0; pass < 2 && m_size > 0; ++pass) {
       const Eigen::VectorXd before = mNorms(w);
       const auto q = columns();
       const Eigen::MatrixXd h = q.transpose() * (m_mass.asDiagonal() * w);
       w.noalias() -= q * h;
-      total += h;
+      if (pass == 0)
+        drift = (h.cwiseAbs().colwise().maxCoeff().transpose().array() /
+                 before.array().max(std::numeric_limits<double>::min()))
+                    .maxCoeff();
       if ((mNorms(w).array() >= kSecondPass * before.array()).all()) break;
     }
-    if (record) m_t.block(0, m_size - kLanczosBlock, m_size, kLanczosBlock) = total;
+    return drift;
   }
 
   /// The M-norm of each column of W. Cost: O(#V·cols).
   Eigen::VectorXd mNorms(const Eigen::MatrixXd& w) const {
-    return (w.transpose() * (m_mass.asDiagonal() * w)).diagonal().cwiseMax(0.0).cwiseSqrt();
+    return (w.array().square().colwise() * m_mass.array()).colwise().sum().transpose().cwiseMax(0.0).cwiseSqrt();
   }
 
   /// Makes W (already orthogonal to Q) M-orthonormal column by column (Gram–Schmidt twice within the block);
@@ -76,6 +136,7 @@ class KrylovBasis {
   /// R = W_newᵀ M W_old, the coupling of the new block to the last one. `scale`: the columns' norms before
   /// orthogonalisation against Q.
   Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, Eigen::VectorXd& scale, std::mt19937& random) {
+    if (std::optional<Eigen::MatrixXd> coupling = choleskyQr(w, scale)) return *std::move(coupling);
     const Eigen::MatrixXd original = w;
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (Eigen::Index c = 0; c < w.cols(); ++c) {
@@ -90,12 +151,36 @@ class KrylovBasis {
         }
         if (attempt == 3) throw BasisExhausted{};
         Eigen::MatrixXd fresh = Eigen::MatrixXd::NullaryExpr(w.rows(), 1, [&] { return uniform(random); });
-        orthogonalise(fresh, false);
+        orthogonaliseFully(fresh);
         w.col(c) = fresh;
         scale[c] = std::sqrt(fresh.col(0).dot(m_mass.cwiseProduct(fresh.col(0))));
       }
     }
     return w.transpose() * (m_mass.asDiagonal() * original);
+  }
+
+  /// W = W_new·R by Cholesky QR in the M inner product, twice (the second pass restores the orthonormality the first
+  /// loses to W's conditioning), R upper triangular; or nullopt, W untouched, when a column is within a factor
+  /// kCholeskyConditioning of the span of the others or below the deflation threshold: orthonormalise() then takes
+  /// the column-by-column route. Cost: four reads of W, against about twenty column passes for Gram–Schmidt twice.
+  std::optional<Eigen::MatrixXd> choleskyQr(Eigen::MatrixXd& w, const Eigen::VectorXd& scale) const {
+    Eigen::MatrixXd coupling = Eigen::MatrixXd::Identity(w.cols(), w.cols());
+    for (int pass = 0; pass < 2; ++pass) {
+      const Eigen::MatrixXd gram = w.transpose() * (m_mass.asDiagonal() * w);
+      const Eigen::LLT<Eigen::MatrixXd> cholesky(gram);
+      if (cholesky.info() != Eigen::Success) return std::nullopt;
+      const Eigen::MatrixXd r = cholesky.matrixU();
+      if (pass == 0) {
+        for (Eigen::Index c = 0; c < w.cols(); ++c) {
+          const double pivot = r(c, c);
+          if (!(pivot > kCholeskyConditioning * std::sqrt(gram(c, c))) || !(pivot > kDeflation * scale[c]))
+            return std::nullopt;
+        }
+      }
+      r.triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(w);
+      coupling = r * coupling;
+    }
+    return coupling;
   }
 
   /// Q·C for C of size() rows and at most size() columns, computed in place in Q's leading columns one band of rows
@@ -223,10 +308,12 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
     krylov.append(w, krylov.orthonormalise(w, scale, random));
     // the dense check costs O(K³); doing it every few blocks keeps it well below the solves' cost
     const int checkEvery = std::max(1, pairs / (6 * kLanczosBlock));
+    ReorthogonalisationSchedule schedule;
     for (int block = 0;; ++block) {
       op.solve(mass.asDiagonal() * krylov.lastBlock(), w);
       scale = krylov.mNorms(w);
-      krylov.orthogonalise(w, true);
+      krylov.orthogonaliseLocally(w);
+      schedule.record(schedule.due() ? krylov.orthogonaliseFully(w) : -1.0);
       const Eigen::MatrixXd coupling = krylov.orthonormalise(w, scale, random);
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
       if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
