@@ -1,5 +1,6 @@
 #include "spectral/block_lanczos.h"
 
+#include "spectral/banded_products.h"
 #include "spectral/lanczos_solver.h"
 
 #include <Eigen/Cholesky>
@@ -13,6 +14,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -78,8 +80,9 @@ constexpr double kSecondPass = 0.5;
 /// The Krylov basis Q (M-orthonormal columns) and the projected matrix T = QᵀM(S − σM)⁻¹MQ built block by block.
 class KrylovBasis {
  public:
-  KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity)
-      : m_mass(mass), m_q(mass.size(), capacity), m_t(Eigen::MatrixXd::Zero(capacity, capacity)) {}
+  /// `threads`: the row-band sweeps of the local orthogonalisation and Cholesky QR run on this many threads.
+  KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity, int threads)
+      : m_mass(mass), m_q(mass.size(), capacity), m_t(Eigen::MatrixXd::Zero(capacity, capacity)), m_threads(threads) {}
 
   Eigen::Index size() const { return m_size; }
   Eigen::Index capacity() const { return m_q.cols(); }
@@ -88,22 +91,29 @@ class KrylovBasis {
   const Eigen::MatrixXd& projected() const { return m_t; }
 
   /// Makes W orthogonal to the last two blocks (the block three-term recurrence), with a second pass for a column the
-  /// first shortened below kSecondPass of its length, and records the coefficients, A_j and B_{j−1}ᵀ, in T's
-  /// column block of the last block. Cost: O(#V·block²).
-  void orthogonaliseLocally(Eigen::MatrixXd& w) {
+  /// first shortened below kSecondPass of its length (`lengths`: W's column M-norms on entry); records the
+  /// coefficients, A_j and B_{j−1}ᵀ, in T's column block of the last block. Returns W's new Gram matrix WᵀMW.
+  /// Cost: two or four sweeps over W and the last two blocks (banded_products.h).
+  Eigen::MatrixXd orthogonaliseLocally(Eigen::MatrixXd& w, Eigen::VectorXd lengths) {
     const Eigen::Index local = std::min<Eigen::Index>(m_size, 2 * kLanczosBlock);
-    if (local == 0) return;
+    if (local == 0) return gram(w);
     const auto recent = m_q.middleCols(m_size - local, local);
     Eigen::MatrixXd total = Eigen::MatrixXd::Zero(local, w.cols());
+    Eigen::MatrixXd product;
     for (int pass = 0; pass < 2; ++pass) {
-      const Eigen::VectorXd before = mNorms(w);
-      const Eigen::MatrixXd h = recent.transpose() * (m_mass.asDiagonal() * w);
-      w.noalias() -= recent * h;
+      const Eigen::MatrixXd h = massProjection(recent, m_mass, w, m_threads);
+      product = subtractWithGram(w, recent, h, m_mass, m_threads);
       total += h;
-      if ((mNorms(w).array() >= kSecondPass * before.array()).all()) break;
+      const Eigen::VectorXd after = product.diagonal().cwiseMax(0.0).cwiseSqrt();
+      if ((after.array() >= kSecondPass * lengths.array()).all()) break;
+      lengths = after;
     }
     m_t.block(m_size - local, m_size - kLanczosBlock, local, kLanczosBlock) = total;
+    return product;
   }
+
+  /// WᵀMW. Cost: one sweep over W.
+  Eigen::MatrixXd gram(const Eigen::MatrixXd& w) const { return massGram(w, m_mass, m_threads); }
 
   /// Makes W orthogonal to every column: one pass (two GEMMs, each a read of Q), and a second for a column the
   /// first shortened below kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has
@@ -135,8 +145,9 @@ class KrylovBasis {
   /// a column that vanishes is replaced by a random one orthogonalised against Q and the block. Returns
   /// R = W_newᵀ M W_old, the coupling of the new block to the last one. `scale`: the columns' norms before
   /// orthogonalisation against Q.
-  Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, Eigen::VectorXd& scale, std::mt19937& random) {
-    if (std::optional<Eigen::MatrixXd> coupling = choleskyQr(w, scale)) return *std::move(coupling);
+  Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, const Eigen::MatrixXd& product, Eigen::VectorXd& scale,
+                                 std::mt19937& random) {
+    if (std::optional<Eigen::MatrixXd> coupling = choleskyQr(w, product, scale)) return *std::move(coupling);
     const Eigen::MatrixXd original = w;
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (Eigen::Index c = 0; c < w.cols(); ++c) {
@@ -163,21 +174,27 @@ class KrylovBasis {
   /// loses to W's conditioning), R upper triangular; or nullopt, W untouched, when a column is within a factor
   /// kCholeskyConditioning of the span of the others or below the deflation threshold: orthonormalise() then takes
   /// the column-by-column route. Cost: four reads of W, against about twenty column passes for Gram–Schmidt twice.
-  std::optional<Eigen::MatrixXd> choleskyQr(Eigen::MatrixXd& w, const Eigen::VectorXd& scale) const {
-    Eigen::MatrixXd coupling = Eigen::MatrixXd::Identity(w.cols(), w.cols());
+  std::optional<Eigen::MatrixXd> choleskyQr(Eigen::MatrixXd& w, const Eigen::MatrixXd& product,
+                                            const Eigen::VectorXd& scale) const {
+    const Eigen::Index b = w.cols();
+    Eigen::MatrixXd coupling = Eigen::MatrixXd::Identity(b, b);
+    Eigen::MatrixXd g = product;
     for (int pass = 0; pass < 2; ++pass) {
-      const Eigen::MatrixXd gram = w.transpose() * (m_mass.asDiagonal() * w);
-      const Eigen::LLT<Eigen::MatrixXd> cholesky(gram);
-      if (cholesky.info() != Eigen::Success) return std::nullopt;
+      const Eigen::LLT<Eigen::MatrixXd> cholesky(g);
+      if (cholesky.info() != Eigen::Success) {
+        if (pass == 0) return std::nullopt;
+        throw BasisExhausted{};  // not after a first pass that met the conditioning bound; W is changed by then
+      }
       const Eigen::MatrixXd r = cholesky.matrixU();
       if (pass == 0) {
-        for (Eigen::Index c = 0; c < w.cols(); ++c) {
+        for (Eigen::Index c = 0; c < b; ++c) {
           const double pivot = r(c, c);
-          if (!(pivot > kCholeskyConditioning * std::sqrt(gram(c, c))) || !(pivot > kDeflation * scale[c]))
+          if (!(pivot > kCholeskyConditioning * std::sqrt(g(c, c))) || !(pivot > kDeflation * scale[c]))
             return std::nullopt;
         }
       }
-      r.triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(w);
+      const Eigen::MatrixXd inverse = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
+      g = multiplyWithGram(w, inverse, m_mass, m_threads);
       coupling = r * coupling;
     }
     return coupling;
@@ -213,6 +230,7 @@ class KrylovBasis {
   Eigen::MatrixXd m_q;
   Eigen::MatrixXd m_t;
   Eigen::Index m_size = 0;
+  int m_threads = 1;
 };
 
 /// Ritz pairs of the projected matrix that are wanted and converged, or the reason they are not yet.
@@ -291,7 +309,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
     return failure(BasisStatus::NotConverged, "the mesh is too small for block Lanczos", op);
   try {
     op.set_shift(sigma);
-    KrylovBasis krylov(mass, capacity);
+    KrylovBasis krylov(mass, capacity, op.solveThreads());
     std::mt19937 random(kSeed);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     Eigen::MatrixXd w = Eigen::MatrixXd::NullaryExpr(n, kLanczosBlock, [&] { return uniform(random); });
@@ -305,16 +323,21 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       w.array().rowwise() /= krylov.mNorms(w).transpose().array().max(std::numeric_limits<double>::min());
     }
     Eigen::VectorXd scale = krylov.mNorms(w);
-    krylov.append(w, krylov.orthonormalise(w, scale, random));
+    krylov.append(w, krylov.orthonormalise(w, krylov.gram(w), scale, random));
     // the dense check costs O(K³); doing it every few blocks keeps it well below the solves' cost
     const int checkEvery = std::max(1, pairs / (6 * kLanczosBlock));
     ReorthogonalisationSchedule schedule;
     for (int block = 0;; ++block) {
       op.solve(mass.asDiagonal() * krylov.lastBlock(), w);
       scale = krylov.mNorms(w);
-      krylov.orthogonaliseLocally(w);
-      schedule.record(schedule.due() ? krylov.orthogonaliseFully(w) : -1.0);
-      const Eigen::MatrixXd coupling = krylov.orthonormalise(w, scale, random);
+      Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
+      if (schedule.due()) {
+        schedule.record(krylov.orthogonaliseFully(w));
+        product = krylov.gram(w);
+      } else {
+        schedule.record(-1.0);
+      }
+      const Eigen::MatrixXd coupling = krylov.orthonormalise(w, product, scale, random);
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
       if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
         const RitzCheck check = checkRitzPairs(krylov, coupling, pairs, options.tolerance);
@@ -349,6 +372,7 @@ BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, doubl
     return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
   };
   ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
+  op.setSolveThreads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   return nearestPairs(op, ops.mass, pairs, sigma, options);
 }
 

@@ -12,17 +12,20 @@ namespace sc::spectral::detail {
 inline constexpr int kLanczosBlock = 4;
 
 /// The `pairs` eigenpairs of S h = λ M h whose eigenvalues are nearest σ, sorted ascending, M-orthonormal, by block
-/// Lanczos on (S − σM)⁻¹M in the M inner product, without restarts: blocks of kLanczosBlock columns, each
-/// re-orthogonalised twice against every earlier column (classical Gram–Schmidt as two GEMMs: the basis is read
-/// four times per block, where single-vector Lanczos reads it three to five times per column, which made that work
-/// about half of Spectra's time). The projected block-tridiagonal matrix is solved densely every few blocks; a Ritz
+/// Lanczos on (S − σM)⁻¹M in the M inner product, without restarts: blocks of kLanczosBlock columns, each made
+/// M-orthogonal to the last two blocks (the recurrence) and M-orthonormal by Cholesky QR; against every earlier
+/// column (classical Gram–Schmidt as two GEMMs, each a read of the basis) only as partial re-orthogonalisation
+/// decides: in pairs of blocks, as often as the drift each full pass measures asks, so that the basis stays
+/// semi-orthogonal (drift ≤ 10⁻⁹ < √ε; Simon 1984). The projected block-tridiagonal matrix is solved densely every
+/// few blocks; a Ritz
 /// pair (θ, y) counts as converged when ‖(S − σM)⁻¹M y − θ y‖_M ≤ tolerance·max(|θ|, ε^{2/3}) (Spectra's test), which
 /// the last block's coupling gives without a solve.
 /// Same contract as lanczosNearestPairs() (op factored at σ here unless it already is; cancellation, progress and
 /// the solve count through op), except: NotConverged when `maxColumns` (clamped to [pairs + 2·block, #V / 2]) columns
 /// are used up first, or when #V is too small for that range; the caller then uses lanczosNearestPairs(), which
 /// restarts. The start block is pseudo-random with a fixed seed, so the result is reproducible.
-/// Cost: about 2.2·pairs + 55 solves in blocks of four (188 for 60 pairs at 100k); O(#V·K²) GEMM work for K columns;
+/// Cost: about 2.2·pairs + 55 solves in blocks of four (188 for 60 pairs at 100k); O(#V·K²) GEMM work for K columns
+/// (on half to all of the blocks: all at interior shifts, where each solve adds 10⁻¹¹–10⁻¹⁰ of drift);
 /// memory #V·maxColumns doubles reserved, of which only the K used are touched.
 BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int maxColumns,
                                      double sigma, const BasisOptions& options);

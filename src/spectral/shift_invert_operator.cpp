@@ -1,5 +1,9 @@
 #include "spectral/shift_invert_operator.h"
 
+#include "spectral/parallel_ranges.h"
+
+#include <algorithm>
+#include <atomic>
 #include <stdexcept>
 #include <utility>
 
@@ -13,6 +17,33 @@ int InertiaLdlt::negativePivots() const {
   int negatives = 0;
   for (std::size_t column = 0; column < factor.n; ++column) negatives += values[columnStarts[column]] < 0.0 ? 1 : 0;
   return negatives;
+}
+
+void InertiaLdlt::solveColumns(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const {
+  y.resize(x.rows(), x.cols());
+  std::atomic<bool> failed{false};
+  parallelRanges(x.cols(), threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    cholmod_common common;
+    cholmod_start(&common);
+    cholmod_dense columns{};
+    columns.nrow = static_cast<std::size_t>(x.rows());
+    columns.ncol = static_cast<std::size_t>(end - begin);
+    columns.nzmax = columns.nrow * columns.ncol;
+    columns.d = columns.nrow;
+    columns.x = const_cast<double*>(x.col(begin).data());  // cholmod_solve reads B only
+    columns.xtype = CHOLMOD_REAL;
+    columns.dtype = CHOLMOD_DOUBLE;
+    cholmod_dense* solved = cholmod_solve(CHOLMOD_A, m_cholmodFactor, &columns, &common);
+    if (solved == nullptr) {
+      failed = true;
+    } else {
+      y.middleCols(begin, end - begin) =
+          Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solved->x), x.rows(), end - begin);
+      cholmod_free_dense(&solved, &common);
+    }
+    cholmod_finish(&common);
+  });
+  if (failed) throw std::runtime_error("CHOLMOD's solve failed (out of memory)");
 }
 
 ShiftInvertOperator::ShiftInvertOperator(const SparseMatrix& S, const Eigen::VectorXd& mass,
@@ -46,7 +77,10 @@ void ShiftInvertOperator::perform_op(const double* x, double* y) const {
 }
 
 void ShiftInvertOperator::solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
-  y = m_factor.solve(x);
+  if (m_solveThreads > 1 && x.cols() > 1)
+    m_factor.solveColumns(x, y, m_solveThreads);
+  else
+    y = m_factor.solve(x);
   for (Eigen::Index column = 0; column < x.cols(); ++column) {
     ++m_solves;
     if (m_observer && !m_observer(m_solves)) throw SolveCancelled{};

@@ -1,5 +1,6 @@
 // Block shift-invert Lanczos (the solver inside each spectrum slice) against Spectra's restarted Lanczos on the same
-// factor: bottom and interior shifts, and how it ends when it cannot finish (columns used up, cancellation).
+// factor: bottom and interior shifts, solves on several threads, and how it ends when it cannot finish (columns used
+// up, cancellation).
 
 #include "spectral/block_lanczos.h"
 #include "spectral/lanczos_solver.h"
@@ -31,8 +32,9 @@ BasisResult spectraPairs(const Problem& problem, int pairs, double sigma) {
   return detail::lanczosNearestPairs(op, problem.ops.mass, pairs, 5 * pairs / 2, sigma, BasisOptions{});
 }
 
-BasisResult blockPairs(const Problem& problem, int pairs, double sigma, int maxColumns = 0) {
+BasisResult blockPairs(const Problem& problem, int pairs, double sigma, int maxColumns = 0, int threads = 1) {
   detail::ShiftInvertOperator op(problem.ops.stiffness, problem.ops.mass, {});
+  op.setSolveThreads(threads);
   return detail::blockLanczosNearestPairs(op, problem.ops.mass, pairs, maxColumns > 0 ? maxColumns : 4 * pairs + 40,
                                           sigma, BasisOptions{});
 }
@@ -57,6 +59,13 @@ TEST(BlockLanczos, BottomOfTheSpectrumMatchesSpectra) {
   const BasisResult block = blockPairs(problem, 40, problem.bottomShift);
   expectSamePairs(problem, block, spectraPairs(problem, 40, problem.bottomShift), problem.bottomShift);
   EXPECT_EQ(block.operatorApplications % detail::kLanczosBlock, 0);  // solves come in whole blocks
+}
+
+TEST(BlockLanczos, SolvesAndSweepsOnThreeThreadsMatchSpectra) {
+  // the large-mesh path: each block's columns solved on their own threads, the row-band sweeps split too
+  const Problem problem = torusProblem();
+  const BasisResult block = blockPairs(problem, 40, problem.bottomShift, 0, 3);
+  expectSamePairs(problem, block, spectraPairs(problem, 40, problem.bottomShift), problem.bottomShift);
 }
 
 TEST(BlockLanczos, InteriorShiftFindsThePairsNearestItOnBothSides) {

@@ -1,0 +1,75 @@
+#include "spectral/banded_products.h"
+
+#include "spectral/parallel_ranges.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+namespace sc::spectral::detail {
+namespace {
+
+/// Rows per band: W's band (b ≤ 8 columns) takes at most 32 KB.
+constexpr Eigen::Index kBand = 512;
+
+/// Σ over bands [row, row + rows) of #V of body(row, rows, partial), where body adds its band's share to a
+/// `resultRows` × `resultCols` partial sum: one partial per thread chunk, added in chunk order.
+template <class Body>
+Eigen::MatrixXd sumOverBands(Eigen::Index n, Eigen::Index resultRows, Eigen::Index resultCols, int threads,
+                             const Body& body) {
+  const int chunks = std::clamp<int>(threads, 1, static_cast<int>(std::max<Eigen::Index>(1, n / kBand)));
+  std::vector<Eigen::MatrixXd> partial(static_cast<std::size_t>(chunks), Eigen::MatrixXd::Zero(resultRows, resultCols));
+  parallelRanges(chunks, chunks, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
+    for (std::ptrdiff_t chunk = first; chunk < last; ++chunk) {
+      const Eigen::Index begin = n * chunk / chunks;
+      const Eigen::Index end = n * (chunk + 1) / chunks;
+      for (Eigen::Index row = begin; row < end; row += kBand)
+        body(row, std::min(kBand, end - row), partial[static_cast<std::size_t>(chunk)]);
+    }
+  });
+  Eigen::MatrixXd total = std::move(partial.front());
+  for (std::size_t chunk = 1; chunk < partial.size(); ++chunk) total += partial[chunk];
+  return total;
+}
+
+}  // namespace
+
+Eigen::MatrixXd massProjection(const Eigen::Ref<const Eigen::MatrixXd>& q, const Eigen::VectorXd& mass,
+                               const Eigen::MatrixXd& w, int threads) {
+  return sumOverBands(w.rows(), q.cols(), w.cols(), threads,
+                      [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& sum) {
+                        const Eigen::MatrixXd weighted = mass.segment(row, rows).asDiagonal() * w.middleRows(row, rows);
+                        sum.noalias() += q.middleRows(row, rows).transpose() * weighted;
+                      });
+}
+
+Eigen::MatrixXd subtractWithGram(Eigen::MatrixXd& w, const Eigen::Ref<const Eigen::MatrixXd>& q,
+                                 const Eigen::MatrixXd& h, const Eigen::VectorXd& mass, int threads) {
+  return sumOverBands(w.rows(), w.cols(), w.cols(), threads,
+                      [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& gram) {
+                        auto band = w.middleRows(row, rows);
+                        band.noalias() -= q.middleRows(row, rows) * h;
+                        gram.noalias() += band.transpose() * (mass.segment(row, rows).asDiagonal() * band);
+                      });
+}
+
+Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
+                                 int threads) {
+  return sumOverBands(w.rows(), w.cols(), w.cols(), threads,
+                      [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& gram) {
+                        auto band = w.middleRows(row, rows);
+                        const Eigen::MatrixXd product = band * r;
+                        band = product;
+                        gram.noalias() += band.transpose() * (mass.segment(row, rows).asDiagonal() * band);
+                      });
+}
+
+Eigen::MatrixXd massGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& mass, int threads) {
+  return sumOverBands(w.rows(), w.cols(), w.cols(), threads,
+                      [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& gram) {
+                        const auto band = w.middleRows(row, rows);
+                        gram.noalias() += band.transpose() * (mass.segment(row, rows).asDiagonal() * band);
+                      });
+}
+
+}  // namespace sc::spectral::detail

@@ -1,0 +1,30 @@
+#pragma once
+// Products of a tall matrix Q (#V × k) with a thin block W (#V × b, b a handful of columns) in the M inner product,
+// each done in one sweep over bands of rows, so that W's band and the small results stay in cache: the block
+// Lanczos steps' local orthogonalisation and Cholesky QR. Internal to src/spectral.
+//
+// Written as separate GEMMs, each step read or wrote W or an #V × b temporary about 35 times per block; these fused
+// sweeps read it 11 to 18 times. The sums over bands are taken per thread chunk and added in chunk order, so a
+// result depends on `threads` but not on scheduling.
+
+#include <Eigen/Core>
+
+namespace sc::spectral::detail {
+
+/// Qᵀ·diag(mass)·W (k × b). Cost: one read of Q and W, 2·#V·k·b flops.
+Eigen::MatrixXd massProjection(const Eigen::Ref<const Eigen::MatrixXd>& q, const Eigen::VectorXd& mass,
+                               const Eigen::MatrixXd& w, int threads);
+
+/// W −= Q·H, and returns the new W's Gram matrix Wᵀ·diag(mass)·W (b × b). Cost: one read of Q, one read and write
+/// of W, 2·#V·b·(k + b) flops.
+Eigen::MatrixXd subtractWithGram(Eigen::MatrixXd& w, const Eigen::Ref<const Eigen::MatrixXd>& q,
+                                 const Eigen::MatrixXd& h, const Eigen::VectorXd& mass, int threads);
+
+/// W ← W·R for R of b × b, and returns the new W's Gram matrix (b × b). Cost: one read and write of W.
+Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
+                                 int threads);
+
+/// Wᵀ·diag(mass)·W (b × b). Cost: one read of W.
+Eigen::MatrixXd massGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& mass, int threads);
+
+}  // namespace sc::spectral::detail
