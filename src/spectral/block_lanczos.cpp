@@ -34,14 +34,15 @@ constexpr double kCholeskyConditioning = 1e-4;
 /// Thrown when a block cannot be completed to an M-orthonormal one (only on tiny meshes); reported NotConverged.
 struct BasisExhausted {};
 /// When a new block is re-orthogonalised against the whole basis (partial re-orthogonalisation: the full pass, two
-/// reads of the #V × K basis, took 25–40% of a run on every block). Lanczos vectors lose M-orthogonality to the old
-/// ones by a factor of 30–50 per block on the dragons, and by 10⁻¹¹–10⁻¹⁰ in a single block at interior shifts
-/// (the solve's error there lies along the eigenvectors near σ, which the basis already holds). Each full pass
-/// measures the drift it removes, the largest |q_kᵀ M w|/‖w‖_M, which is the most the skipped blocks reached: above
-/// kDriftTarget the interval of skipped blocks shrinks by one (to zero above ten times it), below kDriftTarget/kGrowth
-/// it grows by one, up to kMaximumInterval. kDriftTarget stays 15 times below √ε, Simon's semi-orthogonality, which
-/// keeps the Ritz values as accurate as full re-orthogonalisation does. Blocks are re-orthogonalised in consecutive
-/// pairs, because the recurrence carries the drift of both into the next block; the interval starts at zero.
+/// reads of the #V × K basis, took 5.5–7 s of a 437k-vertex slice's 12 s when it ran on every block). Lanczos vectors
+/// lose M-orthogonality to the old ones by a factor of 30–50 per block on the dragons, and by 10⁻¹¹–10⁻¹⁰ in a single
+/// block at interior shifts (the solve's error there lies along the eigenvectors near σ, which the basis already
+/// holds). Each full pass measures the drift it removes, the largest |q_kᵀ M w|/‖w‖_M, which is the most the skipped
+/// blocks reached: above kDriftTarget the interval of skipped blocks shrinks by one (to zero above ten times it), below
+/// kDriftTarget/kGrowth it grows by one, up to kMaximumInterval. kDriftTarget stays 15 times below √ε, Simon's
+/// semi-orthogonality, which keeps the Ritz values as accurate as full re-orthogonalisation does. Blocks are
+/// re-orthogonalised in consecutive pairs, because the recurrence carries the drift of both into the next block; the
+/// interval starts at zero.
 class ReorthogonalisationSchedule {
  public:
   /// Whether the next block needs the full pass.
@@ -144,10 +145,10 @@ class KrylovBasis {
     return (w.array().square().colwise() * m_mass.array()).colwise().sum().transpose().cwiseMax(0.0).cwiseSqrt();
   }
 
-  /// Makes W (already orthogonal to Q) M-orthonormal column by column (Gram–Schmidt twice within the block);
-  /// a column that vanishes is replaced by a random one orthogonalised against Q and the block. Returns
-  /// R = W_newᵀ M W_old, the coupling of the new block to the last one. `scale`: the columns' norms before
-  /// orthogonalisation against Q.
+  /// Makes W (already orthogonal to Q; `product` = WᵀMW) M-orthonormal: by choleskyQr() when its columns are well
+  /// apart, else column by column (Gram–Schmidt twice within the block), where a column that vanishes is replaced by
+  /// a random one orthogonalised against Q and the block. Returns R = W_newᵀ M W_old, the coupling of the new block
+  /// to the last one. `scale`: the columns' norms before orthogonalisation against Q.
   Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, const Eigen::MatrixXd& product, Eigen::VectorXd& scale,
                                  std::mt19937& random) {
     if (std::optional<Eigen::MatrixXd> coupling = choleskyQr(w, product, scale)) return *std::move(coupling);
@@ -176,7 +177,7 @@ class KrylovBasis {
   /// W = W_new·R by Cholesky QR in the M inner product, twice (the second pass restores the orthonormality the first
   /// loses to W's conditioning), R upper triangular; or nullopt, W untouched, when a column is within a factor
   /// kCholeskyConditioning of the span of the others or below the deflation threshold: orthonormalise() then takes
-  /// the column-by-column route. Cost: four reads of W, against about twenty column passes for Gram–Schmidt twice.
+  /// the column-by-column route. Cost: two sweeps over W (the first Gram matrix is the caller's).
   std::optional<Eigen::MatrixXd> choleskyQr(Eigen::MatrixXd& w, const Eigen::MatrixXd& product,
                                             const Eigen::VectorXd& scale) const {
     const Eigen::Index b = w.cols();
