@@ -84,4 +84,21 @@ TEST(FramePolicy, SlowProxyFramesLowerTheProxyScaleOnly) {
   EXPECT_EQ(policy.begin(true, false).scale, 1.0) << "frames of the mesh keep their own scale";
 }
 
+TEST(FramePolicy, AFrameSaysWhetherItMovedAndTheStandInIsAProxyFrameAtTheProxysScale) {
+  FramePolicy policy(true);
+  policy.setPaintBudget(10.0);
+  policy.painted();
+  policy.markMoved();
+  const FramePolicy::Frame moving = policy.begin(true, true);
+  EXPECT_TRUE(moving.moved);
+  policy.end(moving, 100.0);  // the proxy's scale drops
+  policy.painted();
+  EXPECT_FALSE(policy.begin(true, true).moved) << "nothing moved since";
+  const FramePolicy::Frame standIn = policy.standIn(true);
+  EXPECT_TRUE(standIn.proxy);
+  EXPECT_TRUE(standIn.interactive);
+  EXPECT_LT(standIn.scale, 1.0) << "the proxy's own scale";
+  EXPECT_EQ(policy.standIn(false).scale, 1.0) << "not scalable: full resolution";
+}
+
 }  // namespace

@@ -137,10 +137,15 @@ void MainWindow::connectViewportToSession() {
     const FrameTimes& frame = ui->viewport->frameTimes();
     if (m_installPaintPending) {
       m_installPaintPending = false;
-      std::fprintf(stderr,
-                   "shapecast: first paint of the level: upload %.1f ms, background %.1f ms, mesh %.1f ms (%d "
-                   "triangles), compose %.1f ms\n",
-                   frame.uploadMs, frame.backgroundMs, frame.meshMs, frame.triangles, frame.composeMs);
+      std::fprintf(
+          stderr,
+          "shapecast: first paint of the level: upload %.1f ms, background %.1f ms, mesh %.1f ms (%d "
+          "triangles%s), compose %.1f ms\n",
+          frame.uploadMs, frame.backgroundMs, frame.meshMs, frame.triangles,
+          frame.pictureSlices > 0
+              ? qPrintable(QStringLiteral(", a progressive picture: %1 slices so far").arg(frame.pictureSlices))
+              : "",
+          frame.composeMs);
     }
     if (m_redrawPending) {
       m_redrawPending = false;

@@ -31,7 +31,10 @@ MeshViewport::MeshViewport(QWidget* parent)
   m_restoreTimer.setSingleShot(true);
   m_restoreTimer.setInterval(FramePolicy::kIdleRestoreMs +
                              FramePolicy::kIdleRestoreMs / 10);  // the next paint is no longer interactive
-  connect(&m_restoreTimer, &QTimer::timeout, this, qOverload<>(&MeshViewport::update));
+  connect(&m_restoreTimer, &QTimer::timeout, this, &MeshViewport::continuePicture);
+  m_sliceTimer.setSingleShot(true);
+  m_sliceTimer.setInterval(0);
+  connect(&m_sliceTimer, &QTimer::timeout, this, &MeshViewport::drawPictureSlice);
   connect(m_surface, &QOpenGLWindow::frameSwapped, this, [this] {
     if (const double ms = m_policy.msSincePaint(); ms >= 0.0) {
       m_frameTimes.composeMs = ms;

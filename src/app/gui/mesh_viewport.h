@@ -15,6 +15,7 @@
 #include "app/gui/viewport/lap_timer.h"
 #include "app/gui/viewport/level_frames.h"
 #include "app/gui/viewport/presence_overlay.h"
+#include "app/gui/viewport/progressive_picture.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "app/gui/viewport/scene_passes.h"
 #include "app/gui/viewport/viewport_buffers.h"
@@ -189,6 +190,21 @@ class MeshViewport : public QWidget,
   /// other work) and starts again from full resolution.
   void setPaintBudget(double ms) { m_policy.setPaintBudget(ms); }
 
+  /// Meshes of at least `minimumTriangles` > 0 triangles (default RendererDefaults::progressiveMinimumTriangles()) have
+  /// their full-resolution picture drawn in slices between paints, while adaptive resolution is on and the window is
+  /// single-sampled: a paint shows the complete picture of the current view and shape when there is one (a blit),
+  /// else the interactive proxy meanwhile (or, without a proxy, the slices drawn so far) and the slices follow, each
+  /// about ProgressivePicture::kSliceBudgetMs, each a turn of the event loop; any change of the view, the shape,
+  /// the wireframe or the size starts the picture over. grabFramebuffer() always draws the whole mesh.
+  /// `sliceLimit` > 0 caps a slice's triangles (tests). On a real GPU the first slice's rate makes one slice of it.
+  void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
+  /// Slices drawn for the latest picture, pictures completed so far, and the latest picture as drawn (for tests).
+  [[nodiscard]] int progressiveSlices() const { return m_picture.slices(); }
+  [[nodiscard]] int progressivePicturesCompleted() const { return m_picture.completed(); }
+  [[nodiscard]] QImage progressivePictureImage();
+  /// Whether the complete picture is that of the current view and shape (what a still paint shows now).
+  [[nodiscard]] bool progressivePictureCurrent();
+
   /// Positions the GPU path computes for the current Z, read back through transform feedback (3·#V floats, in
   /// the coordinates given to setMesh()); empty without a basis, coefficients, context or GPU path support.
   /// For tests and diagnostics (synchronous).
@@ -324,6 +340,21 @@ class MeshViewport : public QWidget,
   }
   [[nodiscard]] unsigned shapeVersion() const override { return m_shapeVersion; }
 
+  /// Paints into `framebuffer`: the window's (`window`), or a grab's (always the whole mesh at full resolution).
+  void paint(unsigned framebuffer, bool window);
+  /// A still window paint of a large mesh: the complete picture of `frame`'s view (a blit), or until then the proxy
+  /// (`frame` becomes FramePolicy::standIn(): returns false, the caller draws it) or the slices so far (drawing the
+  /// first one now if none is); the slices follow on m_sliceTimer. Returns whether the paint showed the picture.
+  bool showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable);
+  /// Whether full pictures of this mesh are drawn in slices (setProgressivePicture()).
+  [[nodiscard]] bool drawsProgressively() const;
+  /// The key of the full picture of the current view and shape (the mesh's positions made current first).
+  ProgressivePicture::Key pictureKey();
+  /// Starts (or continues) the slices of the current full picture, or repaints at once when it is complete.
+  void continuePicture();
+  /// One slice of the picture being drawn (m_sliceTimer), then a repaint when it is complete.
+  void drawPictureSlice();
+
   void positionsGiven();
   void updateBounds();
   /// The camera's scene bounds (relative to the origin) and a repaint; `conservative`: a lagging frame's box.
@@ -348,6 +379,11 @@ class MeshViewport : public QWidget,
   LevelFrames m_frames;
   FramePolicy m_policy;
   QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
+  ProgressivePicture m_picture;
+  QTimer m_sliceTimer;  // the next slice of m_picture, after a turn of the event loop
+  int m_progressiveMinimumTriangles = RendererDefaults::progressiveMinimumTriangles();  // 0: never
+  bool m_showingPartial = false;  // the window shows m_picture's slices so far: each slice repaints
+  bool m_showingPicture = false;  // the window's latest paint showed m_picture complete
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached

@@ -49,7 +49,7 @@ QImage MeshViewport::grabFramebuffer() {
   format.setSamples(std::max(0, sampleCount()));
   QOpenGLFramebufferObject target(pixelSize(), format);
   target.bind();
-  paintSurface(target.handle());
+  paint(target.handle(), false);
   QImage image = target.toImage().convertToFormat(QImage::Format_RGB32);
   image.setDevicePixelRatio(devicePixelRatioF());
   target.release();
@@ -63,6 +63,9 @@ void MeshViewport::cleanup() {
   }
   makeCurrent();
   m_frames.setGlReady(false);
+  m_sliceTimer.stop();
+  m_picture.destroy();
+  m_showingPartial = m_showingPicture = false;
   if (m_gl33 != nullptr) {
     m_frames.gpu().destroy(*m_gl33);
     m_buffers.destroy(*m_gl33);
@@ -92,7 +95,9 @@ void MeshViewport::initializeSurface() {
 
 void MeshViewport::resizeSurface(int width, int height) { m_camera.setViewportSize(width, height); }
 
-void MeshViewport::paintSurface(unsigned framebuffer) {
+void MeshViewport::paintSurface(unsigned framebuffer) { paint(framebuffer, true); }
+
+void MeshViewport::paint(unsigned framebuffer, bool window) {
   ++m_paintCount;
   // The whole target (the window's paint sets this too; a grab's framebuffer may follow a resize without one).
   glViewport(0, 0, pixelSize().width(), pixelSize().height());
@@ -104,21 +109,33 @@ void MeshViewport::paintSurface(unsigned framebuffer) {
   // Interactive frames (a paint shortly after the previous one) may be drawn at a reduced resolution, or as the
   // interactive proxy; their paint is finished and measured (the rasteriser's time belongs to the measurement).
   const bool scalable = m_policy.adaptive() && m_gl33 != nullptr && sampleCount() <= 0;
-  const FramePolicy::Frame frame = m_policy.begin(scalable, proxyMayDraw());
+  FramePolicy::Frame frame = m_policy.begin(scalable, proxyMayDraw());
   if (!frame.proxy) {
     m_frames.ensureFullVertexData(m_frameTimes);
     tightenBounds();
   }
-  QElapsedTimer paint;
-  paint.start();
+  QElapsedTimer paintClock;
+  paintClock.start();
   m_frameTimes.uploadMs = m_frameTimes.backgroundMs = m_frameTimes.meshMs = 0.0;
   m_frameTimes.triangles = 0;
-  if (m_gl33 != nullptr) {
+  m_frameTimes.pictureSlices = 0;
+  // A still (or idle) picture of a large mesh comes from the progressive picture; a moving frame without the proxy
+  // draws the whole mesh as before (reduced), since a picture restarted every frame would show only its first slice.
+  const bool large = window && drawsProgressively();
+  const bool shown =
+      large && !frame.proxy && !(frame.interactive && frame.moved) && showPicture(framebuffer, frame, scalable);
+  if (window) {
+    m_showingPartial = shown && !m_picture.completeFor(m_picture.key());
+    m_showingPicture = shown && !m_showingPartial;
+  }
+  if (m_gl33 != nullptr && !shown) {
     m_passes.drawFrame(*m_gl33, m_buffers, m_frames.gpu(), gpuBasis(), meshPass(m_wireframe, frame.proxy),
                        {framebuffer, pixelSize(), frame.scale, frame.scalable}, m_stages, m_frameTimes);
-  }
-  if (m_policy.end(frame, static_cast<double>(paint.nsecsElapsed()) * 1e-6)) {
-    m_restoreTimer.start();
+    // Once idle, a reduced or proxy frame is followed by a full one; a large mesh's full picture is then drawn in
+    // slices (continuePicture()) even after a full-resolution moving frame, so that a still paint can show it.
+    if (m_policy.end(frame, static_cast<double>(paintClock.nsecsElapsed()) * 1e-6) || large) {
+      m_restoreTimer.start();
+    }
   }
   m_stages.start();
   if (m_input.overlayShown() || !m_presence.markers().empty()) {
@@ -136,6 +153,83 @@ void MeshViewport::paintSurface(unsigned framebuffer) {
   m_frameTimes.overlayMs = m_stages.lap();
   m_frameTimes.renderScale = frame.scale;
   m_policy.painted();  // from the end of this paint: a slow frame does not make the next one idle
+}
+
+bool MeshViewport::showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable) {
+  const ProgressivePicture::Key key = pictureKey();
+  const bool complete = m_picture.completeFor(key);
+  if (!complete) {
+    if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
+    m_sliceTimer.start();
+    if (proxyMayDraw()) {
+      frame = m_policy.standIn(scalable);  // the proxy until the picture is complete
+      return false;
+    }
+  }
+  m_stages.start();
+  m_buffers.upload(*m_gl33, gpuBasis());
+  m_frameTimes.uploadMs = m_stages.lap();
+  if (m_picture.slices() == 0) {
+    m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false));
+  }
+  m_picture.blit(*m_gl33, framebuffer);
+  m_frameTimes.meshMs = m_stages.lap();
+  m_frameTimes.triangles = triangleCount();
+  m_frameTimes.pictureSlices = m_picture.slices();
+  return true;
+}
+
+void MeshViewport::setProgressivePicture(int minimumTriangles, int sliceLimit) {
+  m_progressiveMinimumTriangles = minimumTriangles;
+  m_picture.setSliceLimit(sliceLimit);
+  update();
+}
+
+QImage MeshViewport::progressivePictureImage() {
+  if (!m_surface->makeContextCurrent()) return {};
+  QImage image = m_picture.image().convertToFormat(QImage::Format_RGB32);
+  doneCurrent();
+  return image;
+}
+
+bool MeshViewport::progressivePictureCurrent() { return m_picture.completeFor(pictureKey()); }
+
+bool MeshViewport::drawsProgressively() const {
+  return m_policy.adaptive() && m_gl33 != nullptr && sampleCount() <= 0 && m_passes.meshReady() &&
+         m_progressiveMinimumTriangles > 0 && triangleCount() >= m_progressiveMinimumTriangles;
+}
+
+ProgressivePicture::Key MeshViewport::pictureKey() {
+  m_frames.ensureFullVertexData(m_frameTimes);
+  tightenBounds();
+  return ProgressivePicture::key(m_buffers, meshPass(m_wireframe, false), pixelSize());
+}
+
+void MeshViewport::continuePicture() {
+  if (!drawsProgressively()) {
+    update();
+    return;
+  }
+  const ProgressivePicture::Key key = pictureKey();
+  if (m_picture.completeFor(key)) {
+    if (!m_showingPicture) update();
+    return;
+  }
+  if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
+  m_sliceTimer.start();  // the window keeps its interactive frame until the picture is complete
+}
+
+void MeshViewport::drawPictureSlice() {
+  if (!m_picture.drawing() || !drawsProgressively() || !m_surface->makeContextCurrent()) {
+    return;
+  }
+  const ProgressivePicture::Key key = pictureKey();
+  if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());  // the picture changed: start over
+  m_buffers.upload(*m_gl33, gpuBasis());
+  const bool complete = m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false));
+  doneCurrent();
+  if (complete || m_showingPartial) update();
+  if (!complete) m_sliceTimer.start();
 }
 
 QSize MeshViewport::pixelSize() const { return (QSizeF(width(), height()) * devicePixelRatioF()).toSize(); }

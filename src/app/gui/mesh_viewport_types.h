@@ -32,6 +32,9 @@ struct FrameTimes {
   double composeMs = 0.0;      ///< paint end → frameSwapped(): the swap of the viewport's window surface
   double renderScale = 1.0;    ///< internal resolution of the frame (see MeshViewport::setAdaptiveResolution)
   int triangles = 0;           ///< triangles drawn: the mesh's, or its interactive proxy's
+  /// 0: the paint drew its picture; n > 0: it showed a progressive picture (MeshViewport::setProgressivePicture())
+  /// of n slices drawn between paints, complete or so far, and meshMs is the time of its blit (and of its first slice)
+  int pictureSlices = 0;
   [[nodiscard]] double hostMs() const { return reconstructMs + normalsMs + boundsMs; }
   [[nodiscard]] double paintMs() const { return uploadMs + backgroundMs + meshMs + overlayMs; }
   /// The whole frame: host stages, paintGL() and the composition/swap (the redraw part of the status bar's

@@ -17,9 +17,19 @@ FramePolicy::Frame FramePolicy::begin(bool scalable, bool proxyMayDraw) {
   Frame frame;
   frame.interactive = m_sinceLastPaint.isValid() && m_sinceLastPaint.elapsed() < kIdleRestoreMs;
   frame.scalable = scalable;
+  frame.moved = m_moved;
   frame.proxy = frame.interactive && scalable && m_moved && proxyMayDraw;
   frame.scale = frame.interactive && scalable ? resolutionFor(frame.proxy).scale() : 1.0;
   m_moved = false;
+  return frame;
+}
+
+FramePolicy::Frame FramePolicy::standIn(bool scalable) const {
+  Frame frame;
+  frame.interactive = true;
+  frame.scalable = scalable;
+  frame.proxy = true;
+  frame.scale = scalable ? m_proxyResolution.scale() : 1.0;
   return frame;
 }
 

@@ -31,6 +31,7 @@ class FramePolicy {
   struct Frame {
     bool interactive = false;  ///< soon after the previous paint
     bool scalable = false;     ///< adaptive, single-sampled and able to blit: its paint time is measured
+    bool moved = false;        ///< the positions or the camera changed since the previous paint
     bool proxy = false;        ///< the mesh pass draws the interactive proxy
     double scale = 1.0;        ///< internal resolution (fraction of the widget's pixels per axis)
   };
@@ -53,6 +54,9 @@ class FramePolicy {
   /// Decides the paint that starts now (and forgets the movement). `scalable`: adaptive frames can be measured and
   /// blitted here; `proxyMayDraw`: proxyMayDraw() of the current conditions.
   Frame begin(bool scalable, bool proxyMayDraw);
+  /// The proxy frame that stands in for a full picture still being drawn (MeshViewport's ProgressivePicture): as an
+  /// interactive frame of the moving proxy, at the proxy's current scale. `scalable`: as for begin().
+  [[nodiscard]] Frame standIn(bool scalable) const;
   /// Records the measured paint time of `frame` (scalable frames only). Returns whether the view must repaint
   /// itself once idle (the frame was reduced or drew the proxy).
   bool end(const Frame& frame, double paintMs);

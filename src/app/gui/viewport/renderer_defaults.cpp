@@ -1,5 +1,7 @@
 #include "app/gui/viewport/renderer_defaults.h"
 
+#include "app/gui/viewport/progressive_picture.h"
+
 #include <QGuiApplication>
 #include <QOffscreenSurface>
 #include <QOpenGLContext>
@@ -100,6 +102,12 @@ ReconstructionPath RendererDefaults::reconstructionPath() {
 bool RendererDefaults::adaptiveResolution() {
   static const bool adaptive = environmentOr("SHAPECAST_ADAPTIVE_RESOLUTION", softwareRenderer() ? 1 : 0) != 0;
   return adaptive;
+}
+
+int RendererDefaults::progressiveMinimumTriangles() {
+  static const int triangles =
+      std::max(0, environmentOr("SHAPECAST_PROGRESSIVE_TRIANGLES", ProgressivePicture::kDefaultMinimumTriangles));
+  return triangles;
 }
 
 }  // namespace sc::app

@@ -1,7 +1,7 @@
 #pragma once
 // RendererDefaults: what a new MeshViewport chooses from the OpenGL renderer of this machine and the environment
-// (multisampling, reconstruction path, adaptive resolution). Each is probed once per process with an offscreen
-// context created from the default surface format (needs a QGuiApplication).
+// (multisampling, reconstruction path, adaptive resolution, progressive pictures). Each is probed once per process with
+// an offscreen context created from the default surface format (needs a QGuiApplication).
 
 #include "app/gui/mesh_viewport_types.h"
 
@@ -27,6 +27,9 @@ struct RendererDefaults {
   static ReconstructionPath reconstructionPath();
   /// $SHAPECAST_ADAPTIVE_RESOLUTION (0/1) when set, otherwise on for a software rasteriser only.
   static bool adaptiveResolution();
+  /// $SHAPECAST_PROGRESSIVE_TRIANGLES (an integer ≥ 0; 0: never) when set, otherwise
+  /// ProgressivePicture::kDefaultMinimumTriangles: the meshes whose full picture is drawn in slices.
+  static int progressiveMinimumTriangles();
 };
 
 }  // namespace sc::app

@@ -9,6 +9,8 @@
 #include <QOpenGLFunctions_3_3_Core>
 #include <QOpenGLShaderProgram>
 
+#include <algorithm>
+#include <cstddef>
 #include <span>
 
 namespace sc::app {
@@ -109,17 +111,24 @@ int ScenePasses::drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffer
   QOpenGLVertexArrayObject::Binder vaoBinder(onGpu   ? &buffers.gpuVao()
                                              : proxy ? &buffers.proxyVao()
                                                      : &buffers.meshVao());
-  const auto count = static_cast<GLsizei>(proxy ? buffers.proxyIndices().size() : indices.size());
-  const auto* first = reinterpret_cast<const void*>(proxy && onGpu ? indices.size() * sizeof(std::uint32_t) : 0);
+  const auto meshTriangles = static_cast<std::ptrdiff_t>(indices.size() / 3);
+  const std::ptrdiff_t from = std::clamp<std::ptrdiff_t>(pass.firstTriangle, 0, meshTriangles);
+  const std::ptrdiff_t to =
+      pass.triangleCount < 0 ? meshTriangles : std::min<std::ptrdiff_t>(meshTriangles, from + pass.triangleCount);
+  const auto count = static_cast<GLsizei>(proxy ? buffers.proxyIndices().size() : 3 * (to - from));
+  const std::size_t firstIndex = proxy ? (onGpu ? indices.size() : 0) : static_cast<std::size_t>(3 * from);
+  const auto* first = reinterpret_cast<const void*>(firstIndex * sizeof(std::uint32_t));
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (pass.wireframe) {
     gl.glEnable(GL_POLYGON_OFFSET_FILL);
     gl.glPolygonOffset(1.0f, 1.0f);
   }
-  gl.glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);
+  if (count > 0) {
+    gl.glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);
+  }
   gl.glDisable(GL_POLYGON_OFFSET_FILL);
   // === line pass: the same triangles as edges.
-  if (pass.wireframe) {
+  if (pass.wireframe && count > 0) {
     program->setUniformValue("uLineColor", kWireColor);
     gl.glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     gl.glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);

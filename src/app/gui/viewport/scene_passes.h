@@ -33,6 +33,8 @@ struct MeshPass {
   bool wireframe = false;                 ///< edges over the shaded triangles
   bool proxy = false;                     ///< the interactive proxy's triangles instead of the mesh's
   const Eigen::MatrixXf* gpuZ = nullptr;  ///< non-null: the GPU path draws X̂' + K·Z with this scaled Z (m by 3)
+  int firstTriangle = 0;                  ///< the mesh's triangles from this one (not the proxy's: all of those)
+  int triangleCount = -1;                 ///< how many of them (−1: to the last)
 };
 
 /// Where and how one picture is drawn.

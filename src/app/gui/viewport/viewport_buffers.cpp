@@ -64,7 +64,7 @@ int bytesOf(std::span<const std::uint32_t> v) { return static_cast<int>(v.size()
 void ViewportBuffers::gatherProxyTints() {
   if (!m_proxy.empty()) {
     m_proxy.gatherTints(m_tints);
-    m_dirty |= kProxyTints;
+    setDirty(m_dirty | kProxyTints);
   }
 }
 
@@ -83,14 +83,14 @@ void ViewportBuffers::shareLevel(const spectral::SharedDisplayLevel& level, bool
   } else {
     m_rest.own().clear();
   }
-  m_dirty |= kPositions | kNormals | kRest;
+  setDirty(m_dirty | kPositions | kNormals | kRest);
   setProxy(CompactProxy(), {});
 }
 
 void ViewportBuffers::setProxy(CompactProxy proxy, std::vector<std::uint32_t> meshIndices) {
   m_proxy = std::move(proxy);
   m_proxyIndices = std::move(meshIndices);
-  m_dirty |= kIndices | kProxyVertices | kProxyTints | kProxyIndices;
+  setDirty(m_dirty | kIndices | kProxyVertices | kProxyTints | kProxyIndices);
 }
 
 void ViewportBuffers::clear() {
@@ -99,7 +99,7 @@ void ViewportBuffers::clear() {
   m_tints.clear();
   m_rest.own().clear();
   setIndices({});
-  m_dirty = kAll;
+  setDirty(kAll);
 }
 
 void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
@@ -118,7 +118,7 @@ void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
     gl.glBindTexture(GL_TEXTURE_BUFFER, 0);
     gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   }
-  m_dirty = kAll;
+  setDirty(kAll);
 }
 
 void ViewportBuffers::destroy(QOpenGLFunctions_3_3_Core& gl) {

@@ -69,8 +69,11 @@ class ViewportBuffers {
   void setIndices(std::vector<std::uint32_t> indices);
   /// Replaces the proxy: `proxy` its compact vertices, `meshIndices` the same triangles over the mesh's vertices.
   void setProxy(CompactProxy proxy, std::vector<std::uint32_t> meshIndices);
-  void mark(unsigned bits) { m_dirty |= bits; }
+  void mark(unsigned bits) { setDirty(m_dirty | bits); }
   [[nodiscard]] bool isMarked(unsigned bits) const { return (m_dirty & bits) != 0; }
+  /// Bumped by every mark (every host-side write, whether or not uploaded since): two equal versions mean the same
+  /// vertex data (ProgressivePicture's key).
+  [[nodiscard]] unsigned contentVersion() const { return m_contentVersion; }
   /// Empties every host array (marks everything).
   void clear();
 
@@ -91,12 +94,17 @@ class ViewportBuffers {
  private:
   template <typename T>
   T& marked(unsigned bit, T& value) {
-    m_dirty |= bit;
+    setDirty(m_dirty | bit);
     return value;
+  }
+  void setDirty(unsigned bits) {
+    m_dirty = bits;
+    ++m_contentVersion;
   }
   void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K);
 
   unsigned m_dirty = kAll;
+  unsigned m_contentVersion = 0;
   SharedArray<float> m_positions;
   SharedArray<float> m_normals;
   std::vector<std::uint8_t> m_tints;

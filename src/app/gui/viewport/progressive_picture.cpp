@@ -1,0 +1,106 @@
+#include "app/gui/viewport/progressive_picture.h"
+
+#include "app/gui/viewport/viewport_buffers.h"
+
+#include <QElapsedTimer>
+#include <QImage>
+#include <QOpenGLContext>
+#include <QOpenGLFramebufferObject>
+#include <QOpenGLFunctions_3_3_Core>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace sc::app {
+
+namespace {
+/// Bounds on a slice: a few thousand triangles cost less than a slice's fixed work (bind, clear state, glFinish).
+constexpr int kMinimumSliceTriangles = 4096;
+}  // namespace
+
+ProgressivePicture::Key ProgressivePicture::key(const ViewportBuffers& buffers, const MeshPass& pass, QSize size) {
+  Key key;
+  key.content = buffers.contentVersion();
+  key.view = pass.view;
+  key.projection = pass.projection;
+  key.size = size;
+  key.wireframe = pass.wireframe;
+  if (pass.gpuZ != nullptr) key.gpuZ = *pass.gpuZ;
+  return key;
+}
+
+ProgressivePicture::ProgressivePicture() = default;
+ProgressivePicture::~ProgressivePicture() = default;
+
+void ProgressivePicture::start(Key key, int triangles) {
+  m_key = std::move(key);
+  m_started = true;
+  m_complete = false;
+  m_triangles = std::max(0, triangles);
+  m_next = 0;
+  m_slices = 0;
+}
+
+void ProgressivePicture::reset() {
+  m_started = false;
+  m_complete = false;
+  m_slices = 0;
+}
+
+bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& passes, ViewportBuffers& buffers,
+                                  GpuReconstructor& gpu, MeshPass pass) {
+  if (!m_started || m_complete) return m_complete;
+  QElapsedTimer clock;
+  clock.start();
+  if (!m_target || m_target->size() != m_key.size) {
+    m_target = std::make_unique<QOpenGLFramebufferObject>(m_key.size, QOpenGLFramebufferObject::Depth);
+  }
+  m_target->bind();
+  gl.glViewport(0, 0, m_key.size.width(), m_key.size.height());
+  gl.glDisable(GL_BLEND);
+  gl.glDisable(GL_SCISSOR_TEST);
+  gl.glDisable(GL_STENCIL_TEST);
+  gl.glDisable(GL_CULL_FACE);
+  if (m_next == 0) passes.drawBackground(gl);
+  int slice = m_sliceLimit > 0 ? std::min(m_sliceTriangles, m_sliceLimit) : m_sliceTriangles;
+  slice = std::min(slice, m_triangles - m_next);
+  pass.proxy = false;
+  pass.firstTriangle = m_next;
+  pass.triangleCount = slice;
+  passes.drawMesh(gl, buffers, gpu, pass);
+  gl.glFinish();
+  m_target->release();
+  m_next += slice;
+  ++m_slices;
+  const double ms = static_cast<double>(clock.nsecsElapsed()) * 1e-6;
+  if (slice > 0 && ms > 0.0) {  // the next slice at this one's rate, at most twice as large
+    const double fitting = static_cast<double>(slice) * kSliceBudgetMs / ms;
+    m_sliceTriangles = static_cast<int>(std::clamp(fitting, static_cast<double>(kMinimumSliceTriangles),
+                                                   2.0 * std::max(slice, kMinimumSliceTriangles)));
+  }
+  if (m_next >= m_triangles) {
+    m_complete = true;
+    ++m_completed;
+  }
+  return m_complete;
+}
+
+void ProgressivePicture::blit(QOpenGLFunctions_3_3_Core& gl, unsigned target) const {
+  if (!m_target) return;
+  const QSize size = m_target->size();
+  gl.glBindFramebuffer(GL_READ_FRAMEBUFFER, m_target->handle());
+  gl.glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  gl.glBlitFramebuffer(0, 0, size.width(), size.height(), 0, 0, size.width(), size.height(), GL_COLOR_BUFFER_BIT,
+                       GL_NEAREST);
+  gl.glBindFramebuffer(GL_FRAMEBUFFER, target);
+}
+
+QImage ProgressivePicture::image() const { return m_target ? m_target->toImage() : QImage(); }
+
+void ProgressivePicture::destroy() {
+  m_target.reset();
+  reset();
+}
+
+}  // namespace sc::app

@@ -1,0 +1,103 @@
+#pragma once
+// ProgressivePicture: the full-resolution picture of a mesh too large to draw within one paint on a software
+// rasteriser (llvmpipe runs the vertex stage on the calling thread: 0.41–0.57 s for the 2M triangles of the
+// million-vertex dragon), drawn a slice of its triangles at a time into an offscreen target between paints, so that
+// the GUI thread never stands still for the whole mesh. MeshViewport shows the picture once it is complete (a blit)
+// and a stand-in until then. Context current for every call but key().
+
+#include "app/gui/viewport/scene_passes.h"
+
+#include <Eigen/Core>
+
+#include <QElapsedTimer>
+#include <QMatrix4x4>
+#include <QSize>
+
+#include <memory>
+
+class QOpenGLFramebufferObject;
+class QOpenGLFunctions_3_3_Core;
+
+namespace sc::app {
+
+class GpuReconstructor;
+class ViewportBuffers;
+
+class ProgressivePicture {
+ public:
+  /// Meshes with at least this many triangles are drawn this way (MeshViewport's default). The 201k-triangle
+  /// 100k dragon draws within a paint (a full frame of 60–75 ms on llvmpipe, interactive frames through its proxy);
+  /// the 871k-triangle 437k scan and the 2M-triangle million-vertex dragon do not.
+  static constexpr int kDefaultMinimumTriangles = 400'000;
+  /// Wall time one slice aims at, glFinish() included: the next slice's size follows the last one's measured rate.
+  static constexpr double kSliceBudgetMs = 25.0;
+  /// The first slice of a picture when no rate is known yet (about 15 ms of llvmpipe's vertex stage here).
+  static constexpr int kFirstSliceTriangles = 1 << 16;
+
+  /// Everything a picture of the whole mesh depends on: equal keys, equal pictures.
+  struct Key {
+    unsigned content = 0;  ///< ViewportBuffers::contentVersion()
+    QMatrix4x4 view;
+    QMatrix4x4 projection;
+    QSize size;  ///< device pixels
+    bool wireframe = false;
+    Eigen::MatrixXf gpuZ;  ///< the GPU path's scaled Z (empty on the CPU path)
+    friend bool operator==(const Key& a, const Key& b) {
+      return a.content == b.content && a.view == b.view && a.projection == b.projection && a.size == b.size &&
+             a.wireframe == b.wireframe && a.gpuZ.rows() == b.gpuZ.rows() && a.gpuZ.cols() == b.gpuZ.cols() &&
+             a.gpuZ == b.gpuZ;
+    }
+  };
+  /// The key of `pass` (its camera, wireframe and Z) drawn from `buffers` into `size` device pixels. Cost: O(m).
+  static Key key(const ViewportBuffers& buffers, const MeshPass& pass, QSize size);
+
+  ProgressivePicture();
+  ~ProgressivePicture();
+  ProgressivePicture(const ProgressivePicture&) = delete;
+  ProgressivePicture& operator=(const ProgressivePicture&) = delete;
+
+  /// Whether the picture of `key` is complete (then blit() shows it).
+  [[nodiscard]] bool completeFor(const Key& key) const { return m_complete && m_key == key; }
+  /// Whether slices of `key` are being drawn (started, not complete).
+  [[nodiscard]] bool drawing(const Key& key) const { return m_started && !m_complete && m_key == key; }
+  [[nodiscard]] bool drawing() const { return m_started && !m_complete; }
+  /// The key of the picture started last.
+  [[nodiscard]] const Key& key() const { return m_key; }
+  /// Starts the picture of `key` over (`triangles`: the mesh's); the next drawNext() clears the target first.
+  void start(Key key, int triangles);
+  /// Forgets the picture (e.g. the mesh went away): nothing is complete or drawing.
+  void reset();
+
+  /// Draws the next slice of the started picture into its target (created or resized as needed), waits for the
+  /// rasteriser (glFinish) and sizes the next slice from the time it took. `pass` must match the started key.
+  /// Returns whether the picture is now complete. Leaves the context's default framebuffer bound.
+  bool drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& passes, ViewportBuffers& buffers, GpuReconstructor& gpu,
+                MeshPass pass);
+  /// Copies the target (complete or not: the slices drawn so far) onto framebuffer `target`, which it leaves bound.
+  /// Cost: one blit of the size's pixels.
+  void blit(QOpenGLFunctions_3_3_Core& gl, unsigned target) const;
+  /// The target as an image (for tests); null before the first slice.
+  [[nodiscard]] QImage image() const;
+  /// Releases the target (context current).
+  void destroy();
+
+  /// Slices drawn for the current picture, and pictures completed so far (for tests and the stall probe).
+  [[nodiscard]] int slices() const { return m_slices; }
+  [[nodiscard]] int completed() const { return m_completed; }
+  /// Upper bound on a slice's triangles (tests: forces several slices on a small mesh); ≤ 0: none.
+  void setSliceLimit(int triangles) { m_sliceLimit = triangles; }
+
+ private:
+  std::unique_ptr<QOpenGLFramebufferObject> m_target;
+  Key m_key;
+  bool m_started = false;
+  bool m_complete = false;
+  int m_triangles = 0;  // the mesh's
+  int m_next = 0;       // first triangle of the next slice
+  int m_sliceTriangles = kFirstSliceTriangles;
+  int m_sliceLimit = 0;
+  int m_slices = 0;
+  int m_completed = 0;
+};
+
+}  // namespace sc::app

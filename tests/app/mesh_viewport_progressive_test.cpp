@@ -1,0 +1,110 @@
+// Tests for src/app/gui/viewport/progressive_picture.cpp and MeshViewport's use of it: the full picture of a large
+// mesh drawn in slices between paints equals the mesh drawn whole, a change of view starts it over, and meshes below
+// the threshold are drawn as before (needs an X server with GL). A small mesh stands in for a large one by lowering
+// the threshold and capping the slices.
+
+#include "app/gui/mesh_viewport.h"
+
+#include "app_test_support.h"
+#include "test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <QTest>
+
+#include <cstdlib>
+
+namespace {
+
+using sc::app::MeshViewport;
+
+constexpr int kSliceLimit = 3000;  // triangles per slice: the 20,480-triangle sphere takes seven slices
+
+/// Pixels whose colour differs by more than one step in a channel.
+int differingPixels(const QImage& a, const QImage& b) {
+  if (a.size() != b.size()) return a.width() * a.height() + 1;
+  int differing = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    for (int x = 0; x < a.width(); ++x) {
+      const QRgb p = a.pixel(x, y);
+      const QRgb q = b.pixel(x, y);
+      if (std::abs(qRed(p) - qRed(q)) > 1 || std::abs(qGreen(p) - qGreen(q)) > 1 || std::abs(qBlue(p) - qBlue(q)) > 1)
+        ++differing;
+    }
+  }
+  return differing;
+}
+
+class MeshViewportProgressivePicture : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!sc::testing::openGlAvailable()) GTEST_SKIP() << "no OpenGL 3.3 context (run under xvfb-run)";
+    const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d::Zero());
+    viewport.resize(400, 300);
+    viewport.setMesh(sphere.V, sphere.F);
+    viewport.setAdaptiveResolution(true);
+    viewport.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&viewport));
+  }
+  /// Waits until the complete picture is that of the current view (slices run on the event loop).
+  bool waitForCurrentPicture() {
+    return QTest::qWaitFor([this] { return viewport.progressivePictureCurrent(); }, 20000);
+  }
+
+  /// The whole mesh drawn in one pass at full resolution: a grab (never sliced) with adaptive resolution off, since
+  /// under ctest -j2 another test's window can expose this one and make the grab an interactive, reduced frame.
+  QImage wholeMesh() {
+    viewport.setAdaptiveResolution(false);
+    QImage image = viewport.grabFramebuffer();
+    EXPECT_EQ(viewport.frameTimes().renderScale, 1.0);
+    viewport.setAdaptiveResolution(true);
+    return image;
+  }
+
+  MeshViewport viewport;
+};
+
+TEST_F(MeshViewportProgressivePicture, AStillPictureIsDrawnInSlicesAndEqualsTheMeshDrawnWhole) {
+  for (const bool wireframe : {false, true}) {
+    SCOPED_TRACE(wireframe ? "wireframe" : "shaded");
+    viewport.setWireframe(wireframe);
+    viewport.setProgressivePicture(1000, kSliceLimit);
+    ASSERT_TRUE(waitForCurrentPicture());
+    EXPECT_GE(viewport.progressiveSlices(), viewport.triangleCount() / kSliceLimit) << "drawn a slice at a time";
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);  // the paint that shows it, and the restore timer's
+    const int requests = viewport.repaintRequestCount();
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 3);
+    EXPECT_EQ(viewport.repaintRequestCount(), requests) << "a complete picture asks for no more paints";
+    EXPECT_TRUE(viewport.progressivePictureCurrent());
+    const QImage picture = viewport.progressivePictureImage();
+    const QImage whole = wholeMesh();
+    ASSERT_FALSE(picture.isNull());
+    EXPECT_EQ(picture.size(), whole.size());
+    EXPECT_EQ(differingPixels(picture, whole), 0) << "slices drawn in order over one depth buffer: the same picture";
+  }
+}
+
+TEST_F(MeshViewportProgressivePicture, AChangeOfViewStartsThePictureOverAndItShowsTheNewView) {
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  ASSERT_TRUE(waitForCurrentPicture());
+  const QImage before = viewport.progressivePictureImage();
+  const int completed = viewport.progressivePicturesCompleted();
+  viewport.lookFrom({3.0f, 1.0f, 0.5f}, {0.2f, 0.0f, 0.0f});
+  EXPECT_FALSE(viewport.progressivePictureCurrent()) << "the picture of the old view is not shown for the new one";
+  ASSERT_TRUE(waitForCurrentPicture());
+  EXPECT_GT(viewport.progressivePicturesCompleted(), completed);
+  const QImage after = viewport.progressivePictureImage();
+  EXPECT_GT(differingPixels(before, after), 100) << "the view changed";
+  EXPECT_EQ(differingPixels(after, wholeMesh()), 0);
+}
+
+TEST_F(MeshViewportProgressivePicture, AMeshBelowTheThresholdIsDrawnWholeInEachPaint) {
+  viewport.repaint();
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+  viewport.repaint();
+  EXPECT_EQ(viewport.progressiveSlices(), 0);
+  EXPECT_EQ(viewport.progressivePicturesCompleted(), 0);
+  EXPECT_EQ(viewport.frameTimes().triangles, viewport.triangleCount());
+}
+
+}  // namespace
