@@ -13,6 +13,7 @@
 #include <QTest>
 
 #include <cstdlib>
+#include <vector>
 
 namespace {
 
@@ -96,6 +97,31 @@ TEST_F(MeshViewportProgressivePicture, AChangeOfViewStartsThePictureOverAndItSho
   const QImage after = viewport.progressivePictureImage();
   EXPECT_GT(differingPixels(before, after), 100) << "the view changed";
   EXPECT_EQ(differingPixels(after, wholeMesh()), 0);
+}
+
+TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepthAndPaintsWhatADepthPassWould) {
+  viewport.setTool(sc::app::ViewportTool::HandleBrush);
+  viewport.setBrushRadius(40.0);
+  // a dab at the centre, from an empty selection (its tints start a new picture: waited for when `progressive`)
+  const auto stroke = [this](bool progressive) {
+    viewport.setSelection({}, {});
+    EXPECT_TRUE(!progressive || waitForCurrentPicture());
+    QTest::mousePress(&viewport, Qt::LeftButton, {}, QPoint(200, 150));
+    QTest::mouseRelease(&viewport, Qt::LeftButton, {}, QPoint(200, 150));
+    return viewport.handles();
+  };
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  const std::vector<int> fromPicture = stroke(true);
+  EXPECT_EQ(viewport.progressiveDepthReads(), 1) << "the stroke's depth was read back, not drawn";
+  viewport.setProgressivePicture(0);  // off: a depth pass over the whole mesh
+  const std::vector<int> drawn = stroke(false);
+  EXPECT_EQ(viewport.progressiveDepthReads(), 1);
+  EXPECT_GT(drawn.size(), 10U) << "the dab covers visible vertices";
+  EXPECT_EQ(fromPicture, drawn);
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  viewport.setWireframe(true);  // the picture's fill is pushed back under its edges: not a picking depth
+  EXPECT_EQ(stroke(true), drawn);
+  EXPECT_EQ(viewport.progressiveDepthReads(), 1);
 }
 
 TEST_F(MeshViewportProgressivePicture, AMeshBelowTheThresholdIsDrawnWholeInEachPaint) {

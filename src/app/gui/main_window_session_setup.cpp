@@ -143,7 +143,7 @@ void MainWindow::connectViewportToSession() {
           "triangles%s), compose %.1f ms\n",
           frame.uploadMs, frame.backgroundMs, frame.meshMs, frame.triangles,
           frame.pictureSlices > 0
-              ? qPrintable(QStringLiteral(", a progressive picture: %1 slices so far").arg(frame.pictureSlices))
+              ? qPrintable(QStringLiteral(", a progressive picture of %1 slice(s) so far").arg(frame.pictureSlices))
               : "",
           frame.composeMs);
     }

@@ -198,9 +198,12 @@ class MeshViewport : public QWidget,
   /// the wireframe or the size starts the picture over. grabFramebuffer() always draws the whole mesh.
   /// `sliceLimit` > 0 caps a slice's triangles (tests). On a real GPU the first slice's rate makes one slice of it.
   void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
+  /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it is current (no
+  /// wireframe) instead of drawing the mesh's depth again.
   /// Slices drawn for the latest picture, pictures completed so far, and the latest picture as drawn (for tests).
   [[nodiscard]] int progressiveSlices() const { return m_picture.slices(); }
   [[nodiscard]] int progressivePicturesCompleted() const { return m_picture.completed(); }
+  [[nodiscard]] int progressiveDepthReads() const { return m_picture.depthReads(); }
   [[nodiscard]] QImage progressivePictureImage();
   /// Whether the complete picture is that of the current view and shape (what a still paint shows now).
   [[nodiscard]] bool progressivePictureCurrent();

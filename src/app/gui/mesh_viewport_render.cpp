@@ -248,6 +248,13 @@ DepthImage MeshViewport::renderDepth() {
     return {};
   }
   makeCurrent();
+  // The complete picture of this view (without wireframe, whose fill is pushed back) has this depth already: a
+  // read-back instead of a pass over the whole mesh (0.4-0.6 s on llvmpipe at a million vertices).
+  if (!m_wireframe && drawsProgressively() && m_picture.completeFor(pictureKey())) {
+    DepthImage image = m_picture.readDepth(*m_gl33);
+    doneCurrent();
+    return image;
+  }
   m_frames.ensureFullVertexData(m_frameTimes);
   m_buffers.upload(*m_gl33, gpuBasis());
   DepthImage image = m_passes.renderDepth(*m_gl33, pixelSize(), m_buffers, m_frames.gpu(), meshPass(false, false));

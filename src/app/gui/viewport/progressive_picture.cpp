@@ -96,6 +96,20 @@ void ProgressivePicture::blit(QOpenGLFunctions_3_3_Core& gl, unsigned target) co
   gl.glBindFramebuffer(GL_FRAMEBUFFER, target);
 }
 
+DepthImage ProgressivePicture::readDepth(QOpenGLFunctions_3_3_Core& gl) const {
+  DepthImage image;
+  if (!m_complete || !m_target) return image;
+  image.width = m_target->width();
+  image.height = m_target->height();
+  image.depth.resize(static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height));
+  m_target->bind();
+  gl.glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl.glReadPixels(0, 0, image.width, image.height, GL_DEPTH_COMPONENT, GL_FLOAT, image.depth.data());
+  m_target->release();
+  ++m_depthReads;
+  return image;
+}
+
 QImage ProgressivePicture::image() const { return m_target ? m_target->toImage() : QImage(); }
 
 void ProgressivePicture::destroy() {

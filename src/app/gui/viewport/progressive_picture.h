@@ -76,6 +76,10 @@ class ProgressivePicture {
   /// Copies the target (complete or not: the slices drawn so far) onto framebuffer `target`, which it leaves bound.
   /// Cost: one blit of the size's pixels.
   void blit(QOpenGLFunctions_3_3_Core& gl, unsigned target) const;
+  /// The depth of the complete picture, read back (4 bytes per pixel; rows bottom-up as glReadPixels gives them):
+  /// what ScenePasses::renderDepth() would render for the same key without wireframe, without drawing the mesh.
+  /// Empty unless complete. Leaves the context's default framebuffer bound.
+  [[nodiscard]] DepthImage readDepth(QOpenGLFunctions_3_3_Core& gl) const;
   /// The target as an image (for tests); null before the first slice.
   [[nodiscard]] QImage image() const;
   /// Releases the target (context current).
@@ -84,6 +88,8 @@ class ProgressivePicture {
   /// Slices drawn for the current picture, and pictures completed so far (for tests and the stall probe).
   [[nodiscard]] int slices() const { return m_slices; }
   [[nodiscard]] int completed() const { return m_completed; }
+  /// readDepth() calls that read a complete picture (for tests).
+  [[nodiscard]] int depthReads() const { return m_depthReads; }
   /// Upper bound on a slice's triangles (tests: forces several slices on a small mesh); ≤ 0: none.
   void setSliceLimit(int triangles) { m_sliceLimit = triangles; }
 
@@ -98,6 +104,7 @@ class ProgressivePicture {
   int m_sliceLimit = 0;
   int m_slices = 0;
   int m_completed = 0;
+  mutable int m_depthReads = 0;
 };
 
 }  // namespace sc::app
