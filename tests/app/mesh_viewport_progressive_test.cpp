@@ -6,6 +6,7 @@
 #include "app/gui/mesh_viewport.h"
 
 #include "app_test_support.h"
+#include "synthetic_basis.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@
 namespace {
 
 using sc::app::MeshViewport;
+using sc::app::ReconstructionPath;
 
 constexpr int kSliceLimit = 3000;  // triangles per slice: the 20,480-triangle sphere takes seven slices
 
@@ -97,6 +99,31 @@ TEST_F(MeshViewportProgressivePicture, AChangeOfViewStartsThePictureOverAndItSho
   const QImage after = viewport.progressivePictureImage();
   EXPECT_GT(differingPixels(before, after), 100) << "the view changed";
   EXPECT_EQ(differingPixels(after, wholeMesh()), 0);
+}
+
+// A display level's frames on either reconstruction path: a new Z (CPU: new positions; GPU: the shader's uniforms)
+// makes the picture stale, and the picture drawn for it equals the frame drawn whole.
+TEST_F(MeshViewportProgressivePicture, AFrameOfANewZStartsThePictureOverOnEitherPath) {
+  const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d::Zero());
+  const int m = 24;
+  viewport.setDisplayLevel(
+      sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, sc::testing::syntheticBasis(sphere.V, m, 0.08f)}));
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
+    viewport.setReconstructionPath(path);
+    if (viewport.reconstructionPath() != path) {  // only where this context cannot draw the basis
+      EXPECT_FALSE(viewport.gpuReconstructionAvailable());
+      continue;
+    }
+    SCOPED_TRACE(path == ReconstructionPath::Gpu ? "gpu" : "cpu");
+    for (const unsigned seed : {1U, 2U}) {
+      viewport.showFrame(
+          {seed + (path == ReconstructionPath::Gpu ? 10U : 0U), sc::testing::randomCoefficients(m, 1.0f, seed)});
+      EXPECT_FALSE(viewport.progressivePictureCurrent()) << "the shape changed";
+      ASSERT_TRUE(waitForCurrentPicture());
+      EXPECT_EQ(differingPixels(viewport.progressivePictureImage(), wholeMesh()), 0);
+    }
+  }
 }
 
 TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepthAndPaintsWhatADepthPassWould) {

@@ -7,6 +7,7 @@
 
 #include "app_test_support.h"
 #include "spectral/reconstruction_kernel.h"
+#include "synthetic_basis.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -17,38 +18,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <random>
 
 namespace {
 
 using sc::app::MeshViewport;
 using sc::app::ReconstructionPath;
-
-// A smooth-ish random basis: K_ik = scale·sin(k·x_i + phase_k) style values, deterministic; quantised as a level
-// holds it.
-sc::spectral::QuantizedBasis syntheticBasis(const Eigen::MatrixXd& V, int m, float scale) {
-  Eigen::MatrixXd K(V.rows(), m);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> phase(0.0f, 6.28f);
-  for (int k = 0; k < m; ++k) {
-    const float p = phase(rng);
-    const auto axis = static_cast<Eigen::Index>(k % 3);
-    for (Eigen::Index i = 0; i < V.rows(); ++i) {
-      K(i, k) = scale * std::sin(static_cast<float>(k + 1) * static_cast<float>(V(i, axis)) + p);
-    }
-  }
-  return sc::spectral::quantizeBasis(K);
-}
-
-Eigen::MatrixXf randomCoefficients(int m, float scale, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-scale, scale);
-  Eigen::MatrixXf Z(m, 3);
-  for (Eigen::Index i = 0; i < Z.size(); ++i) {
-    Z.data()[i] = u(rng);
-  }
-  return Z;
-}
+using sc::testing::randomCoefficients;
+using sc::testing::syntheticBasis;
 
 double diagonalOf(const std::vector<float>& xyz) {
   Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>> P(
