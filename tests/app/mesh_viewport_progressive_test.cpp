@@ -13,6 +13,7 @@
 
 #include <QTest>
 
+#include <algorithm>
 #include <cstdlib>
 #include <vector>
 
@@ -127,14 +128,20 @@ TEST_F(MeshViewportProgressivePicture, AFrameOfANewZStartsThePictureOverOnEither
 }
 
 TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepthAndPaintsWhatADepthPassWould) {
+  // A big sphere under a small one: a dab on the small one, off the middle of the view, lands elsewhere on the
+  // shape (or off it) if the depth's rows were read upside down.
+  const auto shape = sc::testing::joined(sc::testing::icosphere(5, 1.0, Eigen::Vector3d::Zero()),
+                                         sc::testing::icosphere(4, 0.45, Eigen::Vector3d(0.0, 1.5, 0.0)));
+  viewport.setMesh(shape.V, shape.F);
   viewport.setTool(sc::app::ViewportTool::HandleBrush);
-  viewport.setBrushRadius(40.0);
-  // a dab at the centre, from an empty selection (its tints start a new picture: waited for when `progressive`)
+  viewport.setBrushRadius(12.0);
+  static constexpr QPoint kDab(200, 45);
+  // a dab on the small sphere, from an empty selection (its tints start a new picture: waited for when `progressive`)
   const auto stroke = [this](bool progressive) {
     viewport.setSelection({}, {});
     EXPECT_TRUE(!progressive || waitForCurrentPicture());
-    QTest::mousePress(&viewport, Qt::LeftButton, {}, QPoint(200, 150));
-    QTest::mouseRelease(&viewport, Qt::LeftButton, {}, QPoint(200, 150));
+    QTest::mousePress(&viewport, Qt::LeftButton, {}, kDab);
+    QTest::mouseRelease(&viewport, Qt::LeftButton, {}, kDab);
     return viewport.handles();
   };
   viewport.setProgressivePicture(1000, kSliceLimit);
@@ -144,11 +151,39 @@ TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepth
   const std::vector<int> drawn = stroke(false);
   EXPECT_EQ(viewport.progressiveDepthReads(), 1);
   EXPECT_GT(drawn.size(), 10U) << "the dab covers visible vertices";
+  const int bigSphere = static_cast<int>(sc::testing::icosphere(5).V.rows());
+  EXPECT_TRUE(std::all_of(drawn.begin(), drawn.end(), [bigSphere](int v) { return v >= bigSphere; }))
+      << "all on the small sphere";
   EXPECT_EQ(fromPicture, drawn);
   viewport.setProgressivePicture(1000, kSliceLimit);
   viewport.setWireframe(true);  // the picture's fill is pushed back under its edges: not a picking depth
   EXPECT_EQ(stroke(true), drawn);
   EXPECT_EQ(viewport.progressiveDepthReads(), 1);
+}
+
+// Without a proxy, a new mesh shows its slices as they come; once the window has shown it whole, a still change (new
+// tints here, as a brush stroke makes) draws the whole mesh in the paint as before, not a picture started over.
+TEST_F(MeshViewportProgressivePicture, WithoutAProxyOnlyANewMeshShowsItsSlicesSoFar) {
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  // The first paint of a new mesh, not an interactive one (a moving frame draws whole): under ctest -j2 another
+  // test's window can expose this one just before, so try again a few times.
+  bool slicesSoFar = false;
+  for (int attempt = 0; attempt < 20 && !slicesSoFar; ++attempt) {
+    const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d(0.5 + 0.01 * attempt, 0.0, 0.0));
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+    viewport.setMesh(sphere.V, sphere.F);
+    viewport.repaint();
+    slicesSoFar = viewport.frameTimes().pictureSlices >= 1;
+  }
+  EXPECT_TRUE(slicesSoFar) << "the new mesh's slices so far";
+  ASSERT_TRUE(waitForCurrentPicture());
+  QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+  viewport.repaint();
+  EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressiveSlices()) << "the complete picture";
+  viewport.setSelection({0, 1, 2}, {});
+  viewport.repaint();
+  EXPECT_EQ(viewport.frameTimes().pictureSlices, 0) << "drawn whole in the paint";
+  EXPECT_EQ(viewport.frameTimes().triangles, viewport.triangleCount());
 }
 
 TEST_F(MeshViewportProgressivePicture, AMeshBelowTheThresholdIsDrawnWholeInEachPaint) {

@@ -67,6 +67,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   }
   m_input.endGesture();
   m_frames.drop();
+  m_wholePictureShown = false;
   m_origin = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
   m_vertexCount = static_cast<int>(V.rows());
   m_buffers.setIndices(flatIndices(F));
@@ -129,6 +130,7 @@ void MeshViewport::setSceneBounds(const QVector3D& lo, const QVector3D& hi, bool
 void MeshViewport::clearMesh() {
   m_input.endGesture();
   m_frames.drop();
+  m_wholePictureShown = false;
   m_buffers.clear();
   m_selection.clear();
   m_vertexCount = 0;
@@ -172,6 +174,7 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
   // buffers show its arrays and the camera its box, so this costs O(#V) only for the tints (and O(m) for K).
   m_input.endGesture();
   m_frames.drop();
+  m_wholePictureShown = false;
   m_origin = g.origin;
   m_vertexCount = static_cast<int>(n);
   const spectral::QuantizedBasis& K = level->level.K;

@@ -193,10 +193,11 @@ class MeshViewport : public QWidget,
   /// Meshes of at least `minimumTriangles` > 0 triangles (default RendererDefaults::progressiveMinimumTriangles()) have
   /// their full-resolution picture drawn in slices between paints, while adaptive resolution is on and the window is
   /// single-sampled: a paint shows the complete picture of the current view and shape when there is one (a blit),
-  /// else the interactive proxy meanwhile (or, without a proxy, the slices drawn so far) and the slices follow, each
-  /// about ProgressivePicture::kSliceBudgetMs, each a turn of the event loop; any change of the view, the shape,
-  /// the wireframe or the size starts the picture over. grabFramebuffer() always draws the whole mesh.
-  /// `sliceLimit` > 0 caps a slice's triangles (tests). On a real GPU the first slice's rate makes one slice of it.
+  /// else the interactive proxy meanwhile (without a proxy: the slices drawn so far for a new mesh, the whole mesh
+  /// once it was shown whole) and the slices follow, each about ProgressivePicture::kSliceBudgetMs, each a turn of
+  /// the event loop; a change of the view, the shape, the tints, the wireframe or the size makes the picture stale
+  /// (dropped; started again when things are still). grabFramebuffer() always draws the whole mesh.
+  /// `sliceLimit` > 0 caps a slice's triangles (tests). Off by default on a GPU (adaptive resolution is off there).
   void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
   /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it is current (no
   /// wireframe) instead of drawing the mesh's depth again.
@@ -346,8 +347,10 @@ class MeshViewport : public QWidget,
   /// Paints into `framebuffer`: the window's (`window`), or a grab's (always the whole mesh at full resolution).
   void paint(unsigned framebuffer, bool window);
   /// A still window paint of a large mesh: the complete picture of `frame`'s view (a blit), or until then the proxy
-  /// (`frame` becomes FramePolicy::standIn(): returns false, the caller draws it) or the slices so far (drawing the
-  /// first one now if none is); the slices follow on m_sliceTimer. Returns whether the paint showed the picture.
+  /// (`frame` becomes FramePolicy::standIn(): returns false, the caller draws it), or without a proxy the whole mesh
+  /// as before (returns false) once the window has shown this mesh whole, e.g. during a brush stroke, else (a new
+  /// mesh) the slices so far (drawing the first one now if none is); the slices follow on m_sliceTimer. Returns whether
+  /// the paint showed the picture.
   bool showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable);
   /// Whether full pictures of this mesh are drawn in slices (setProgressivePicture()).
   [[nodiscard]] bool drawsProgressively() const;
@@ -355,7 +358,9 @@ class MeshViewport : public QWidget,
   ProgressivePicture::Key pictureKey();
   /// Starts (or continues) the slices of the current full picture, or repaints at once when it is complete.
   void continuePicture();
-  /// One slice of the picture being drawn (m_sliceTimer), then a repaint when it is complete.
+  /// One slice of the picture being drawn (m_sliceTimer), then a repaint when it is complete. A picture made stale by
+  /// a change is dropped, not restarted (the next still paint or the idle restore starts it), and nothing is drawn
+  /// while the window is not exposed (a paint resumes it).
   void drawPictureSlice();
 
   void positionsGiven();
@@ -387,6 +392,8 @@ class MeshViewport : public QWidget,
   int m_progressiveMinimumTriangles = RendererDefaults::progressiveMinimumTriangles();  // 0: never
   bool m_showingPartial = false;  // the window shows m_picture's slices so far: each slice repaints
   bool m_showingPicture = false;  // the window's latest paint showed m_picture complete
+  bool m_wholePictureShown =
+      false;  // the window showed this mesh whole (not only the proxy or slices) since it was set
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached

@@ -127,6 +127,7 @@ void MeshViewport::paint(unsigned framebuffer, bool window) {
   if (window) {
     m_showingPartial = shown && !m_picture.completeFor(m_picture.key());
     m_showingPicture = shown && !m_showingPartial;
+    m_wholePictureShown = m_wholePictureShown || m_showingPicture || (!shown && !frame.proxy);
   }
   if (m_gl33 != nullptr && !shown) {
     m_passes.drawFrame(*m_gl33, m_buffers, m_frames.gpu(), gpuBasis(), meshPass(m_wireframe, frame.proxy),
@@ -165,6 +166,7 @@ bool MeshViewport::showPicture(unsigned framebuffer, FramePolicy::Frame& frame, 
       frame = m_policy.standIn(scalable);  // the proxy until the picture is complete
       return false;
     }
+    if (m_wholePictureShown) return false;  // no proxy (a brush stroke, wireframe): the whole mesh, as before
   }
   m_stages.start();
   m_buffers.upload(*m_gl33, gpuBasis());
@@ -196,7 +198,8 @@ bool MeshViewport::progressivePictureCurrent() { return m_picture.completeFor(pi
 
 bool MeshViewport::drawsProgressively() const {
   return m_policy.adaptive() && m_gl33 != nullptr && sampleCount() <= 0 && m_passes.meshReady() &&
-         m_progressiveMinimumTriangles > 0 && triangleCount() >= m_progressiveMinimumTriangles;
+         !pixelSize().isEmpty() && m_progressiveMinimumTriangles > 0 &&
+         triangleCount() >= m_progressiveMinimumTriangles;
 }
 
 ProgressivePicture::Key MeshViewport::pictureKey() {
@@ -220,11 +223,20 @@ void MeshViewport::continuePicture() {
 }
 
 void MeshViewport::drawPictureSlice() {
-  if (!m_picture.drawing() || !drawsProgressively() || !m_surface->makeContextCurrent()) {
+  if (!m_picture.drawing() || !drawsProgressively() || !m_surface->isExposed()) {
     return;
   }
+  if (m_frames.fullVertexDataLagging()) {  // a newer frame: stale, and no reconstruction here to find out
+    m_picture.reset();
+    return;
+  }
+  if (!m_surface->makeContextCurrent()) return;
   const ProgressivePicture::Key key = pictureKey();
-  if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());  // the picture changed: start over
+  if (!m_picture.drawing(key)) {  // the picture changed (a gesture, frames): dropped until things are still
+    m_picture.reset();
+    doneCurrent();
+    return;
+  }
   m_buffers.upload(*m_gl33, gpuBasis());
   const bool complete = m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false));
   doneCurrent();

@@ -62,6 +62,8 @@ class LevelFrames {
   /// The camera's scene bounds: exact from the host positions, or while they lag the shown frame from
   /// ShownLevel::bounds(), which needs no reconstruction.
   [[nodiscard]] std::pair<QVector3D, QVector3D> bounds() const;
+  /// Whether the CPU path's host positions or normals lag the shown frame (ensureFullVertexData() would write them).
+  [[nodiscard]] bool fullVertexDataLagging() const { return !gpuDrawing() && m_cpu.lagging(); }
   /// Whether bounds() is the conservative box of a lagging frame now (exact once the positions are current).
   [[nodiscard]] bool boundsConservative() const { return m_shown.showing() && m_cpu.positionsStale(); }
 

@@ -21,7 +21,8 @@ constexpr int kMinimumSliceTriangles = 4096;
 
 ProgressivePicture::Key ProgressivePicture::key(const ViewportBuffers& buffers, const MeshPass& pass, QSize size) {
   Key key;
-  key.content = buffers.contentVersion();
+  key.shared = buffers.sharedVersion();
+  key.vertices = pass.gpuZ == nullptr ? buffers.vertexVersion() : 0;
   key.view = pass.view;
   key.projection = pass.projection;
   key.size = size;
@@ -63,8 +64,8 @@ bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& pa
   gl.glDisable(GL_STENCIL_TEST);
   gl.glDisable(GL_CULL_FACE);
   if (m_next == 0) passes.drawBackground(gl);
-  int slice = m_sliceLimit > 0 ? std::min(m_sliceTriangles, m_sliceLimit) : m_sliceTriangles;
-  slice = std::min(slice, m_triangles - m_next);
+  const int planned = m_sliceLimit > 0 ? std::min(m_sliceTriangles, m_sliceLimit) : m_sliceTriangles;
+  const int slice = std::min(planned, m_triangles - m_next);
   pass.proxy = false;
   pass.firstTriangle = m_next;
   pass.triangleCount = slice;
@@ -74,7 +75,7 @@ bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& pa
   m_next += slice;
   ++m_slices;
   const double ms = static_cast<double>(clock.nsecsElapsed()) * 1e-6;
-  if (slice > 0 && ms > 0.0) {  // the next slice at this one's rate, at most twice as large
+  if (slice == planned && slice > 0 && ms > 0.0) {  // the next slice at this one's rate, at most twice as large
     const double fitting = static_cast<double>(slice) * kSliceBudgetMs / ms;
     m_sliceTriangles = static_cast<int>(std::clamp(fitting, static_cast<double>(kMinimumSliceTriangles),
                                                    2.0 * std::max(slice, kMinimumSliceTriangles)));

@@ -3,7 +3,9 @@
 // rasteriser (llvmpipe runs the vertex stage on the calling thread: 0.41–0.57 s for the 2M triangles of the
 // million-vertex dragon), drawn a slice of its triangles at a time into an offscreen target between paints, so that
 // the GUI thread never stands still for the whole mesh. MeshViewport shows the picture once it is complete (a blit)
-// and a stand-in until then. Context current for every call but key().
+// and a stand-in until then. Slices drawn in the mesh's order over one depth buffer give a whole draw's pixels; with
+// wireframe each slice draws its fill then its edges, which differs from all fills then all edges only where a later
+// slice's fill ties an earlier edge's depth. Context current for every call but key().
 
 #include "app/gui/viewport/scene_passes.h"
 
@@ -29,23 +31,25 @@ class ProgressivePicture {
   /// 100k dragon draws within a paint (a full frame of 60–75 ms on llvmpipe, interactive frames through its proxy);
   /// the 871k-triangle 437k scan and the 2M-triangle million-vertex dragon do not.
   static constexpr int kDefaultMinimumTriangles = 400'000;
-  /// Wall time one slice aims at, glFinish() included: the next slice's size follows the last one's measured rate.
+  /// Wall time one slice aims at, glFinish() included: the next slice's size follows the measured rate of the last
+  /// slice of full size (at most twice that size), not of a picture's short last slice.
   static constexpr double kSliceBudgetMs = 25.0;
   /// The first slice of a picture when no rate is known yet (about 15 ms of llvmpipe's vertex stage here).
   static constexpr int kFirstSliceTriangles = 1 << 16;
 
   /// Everything a picture of the whole mesh depends on: equal keys, equal pictures.
   struct Key {
-    unsigned content = 0;  ///< ViewportBuffers::contentVersion()
+    unsigned shared = 0;    ///< ViewportBuffers::sharedVersion()
+    unsigned vertices = 0;  ///< ViewportBuffers::vertexVersion() on the CPU path (0 on the GPU path: not drawn)
     QMatrix4x4 view;
     QMatrix4x4 projection;
     QSize size;  ///< device pixels
     bool wireframe = false;
     Eigen::MatrixXf gpuZ;  ///< the GPU path's scaled Z (empty on the CPU path)
     friend bool operator==(const Key& a, const Key& b) {
-      return a.content == b.content && a.view == b.view && a.projection == b.projection && a.size == b.size &&
-             a.wireframe == b.wireframe && a.gpuZ.rows() == b.gpuZ.rows() && a.gpuZ.cols() == b.gpuZ.cols() &&
-             a.gpuZ == b.gpuZ;
+      return a.shared == b.shared && a.vertices == b.vertices && a.view == b.view && a.projection == b.projection &&
+             a.size == b.size && a.wireframe == b.wireframe && a.gpuZ.rows() == b.gpuZ.rows() &&
+             a.gpuZ.cols() == b.gpuZ.cols() && a.gpuZ == b.gpuZ;
     }
   };
   /// The key of `pass` (its camera, wireframe and Z) drawn from `buffers` into `size` device pixels. Cost: O(m).

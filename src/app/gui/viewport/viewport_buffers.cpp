@@ -64,13 +64,14 @@ int bytesOf(std::span<const std::uint32_t> v) { return static_cast<int>(v.size()
 void ViewportBuffers::gatherProxyTints() {
   if (!m_proxy.empty()) {
     m_proxy.gatherTints(m_tints);
-    setDirty(m_dirty | kProxyTints);
+    m_dirty |= kProxyTints;
   }
 }
 
 void ViewportBuffers::setIndices(std::vector<std::uint32_t> indices) {
   m_indices.own() = std::move(indices);
   setProxy(CompactProxy(), {});
+  addDirty(kIndices);
 }
 
 void ViewportBuffers::shareLevel(const spectral::SharedDisplayLevel& level, bool rest) {
@@ -83,14 +84,14 @@ void ViewportBuffers::shareLevel(const spectral::SharedDisplayLevel& level, bool
   } else {
     m_rest.own().clear();
   }
-  setDirty(m_dirty | kPositions | kNormals | kRest);
   setProxy(CompactProxy(), {});
+  addDirty(kPositions | kNormals | kRest | kIndices);
 }
 
 void ViewportBuffers::setProxy(CompactProxy proxy, std::vector<std::uint32_t> meshIndices) {
   m_proxy = std::move(proxy);
   m_proxyIndices = std::move(meshIndices);
-  setDirty(m_dirty | kIndices | kProxyVertices | kProxyTints | kProxyIndices);
+  m_dirty |= kIndices | kProxyVertices | kProxyTints | kProxyIndices;  // the mesh's own triangles are unchanged
 }
 
 void ViewportBuffers::clear() {
@@ -99,7 +100,7 @@ void ViewportBuffers::clear() {
   m_tints.clear();
   m_rest.own().clear();
   setIndices({});
-  setDirty(kAll);
+  addDirty(kAll);
 }
 
 void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
@@ -118,7 +119,7 @@ void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
     gl.glBindTexture(GL_TEXTURE_BUFFER, 0);
     gl.glBindBuffer(GL_TEXTURE_BUFFER, 0);
   }
-  setDirty(kAll);
+  addDirty(kAll);
 }
 
 void ViewportBuffers::destroy(QOpenGLFunctions_3_3_Core& gl) {

@@ -69,11 +69,14 @@ class ViewportBuffers {
   void setIndices(std::vector<std::uint32_t> indices);
   /// Replaces the proxy: `proxy` its compact vertices, `meshIndices` the same triangles over the mesh's vertices.
   void setProxy(CompactProxy proxy, std::vector<std::uint32_t> meshIndices);
-  void mark(unsigned bits) { setDirty(m_dirty | bits); }
+  void mark(unsigned bits) { addDirty(bits); }
   [[nodiscard]] bool isMarked(unsigned bits) const { return (m_dirty & bits) != 0; }
-  /// Bumped by every mark (every host-side write, whether or not uploaded since): two equal versions mean the same
-  /// vertex data (ProgressivePicture's key).
-  [[nodiscard]] unsigned contentVersion() const { return m_contentVersion; }
+  /// Versions of the host data a picture of the whole mesh is drawn from (ProgressivePicture's key), bumped by every
+  /// mark of it, whether or not uploaded since: vertexVersion() the positions and normals (what the CPU path draws),
+  /// sharedVersion() the tints, triangles, rest positions and K (what both paths draw). Writes of the proxy alone, and
+  /// its triangles appended to the index buffer, bump neither.
+  [[nodiscard]] unsigned vertexVersion() const { return m_vertexVersion; }
+  [[nodiscard]] unsigned sharedVersion() const { return m_sharedVersion; }
   /// Empties every host array (marks everything).
   void clear();
 
@@ -94,17 +97,19 @@ class ViewportBuffers {
  private:
   template <typename T>
   T& marked(unsigned bit, T& value) {
-    setDirty(m_dirty | bit);
+    addDirty(bit);
     return value;
   }
-  void setDirty(unsigned bits) {
-    m_dirty = bits;
-    ++m_contentVersion;
+  void addDirty(unsigned bits) {
+    m_dirty |= bits;
+    if ((bits & (kPositions | kNormals)) != 0) ++m_vertexVersion;
+    if ((bits & (kTints | kIndices | kRest | kBasis)) != 0) ++m_sharedVersion;
   }
   void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K);
 
   unsigned m_dirty = kAll;
-  unsigned m_contentVersion = 0;
+  unsigned m_vertexVersion = 0;
+  unsigned m_sharedVersion = 0;
   SharedArray<float> m_positions;
   SharedArray<float> m_normals;
   std::vector<std::uint8_t> m_tints;
