@@ -74,7 +74,8 @@ TEST_F(MeshViewportProgressivePicture, AStillPictureIsDrawnInSlicesAndEqualsTheM
     viewport.setWireframe(wireframe);
     viewport.setProgressivePicture(1000, kSliceLimit);
     ASSERT_TRUE(waitForCurrentPicture());
-    EXPECT_GE(viewport.progressiveSlices(), viewport.triangleCount() / kSliceLimit) << "drawn a slice at a time";
+    EXPECT_GE(viewport.progressivePicture().slices(), viewport.triangleCount() / kSliceLimit)
+        << "drawn a slice at a time";
     QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);  // the paint that shows it, and the restore timer's
     const int requests = viewport.repaintRequestCount();
     QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 3);
@@ -92,11 +93,11 @@ TEST_F(MeshViewportProgressivePicture, AChangeOfViewStartsThePictureOverAndItSho
   viewport.setProgressivePicture(1000, kSliceLimit);
   ASSERT_TRUE(waitForCurrentPicture());
   const QImage before = viewport.progressivePictureImage();
-  const int completed = viewport.progressivePicturesCompleted();
+  const int completed = viewport.progressivePicture().completed();
   viewport.lookFrom({3.0f, 1.0f, 0.5f}, {0.2f, 0.0f, 0.0f});
   EXPECT_FALSE(viewport.progressivePictureCurrent()) << "the picture of the old view is not shown for the new one";
   ASSERT_TRUE(waitForCurrentPicture());
-  EXPECT_GT(viewport.progressivePicturesCompleted(), completed);
+  EXPECT_GT(viewport.progressivePicture().completed(), completed);
   const QImage after = viewport.progressivePictureImage();
   EXPECT_GT(differingPixels(before, after), 100) << "the view changed";
   EXPECT_EQ(differingPixels(after, wholeMesh()), 0);
@@ -146,10 +147,10 @@ TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepth
   };
   viewport.setProgressivePicture(1000, kSliceLimit);
   const std::vector<int> fromPicture = stroke(true);
-  EXPECT_EQ(viewport.progressiveDepthReads(), 1) << "the stroke's depth was read back, not drawn";
+  EXPECT_EQ(viewport.progressivePicture().depthReads(), 1) << "the stroke's depth was read back, not drawn";
   viewport.setProgressivePicture(0);  // off: a depth pass over the whole mesh
   const std::vector<int> drawn = stroke(false);
-  EXPECT_EQ(viewport.progressiveDepthReads(), 1);
+  EXPECT_EQ(viewport.progressivePicture().depthReads(), 1);
   EXPECT_GT(drawn.size(), 10U) << "the dab covers visible vertices";
   const int bigSphere = static_cast<int>(sc::testing::icosphere(5).V.rows());
   EXPECT_TRUE(std::all_of(drawn.begin(), drawn.end(), [bigSphere](int v) { return v >= bigSphere; }))
@@ -158,7 +159,7 @@ TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepth
   viewport.setProgressivePicture(1000, kSliceLimit);
   viewport.setWireframe(true);  // the picture's fill is pushed back under its edges: not a picking depth
   EXPECT_EQ(stroke(true), drawn);
-  EXPECT_EQ(viewport.progressiveDepthReads(), 1);
+  EXPECT_EQ(viewport.progressivePicture().depthReads(), 1);
 }
 
 // Without a proxy, a new mesh shows its slices as they come; once the window has shown it whole, a still change (new
@@ -179,7 +180,7 @@ TEST_F(MeshViewportProgressivePicture, WithoutAProxyOnlyANewMeshShowsItsSlicesSo
   ASSERT_TRUE(waitForCurrentPicture());
   QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   viewport.repaint();
-  EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressiveSlices()) << "the complete picture";
+  EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressivePicture().slices()) << "the complete picture";
   viewport.setSelection({0, 1, 2}, {});
   viewport.repaint();
   EXPECT_EQ(viewport.frameTimes().pictureSlices, 0) << "drawn whole in the paint";
@@ -190,8 +191,8 @@ TEST_F(MeshViewportProgressivePicture, AMeshBelowTheThresholdIsDrawnWholeInEachP
   viewport.repaint();
   QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   viewport.repaint();
-  EXPECT_EQ(viewport.progressiveSlices(), 0);
-  EXPECT_EQ(viewport.progressivePicturesCompleted(), 0);
+  EXPECT_EQ(viewport.progressivePicture().slices(), 0);
+  EXPECT_EQ(viewport.progressivePicture().completed(), 0);
   EXPECT_EQ(viewport.frameTimes().triangles, viewport.triangleCount());
 }
 

@@ -201,10 +201,8 @@ class MeshViewport : public QWidget,
   void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
   /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it is current (no
   /// wireframe) instead of drawing the mesh's depth again.
-  /// Slices drawn for the latest picture, pictures completed so far, and the latest picture as drawn (for tests).
-  [[nodiscard]] int progressiveSlices() const { return m_picture.slices(); }
-  [[nodiscard]] int progressivePicturesCompleted() const { return m_picture.completed(); }
-  [[nodiscard]] int progressiveDepthReads() const { return m_picture.depthReads(); }
+  /// The picture (its slices, completions and depth reads, for tests) and its image as drawn (context made current).
+  [[nodiscard]] const ProgressivePicture& progressivePicture() const { return m_picture; }
   [[nodiscard]] QImage progressivePictureImage();
   /// Whether the complete picture is that of the current view and shape (what a still paint shows now).
   [[nodiscard]] bool progressivePictureCurrent();
@@ -390,10 +388,9 @@ class MeshViewport : public QWidget,
   ProgressivePicture m_picture;
   QTimer m_sliceTimer;  // the next slice of m_picture, after a turn of the event loop
   int m_progressiveMinimumTriangles = RendererDefaults::progressiveMinimumTriangles();  // 0: never
-  bool m_showingPartial = false;  // the window shows m_picture's slices so far: each slice repaints
-  bool m_showingPicture = false;  // the window's latest paint showed m_picture complete
-  bool m_wholePictureShown =
-      false;  // the window showed this mesh whole (not only the proxy or slices) since it was set
+  bool m_showingPartial = false;     // the window shows m_picture's slices so far: each slice repaints
+  bool m_showingPicture = false;     // the window's latest paint showed m_picture complete
+  bool m_wholePictureShown = false;  // the window showed this mesh whole since it was set (not only proxy/slices)
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached

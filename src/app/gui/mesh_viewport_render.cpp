@@ -125,7 +125,7 @@ void MeshViewport::paint(unsigned framebuffer, bool window) {
   const bool shown =
       large && !frame.proxy && !(frame.interactive && frame.moved) && showPicture(framebuffer, frame, scalable);
   if (window) {
-    m_showingPartial = shown && !m_picture.completeFor(m_picture.key());
+    m_showingPartial = shown && !m_picture.complete();
     m_showingPicture = shown && !m_showingPartial;
     m_wholePictureShown = m_wholePictureShown || m_showingPicture || (!shown && !frame.proxy);
   }

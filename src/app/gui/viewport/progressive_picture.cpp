@@ -4,12 +4,10 @@
 
 #include <QElapsedTimer>
 #include <QImage>
-#include <QOpenGLContext>
 #include <QOpenGLFramebufferObject>
 #include <QOpenGLFunctions_3_3_Core>
 
 #include <algorithm>
-#include <cmath>
 #include <utility>
 
 namespace sc::app {

@@ -11,7 +11,6 @@
 
 #include <Eigen/Core>
 
-#include <QElapsedTimer>
 #include <QMatrix4x4>
 #include <QSize>
 
@@ -65,6 +64,7 @@ class ProgressivePicture {
   /// Whether slices of `key` are being drawn (started, not complete).
   [[nodiscard]] bool drawing(const Key& key) const { return m_started && !m_complete && m_key == key; }
   [[nodiscard]] bool drawing() const { return m_started && !m_complete; }
+  [[nodiscard]] bool complete() const { return m_complete; }
   /// The key of the picture started last.
   [[nodiscard]] const Key& key() const { return m_key; }
   /// Starts the picture of `key` over (`triangles`: the mesh's); the next drawNext() clears the target first.
