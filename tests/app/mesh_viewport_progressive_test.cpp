@@ -15,6 +15,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <numeric>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -73,6 +75,10 @@ TEST_F(MeshViewportProgressivePicture, AStillPictureIsDrawnInSlicesAndEqualsTheM
     SCOPED_TRACE(wireframe ? "wireframe" : "shaded");
     viewport.setWireframe(wireframe);
     viewport.setProgressivePicture(1000, kSliceLimit);
+    // a new mesh: its picture's slices are drawn between paints (once a mesh was shown whole, a still paint without a
+    // proxy would draw the rest of its picture at once)
+    const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d(wireframe ? 0.1 : 0.0, 0.0, 0.0));
+    viewport.setMesh(sphere.V, sphere.F);
     ASSERT_TRUE(waitForCurrentPicture());
     EXPECT_GE(viewport.progressivePicture().slices(), viewport.triangleCount() / kSliceLimit)
         << "drawn a slice at a time";
@@ -160,10 +166,28 @@ TEST_F(MeshViewportProgressivePicture, ABrushStrokeReadsTheCompletePicturesDepth
   viewport.setWireframe(true);  // the picture's fill is pushed back under its edges: not a picking depth
   EXPECT_EQ(stroke(true), drawn);
   EXPECT_EQ(viewport.progressivePicture().depthReads(), 1);
+  // a stroke before the picture is complete (a new mesh here, as soon after an orbit): the press completes the
+  // picture and reads its depth, and the paint after the dab patches it
+  viewport.setWireframe(false);
+  viewport.setMesh(shape.V, shape.F);
+  viewport.repaint();
+  const int completed = viewport.progressivePicture().completed();
+  const int patches = viewport.progressivePicture().patches();
+  QTest::mousePress(&viewport, Qt::LeftButton, {}, kDab);
+  QTest::mouseRelease(&viewport, Qt::LeftButton, {}, kDab);
+  EXPECT_EQ(viewport.handles(), drawn);
+  EXPECT_EQ(viewport.progressivePicture().depthReads(), 2);
+  EXPECT_EQ(viewport.progressivePicture().completed(), completed + 1) << "completed by the press";
+  viewport.repaint();
+  EXPECT_EQ(viewport.progressivePicture().patches(), patches + 1);
+  EXPECT_TRUE(viewport.progressivePictureCurrent());
+  EXPECT_EQ(differingPixels(viewport.progressivePictureImage(), wholeMesh()), 0);
 }
 
-// Without a proxy, a new mesh shows its slices as they come; once the window has shown it whole, a still change (new
-// tints here, as a brush stroke makes) draws the whole mesh in the paint as before, not a picture started over.
+// Without a proxy, a new mesh shows its slices as they come; once the window has shown it whole, a still change that
+// cannot be patched (wireframe here) draws the rest of its new picture in a still paint, as it would the whole mesh,
+// rather than show the slices so far (an interactive paint draws the whole mesh, reduced); that picture equals the
+// whole draw.
 TEST_F(MeshViewportProgressivePicture, WithoutAProxyOnlyANewMeshShowsItsSlicesSoFar) {
   viewport.setProgressivePicture(1000, kSliceLimit);
   // The first paint of a new mesh, not an interactive one (a moving frame draws whole): under ctest -j2 another
@@ -181,10 +205,101 @@ TEST_F(MeshViewportProgressivePicture, WithoutAProxyOnlyANewMeshShowsItsSlicesSo
   QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
   viewport.repaint();
   EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressivePicture().slices()) << "the complete picture";
-  viewport.setSelection({0, 1, 2}, {});
+  // a still paint (as above, another test's window may make one interactive: then the mesh is drawn whole, reduced)
+  bool completedInThePaint = false;
+  for (int attempt = 0; attempt < 20 && !completedInThePaint; ++attempt) {
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+    const int completed = viewport.progressivePicture().completed();
+    viewport.setWireframe(!viewport.wireframe());
+    viewport.repaint();
+    completedInThePaint = viewport.progressivePicture().completed() == completed + 1;
+    if (!completedInThePaint) {
+      EXPECT_EQ(viewport.frameTimes().pictureSlices, 0) << "drawn whole";
+    }
+  }
+  ASSERT_TRUE(completedInThePaint) << "the new picture completed in the paint";
+  EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressivePicture().slices()) << "and shown";
+  EXPECT_LE(viewport.progressivePicture().slices(), 2) << "its first slice (the paint's) and the rest";
+  EXPECT_TRUE(viewport.progressivePictureCurrent());
+  EXPECT_EQ(differingPixels(viewport.progressivePictureImage(), wholeMesh()), 0);
+}
+
+// New tints alone (a brush dab, a selection) patch the complete picture: only the triangles around the vertices whose
+// tint changed are redrawn over it, and it equals the mesh drawn whole with those tints, on either reconstruction
+// path; tints over a quarter of the mesh start the picture over instead.
+TEST_F(MeshViewportProgressivePicture, NewTintsPatchTheCompletePictureAndItEqualsTheMeshDrawnWhole) {
+  const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d::Zero());
+  const int m = 24;
+  viewport.setDisplayLevel(
+      sc::spectral::makeDisplayLevel({sphere.V, sphere.F, {}, sc::testing::syntheticBasis(sphere.V, m, 0.08f)}));
+  viewport.showFrame({1U, sc::testing::randomCoefficients(m, 1.0f, 1U)});
+  viewport.setProgressivePicture(1000, kSliceLimit);
+  const int n = static_cast<int>(sphere.V.rows());
+  // vertices near +z (facing the default camera or not, whichever: the test compares pictures) and near +x
+  std::vector<int> handles;
+  std::vector<int> anchors;
+  for (int v = 0; v < n; ++v) {
+    if (sphere.V(v, 2) > 0.9) handles.push_back(v);
+    if (sphere.V(v, 0) > 0.9) anchors.push_back(v);
+  }
+  ASSERT_GT(handles.size(), 20U);
+  ASSERT_GT(anchors.size(), 20U);
+  for (const ReconstructionPath path : {ReconstructionPath::Cpu, ReconstructionPath::Gpu}) {
+    viewport.setReconstructionPath(path);
+    if (viewport.reconstructionPath() != path) {
+      EXPECT_FALSE(viewport.gpuReconstructionAvailable());
+      continue;
+    }
+    SCOPED_TRACE(path == ReconstructionPath::Gpu ? "gpu" : "cpu");
+    viewport.setSelection({}, {});
+    ASSERT_TRUE(waitForCurrentPicture());
+    for (const auto& [h, a] : {std::pair{handles, std::vector<int>{}}, std::pair{handles, anchors},
+                               std::pair{std::vector<int>{}, anchors}}) {
+      const int completed = viewport.progressivePicture().completed();
+      const int patches = viewport.progressivePicture().patches();
+      const QImage before = viewport.progressivePictureImage();
+      viewport.setSelection(h, a);
+      viewport.repaint();
+      EXPECT_EQ(viewport.progressivePicture().patches(), patches + 1) << "patched in the paint";
+      EXPECT_TRUE(viewport.progressivePictureCurrent());
+      EXPECT_EQ(viewport.progressivePicture().completed(), completed) << "not drawn again";
+      EXPECT_EQ(viewport.frameTimes().pictureSlices, viewport.progressivePicture().slices()) << "the picture shown";
+      const QImage after = viewport.progressivePictureImage();
+      EXPECT_GT(differingPixels(before, after), 100) << "the changed tints are in view";
+      EXPECT_EQ(differingPixels(after, wholeMesh()), 0);
+    }
+  }
+  // new tints while the picture of a new mesh is being drawn: the slices so far are patched, the rest draw the new
+  // tints, and the picture is not started over. The first paint of the mesh draws its first slice (not when it is an
+  // interactive paint: under ctest -j2 another test's window can expose this one just before, so try again).
+  bool drawing = false;
+  for (int attempt = 0; attempt < 20 && !drawing; ++attempt) {
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
+    viewport.setMesh(sphere.V, sphere.F);
+    viewport.repaint();
+    drawing = viewport.progressivePicture().slices() == 1 && !viewport.progressivePictureCurrent();
+  }
+  ASSERT_TRUE(drawing) << "the new mesh's first slice";
+  const int patchCount = viewport.progressivePicture().patches();
+  const int completedCount = viewport.progressivePicture().completed();
+  viewport.setSelection(handles, anchors);
   viewport.repaint();
-  EXPECT_EQ(viewport.frameTimes().pictureSlices, 0) << "drawn whole in the paint";
-  EXPECT_EQ(viewport.frameTimes().triangles, viewport.triangleCount());
+  EXPECT_EQ(viewport.progressivePicture().patches(), patchCount + 1) << "the first slice patched";
+  EXPECT_EQ(viewport.progressivePicture().slices(), 1) << "not started over";
+  ASSERT_TRUE(waitForCurrentPicture());
+  EXPECT_EQ(viewport.progressivePicture().patches(), patchCount + 1) << "the paints of later slices patch nothing";
+  EXPECT_EQ(viewport.progressivePicture().completed(), completedCount + 1);
+  EXPECT_GT(viewport.progressivePicture().slices(), 1) << "the same picture went on";
+  EXPECT_EQ(differingPixels(viewport.progressivePictureImage(), wholeMesh()), 0);
+
+  std::vector<int> most(static_cast<std::size_t>(n / 2));
+  std::iota(most.begin(), most.end(), 0);
+  const int patches = viewport.progressivePicture().patches();
+  viewport.setSelection(most, {});
+  viewport.repaint();
+  EXPECT_EQ(viewport.progressivePicture().patches(), patches) << "half the mesh: started over, not patched";
+  ASSERT_TRUE(waitForCurrentPicture());
+  EXPECT_EQ(differingPixels(viewport.progressivePictureImage(), wholeMesh()), 0);
 }
 
 TEST_F(MeshViewportProgressivePicture, AMeshBelowTheThresholdIsDrawnWholeInEachPaint) {

@@ -195,12 +195,14 @@ class MeshViewport : public QWidget,
   /// single-sampled: a paint shows the complete picture of the current view and shape when there is one (a blit),
   /// else the interactive proxy meanwhile (without a proxy: the slices drawn so far for a new mesh, the whole mesh
   /// once it was shown whole) and the slices follow, each about ProgressivePicture::kSliceBudgetMs, each a turn of
-  /// the event loop; a change of the view, the shape, the tints, the wireframe or the size makes the picture stale
-  /// (dropped; started again when things are still). grabFramebuffer() always draws the whole mesh.
+  /// the event loop; new tints alone (a brush dab) patch the complete picture in the paint, redrawing only the
+  /// triangles around the vertices whose tint changed (ProgressivePicture::patchTints()); a change of the view, the
+  /// shape, the wireframe or the size makes the picture stale (dropped; started again when things are still).
+  /// grabFramebuffer() always draws the whole mesh.
   /// `sliceLimit` > 0 caps a slice's triangles (tests). Off by default on a GPU (adaptive resolution is off there).
   void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
-  /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it is current (no
-  /// wireframe) instead of drawing the mesh's depth again.
+  /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it shows the current shape
+  /// and view (no wireframe; tints aside) instead of drawing the mesh's depth again.
   /// The picture (its slices, completions and depth reads, for tests) and its image as drawn (context made current).
   [[nodiscard]] const ProgressivePicture& progressivePicture() const { return m_picture; }
   [[nodiscard]] QImage progressivePictureImage();
@@ -344,12 +346,14 @@ class MeshViewport : public QWidget,
 
   /// Paints into `framebuffer`: the window's (`window`), or a grab's (always the whole mesh at full resolution).
   void paint(unsigned framebuffer, bool window);
-  /// A still window paint of a large mesh: the complete picture of `frame`'s view (a blit), or until then the proxy
-  /// (`frame` becomes FramePolicy::standIn(): returns false, the caller draws it), or without a proxy the whole mesh
-  /// as before (returns false) once the window has shown this mesh whole, e.g. during a brush stroke, else (a new
-  /// mesh) the slices so far (drawing the first one now if none is); the slices follow on m_sliceTimer. Returns whether
-  /// the paint showed the picture.
+  /// A still window paint of a large mesh: the complete picture of `frame`'s view (a blit), patched first when only
+  /// the tints changed, or until it is complete the proxy (`frame` becomes FramePolicy::standIn(): returns false,
+  /// the caller draws it), or without a proxy the rest of the picture drawn now once the window has shown this mesh
+  /// whole (a brush stroke after an orbit, wireframe), else (a new mesh) the slices so far (drawing the first one now
+  /// if none is); the slices follow on m_sliceTimer. Returns whether the paint showed the picture.
   bool showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable);
+  /// ProgressivePicture::patchTints() to `key` (buffers uploaded first), context current. Returns whether it follows.
+  bool patchPicture(const ProgressivePicture::Key& key);
   /// Whether full pictures of this mesh are drawn in slices (setProgressivePicture()).
   [[nodiscard]] bool drawsProgressively() const;
   /// The key of the full picture of the current view and shape (the mesh's positions made current first).

@@ -158,27 +158,42 @@ void MeshViewport::paint(unsigned framebuffer, bool window) {
 
 bool MeshViewport::showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable) {
   const ProgressivePicture::Key key = pictureKey();
+  m_stages.start();
+  if (!m_picture.completeFor(key) && !m_picture.drawing(key)) patchPicture(key);
+  const double patchMs = m_stages.lap();
   const bool complete = m_picture.completeFor(key);
+  // Without a proxy, once the window has shown this mesh whole (e.g. wireframe), a still paint draws the rest of the
+  // picture, as it would the whole mesh, rather than show the slices so far; an interactive one (a resize) draws the
+  // whole mesh, reduced, as before. A brush stroke's press completes the picture (renderDepth()).
+  bool rest = false;
   if (!complete) {
     if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
-    m_sliceTimer.start();
     if (proxyMayDraw()) {
+      m_sliceTimer.start();
       frame = m_policy.standIn(scalable);  // the proxy until the picture is complete
       return false;
     }
-    if (m_wholePictureShown) return false;  // no proxy (a brush stroke, wireframe): the whole mesh, as before
+    rest = m_wholePictureShown && !frame.interactive;
+    if (!rest) m_sliceTimer.start();
+    if (m_wholePictureShown && !rest) return false;
   }
   m_stages.start();
   m_buffers.upload(*m_gl33, gpuBasis());
   m_frameTimes.uploadMs = m_stages.lap();
-  if (m_picture.slices() == 0) {
-    m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false));
+  if (rest || m_picture.slices() == 0) {
+    m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false), rest);
   }
   m_picture.blit(*m_gl33, framebuffer);
-  m_frameTimes.meshMs = m_stages.lap();
+  m_frameTimes.meshMs = patchMs + m_stages.lap();
   m_frameTimes.triangles = triangleCount();
   m_frameTimes.pictureSlices = m_picture.slices();
   return true;
+}
+
+bool MeshViewport::patchPicture(const ProgressivePicture::Key& key) {
+  if (!m_picture.followsShape(key)) return false;
+  m_buffers.upload(*m_gl33, gpuBasis());
+  return m_picture.patchTints(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false), key);
 }
 
 void MeshViewport::setProgressivePicture(int minimumTriangles, int sliceLimit) {
@@ -218,6 +233,10 @@ void MeshViewport::continuePicture() {
     if (!m_showingPicture) update();
     return;
   }
+  if (m_picture.followsShape(key) && !m_picture.drawing(key)) {  // new tints: the paint patches the picture
+    update();
+    return;
+  }
   if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
   m_sliceTimer.start();  // the window keeps its interactive frame until the picture is complete
 }
@@ -232,7 +251,7 @@ void MeshViewport::drawPictureSlice() {
   }
   if (!m_surface->makeContextCurrent()) return;
   const ProgressivePicture::Key key = pictureKey();
-  if (!m_picture.drawing(key)) {  // the picture changed (a gesture, frames): dropped until things are still
+  if (!m_picture.drawing(key) && !patchPicture(key)) {  // changed (a gesture, frames): dropped until things are still
     m_picture.reset();
     doneCurrent();
     return;
@@ -260,11 +279,21 @@ DepthImage MeshViewport::renderDepth() {
     return {};
   }
   makeCurrent();
-  // The complete picture of this view (without wireframe, whose fill is pushed back) has this depth already: a
-  // read-back instead of a pass over the whole mesh (0.4-0.6 s on llvmpipe at a million vertices).
-  if (!m_wireframe && drawsProgressively() && m_picture.completeFor(pictureKey())) {
+  // The picture of this shape and view (tints aside; without wireframe, whose fill is pushed back) has this depth: a
+  // read-back instead of a pass over the whole mesh (0.4-0.6 s on llvmpipe at a million vertices). One that is not
+  // complete (a stroke soon after an orbit) is completed here, for a little more than that pass (it shades too), and
+  // shown; the paint after the dab then patches it instead of drawing the whole mesh again.
+  if (!m_wireframe && drawsProgressively()) {
+    const ProgressivePicture::Key key = pictureKey();
+    const bool completing = !m_picture.shapeCompleteFor(key);
+    if (completing) {
+      if (!m_picture.drawing(key) && !patchPicture(key)) m_picture.start(key, triangleCount());
+      m_buffers.upload(*m_gl33, gpuBasis());
+      m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(false, false), true);
+    }
     DepthImage image = m_picture.readDepth(*m_gl33);
     doneCurrent();
+    if (completing) update();
     return image;
   }
   m_frames.ensureFullVertexData(m_frameTimes);

@@ -93,7 +93,7 @@ int ScenePasses::drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffer
   if (indices.empty() || !m_meshProgram) {
     return 0;
   }
-  const bool proxy = pass.proxy && !buffers.proxyIndices().empty();
+  const bool proxy = pass.proxy && !pass.patch && !buffers.proxyIndices().empty();
   const bool onGpu = pass.gpuZ != nullptr;
   gl.glEnable(GL_DEPTH_TEST);
   gl.glDepthFunc(GL_LEQUAL);
@@ -115,8 +115,12 @@ int ScenePasses::drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffer
   const std::ptrdiff_t from = std::clamp<std::ptrdiff_t>(pass.firstTriangle, 0, meshTriangles);
   const std::ptrdiff_t to =
       pass.triangleCount < 0 ? meshTriangles : std::min<std::ptrdiff_t>(meshTriangles, from + pass.triangleCount);
-  const auto count = static_cast<GLsizei>(proxy ? buffers.proxyIndices().size() : 3 * (to - from));
-  const std::size_t firstIndex = proxy ? (onGpu ? indices.size() : 0) : static_cast<std::size_t>(3 * from);
+  const auto count = static_cast<GLsizei>(pass.patch ? 3 * buffers.patchTriangles()
+                                          : proxy    ? buffers.proxyIndices().size()
+                                                     : 3 * (to - from));
+  const std::size_t firstIndex =
+      pass.patch ? 0 : (proxy ? (onGpu ? indices.size() : 0) : static_cast<std::size_t>(3 * from));
+  if (pass.patch) buffers.bindPatch(gl);
   const auto* first = reinterpret_cast<const void*>(firstIndex * sizeof(std::uint32_t));
   // === fill pass, pushed back slightly so that the edges of the line pass win the depth test.
   if (pass.wireframe) {
@@ -134,6 +138,7 @@ int ScenePasses::drawMesh(QOpenGLFunctions_3_3_Core& gl, ViewportBuffers& buffer
     gl.glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, first);
     gl.glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   }
+  if (pass.patch) buffers.bindMeshTriangles();
   if (onGpu) {
     gpu.unbind(gl);
   }

@@ -35,6 +35,7 @@ struct MeshPass {
   const Eigen::MatrixXf* gpuZ = nullptr;  ///< non-null: the GPU path draws X̂' + K·Z with this scaled Z (m by 3)
   int firstTriangle = 0;                  ///< the mesh's triangles from this one (not the proxy's: all of those)
   int triangleCount = -1;                 ///< how many of them (−1: to the last)
+  bool patch = false;  ///< ViewportBuffers' patch triangles (uploadPatch()) instead of the mesh's or the proxy's
 };
 
 /// Where and how one picture is drawn.

@@ -110,6 +110,9 @@ void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
   m_restBuffer.create();
   m_restBuffer.setUsagePattern(QOpenGLBuffer::StaticDraw);
   recordVertexArray(gl, m_gpuVao, {&m_restBuffer, nullptr, &m_tintBuffer, &m_indexBuffer});
+  m_patchBuffer.create();
+  m_patchBuffer.setUsagePattern(QOpenGLBuffer::StreamDraw);
+  m_patchTriangles = 0;
   if (basisTexture) {
     gl.glGenBuffers(1, &m_basisBuffer);
     gl.glGenTextures(1, &m_basisTexture);
@@ -125,7 +128,7 @@ void ViewportBuffers::create(QOpenGLFunctions_3_3_Core& gl, bool basisTexture) {
 void ViewportBuffers::destroy(QOpenGLFunctions_3_3_Core& gl) {
   for (QOpenGLBuffer* buffer :
        {&m_positionBuffer, &m_normalBuffer, &m_tintBuffer, &m_indexBuffer, &m_proxyPositionBuffer, &m_proxyNormalBuffer,
-        &m_proxyTintBuffer, &m_proxyIndexBuffer, &m_restBuffer}) {
+        &m_proxyTintBuffer, &m_proxyIndexBuffer, &m_restBuffer, &m_patchBuffer}) {
     buffer->destroy();
   }
   m_meshVao.destroy();
@@ -168,6 +171,17 @@ void ViewportBuffers::upload(QOpenGLFunctions_3_3_Core& gl, const spectral::Quan
     uploadBasis(gl, *K);
     m_dirty = 0;
   }
+}
+
+void ViewportBuffers::uploadPatch(std::span<const std::uint32_t> indices) {
+  m_patchBuffer.bind();
+  m_patchBuffer.allocate(indices.data(), bytesOf(indices));
+  m_patchBuffer.release();
+  m_patchTriangles = static_cast<int>(indices.size() / 3);
+}
+
+void ViewportBuffers::bindPatch(QOpenGLFunctions_3_3_Core& gl) {
+  gl.glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_patchBuffer.bufferId());
 }
 
 // K's int16 entries padded to 4·⌈m/4⌉ columns of zeros (the texture's RGBA16I texels), written row by row into the

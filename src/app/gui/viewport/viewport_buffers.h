@@ -73,10 +73,11 @@ class ViewportBuffers {
   [[nodiscard]] bool isMarked(unsigned bits) const { return (m_dirty & bits) != 0; }
   /// Versions of the host data a picture of the whole mesh is drawn from (ProgressivePicture's key), bumped by every
   /// mark of it, whether or not uploaded since: vertexVersion() the positions and normals (what the CPU path draws),
-  /// sharedVersion() the tints, triangles, rest positions and K (what both paths draw). Writes of the proxy alone, and
-  /// its triangles appended to the index buffer, bump neither.
+  /// sharedVersion() the triangles, rest positions and K, tintVersion() the tints (what both paths draw). Writes of
+  /// the proxy alone, and its triangles appended to the index buffer, bump none.
   [[nodiscard]] unsigned vertexVersion() const { return m_vertexVersion; }
   [[nodiscard]] unsigned sharedVersion() const { return m_sharedVersion; }
+  [[nodiscard]] unsigned tintVersion() const { return m_tintVersion; }
   /// Empties every host array (marks everything).
   void clear();
 
@@ -93,6 +94,14 @@ class ViewportBuffers {
   QOpenGLVertexArrayObject& proxyVao() { return m_proxyVao; }             ///< the compact proxy's, same layout
   QOpenGLVertexArrayObject& gpuVao() { return m_gpuVao; }                 ///< rest 0, tints 2, the mesh's indices
   [[nodiscard]] unsigned basisTexture() const { return m_basisTexture; }  ///< GL_RGBA16I view of K (0: none)
+  /// A patch: some of the mesh's triangles (3·#T indices into its vertices) in an element buffer of their own, which
+  /// a mesh pass draws instead of the mesh's (MeshPass::patch). Cost: one upload of them.
+  void uploadPatch(std::span<const std::uint32_t> indices);
+  [[nodiscard]] int patchTriangles() const { return m_patchTriangles; }
+  /// With the mesh's or the GPU path's vertex array bound: makes the patch its element buffer, or the mesh's again
+  /// (the element array binding is the vertex array's state, so every bindPatch() needs its bindMeshTriangles()).
+  void bindPatch(QOpenGLFunctions_3_3_Core& gl);
+  void bindMeshTriangles() { m_indexBuffer.bind(); }
 
  private:
   template <typename T>
@@ -103,13 +112,15 @@ class ViewportBuffers {
   void addDirty(unsigned bits) {
     m_dirty |= bits;
     if ((bits & (kPositions | kNormals)) != 0) ++m_vertexVersion;
-    if ((bits & (kTints | kIndices | kRest | kBasis)) != 0) ++m_sharedVersion;
+    if ((bits & (kIndices | kRest | kBasis)) != 0) ++m_sharedVersion;
+    if ((bits & kTints) != 0) ++m_tintVersion;
   }
   void uploadBasis(QOpenGLFunctions_3_3_Core& gl, const spectral::QuantizedBasis& K);
 
   unsigned m_dirty = kAll;
   unsigned m_vertexVersion = 0;
   unsigned m_sharedVersion = 0;
+  unsigned m_tintVersion = 0;
   SharedArray<float> m_positions;
   SharedArray<float> m_normals;
   std::vector<std::uint8_t> m_tints;
@@ -130,6 +141,8 @@ class ViewportBuffers {
   QOpenGLBuffer m_proxyTintBuffer{QOpenGLBuffer::VertexBuffer};
   QOpenGLBuffer m_proxyIndexBuffer{QOpenGLBuffer::IndexBuffer};
   QOpenGLBuffer m_restBuffer{QOpenGLBuffer::VertexBuffer};
+  QOpenGLBuffer m_patchBuffer{QOpenGLBuffer::VertexBuffer};  // written as an array buffer: no vertex array's state
+  int m_patchTriangles = 0;
   unsigned m_basisBuffer = 0;   // GL_TEXTURE_BUFFER storage of K
   unsigned m_basisTexture = 0;  // GL_RGBA16I view of it
 };
