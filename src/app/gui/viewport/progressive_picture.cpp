@@ -50,6 +50,15 @@ void ProgressivePicture::reset() {
   m_slices = 0;
 }
 
+void ProgressivePicture::bindTarget(QOpenGLFunctions_3_3_Core& gl) {
+  m_target->bind();
+  gl.glViewport(0, 0, m_key.size.width(), m_key.size.height());
+  gl.glDisable(GL_BLEND);
+  gl.glDisable(GL_SCISSOR_TEST);
+  gl.glDisable(GL_STENCIL_TEST);
+  gl.glDisable(GL_CULL_FACE);
+}
+
 bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& passes, ViewportBuffers& buffers,
                                   GpuReconstructor& gpu, MeshPass pass, bool rest) {
   if (!m_started || m_complete) return m_complete;
@@ -58,12 +67,7 @@ bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& pa
   if (!m_target || m_target->size() != m_key.size) {
     m_target = std::make_unique<QOpenGLFramebufferObject>(m_key.size, QOpenGLFramebufferObject::Depth);
   }
-  m_target->bind();
-  gl.glViewport(0, 0, m_key.size.width(), m_key.size.height());
-  gl.glDisable(GL_BLEND);
-  gl.glDisable(GL_SCISSOR_TEST);
-  gl.glDisable(GL_STENCIL_TEST);
-  gl.glDisable(GL_CULL_FACE);
+  bindTarget(gl);
   if (m_next == 0) {
     passes.drawBackground(gl);
     m_tints = buffers.tints();
@@ -125,12 +129,7 @@ bool ProgressivePicture::patchTints(QOpenGLFunctions_3_3_Core& gl, ScenePasses& 
   }
   if (!patch.empty()) {
     buffers.uploadPatch(patch);
-    m_target->bind();
-    gl.glViewport(0, 0, m_key.size.width(), m_key.size.height());
-    gl.glDisable(GL_BLEND);
-    gl.glDisable(GL_SCISSOR_TEST);
-    gl.glDisable(GL_STENCIL_TEST);
-    gl.glDisable(GL_CULL_FACE);
+    bindTarget(gl);
     pass.proxy = false;
     pass.patch = true;
     passes.drawMesh(gl, buffers, gpu, pass);  // depth test GL_LEQUAL: a redrawn front triangle wins its pixels

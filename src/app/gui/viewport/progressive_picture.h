@@ -120,6 +120,10 @@ class ProgressivePicture {
   void setSliceLimit(int triangles) { m_sliceLimit = triangles; }
 
  private:
+  /// Binds the target (existing) with its viewport and the state the mesh pass expects (no blend, scissor, stencil
+  /// or culling: a QPainter overlay may have left them on).
+  void bindTarget(QOpenGLFunctions_3_3_Core& gl);
+
   std::unique_ptr<QOpenGLFramebufferObject> m_target;
   Key m_key;
   bool m_started = false;
