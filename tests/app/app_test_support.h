@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <limits>
 #include <span>
 #include <vector>
@@ -46,12 +47,20 @@ inline bool writeOff(const QString& path, const Eigen::MatrixXd& V, const Eigen:
   return out.status() == QTextStream::Ok;
 }
 
-/// Number of pixels whose colour differs between two images of the same size.
-inline int countDifferentPixels(const QImage& a, const QImage& b) {
+/// Number of pixels whose colour differs between two images by more than `tolerance` steps in a channel (0: any
+/// difference); images of different sizes differ everywhere (width·height + 1 of the first).
+inline int countDifferentPixels(const QImage& a, const QImage& b, int tolerance = 0) {
+  if (a.size() != b.size()) return a.width() * a.height() + 1;
   int count = 0;
   for (int y = 0; y < a.height(); ++y) {
     for (int x = 0; x < a.width(); ++x) {
-      count += a.pixel(x, y) != b.pixel(x, y) ? 1 : 0;
+      const QRgb p = a.pixel(x, y);
+      const QRgb q = b.pixel(x, y);
+      const bool apart = tolerance == 0
+                             ? p != q
+                             : std::abs(qRed(p) - qRed(q)) > tolerance || std::abs(qGreen(p) - qGreen(q)) > tolerance ||
+                                   std::abs(qBlue(p) - qBlue(q)) > tolerance;
+      count += apart ? 1 : 0;
     }
   }
   return count;

@@ -14,7 +14,6 @@
 #include <QTest>
 
 #include <algorithm>
-#include <cstdlib>
 #include <numeric>
 #include <utility>
 #include <vector>
@@ -27,19 +26,7 @@ using sc::app::ReconstructionPath;
 constexpr int kSliceLimit = 3000;  // triangles per slice: the 20,480-triangle sphere takes seven slices
 
 /// Pixels whose colour differs by more than one step in a channel.
-int differingPixels(const QImage& a, const QImage& b) {
-  if (a.size() != b.size()) return a.width() * a.height() + 1;
-  int differing = 0;
-  for (int y = 0; y < a.height(); ++y) {
-    for (int x = 0; x < a.width(); ++x) {
-      const QRgb p = a.pixel(x, y);
-      const QRgb q = b.pixel(x, y);
-      if (std::abs(qRed(p) - qRed(q)) > 1 || std::abs(qGreen(p) - qGreen(q)) > 1 || std::abs(qBlue(p) - qBlue(q)) > 1)
-        ++differing;
-    }
-  }
-  return differing;
-}
+int differingPixels(const QImage& a, const QImage& b) { return sc::testing::countDifferentPixels(a, b, 1); }
 
 class MeshViewportProgressivePicture : public ::testing::Test {
  protected:

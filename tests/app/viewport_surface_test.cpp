@@ -77,13 +77,7 @@ TEST_F(ViewportSurfaceTest, GrabShowsTheMeshAndTheBrushOutline) {
   // Hovering over the window draws the brush outline (QPainter over the GL passes) into the grab too.
   sendToSurface(QEvent::MouseMove, {60, 60}, Qt::NoButton, Qt::NoButton);
   const QImage outlined = m_viewport.grabFramebuffer();
-  int differing = 0;
-  for (int y = 0; y < plain.height(); ++y) {
-    for (int x = 0; x < plain.width(); ++x) {
-      differing += plain.pixel(x, y) != outlined.pixel(x, y) ? 1 : 0;
-    }
-  }
-  EXPECT_GT(differing, 50) << "the brush outline";
+  EXPECT_GT(sc::testing::countDifferentPixels(plain, outlined), 50) << "the brush outline";
 }
 
 }  // namespace

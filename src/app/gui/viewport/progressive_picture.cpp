@@ -84,8 +84,8 @@ bool ProgressivePicture::drawNext(QOpenGLFunctions_3_3_Core& gl, ScenePasses& pa
   m_next += slice;
   ++m_slices;
   const double ms = static_cast<double>(clock.nsecsElapsed()) * 1e-6;
-  if (!rest && slice == planned && slice > 0 &&
-      ms > 0.0) {  // the next slice at this one's rate, at most twice as large
+  // the next slice at this one's rate, at most twice as large
+  if (!rest && slice == planned && slice > 0 && ms > 0.0) {
     const double fitting = static_cast<double>(slice) * kSliceBudgetMs / ms;
     m_sliceTriangles = static_cast<int>(std::clamp(fitting, static_cast<double>(kMinimumSliceTriangles),
                                                    2.0 * std::max(slice, kMinimumSliceTriangles)));
