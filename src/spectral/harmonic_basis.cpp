@@ -99,7 +99,15 @@ double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& bas
 }
 
 double orthonormalityError(const Eigen::MatrixXd& H, const Eigen::VectorXd& mass) {
-  const Eigen::MatrixXd gram = H.transpose() * (mass.asDiagonal() * H);
+  constexpr Eigen::Index kBand = 4096;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(H.cols(), H.cols());
+  Eigen::MatrixXd weighted;
+  for (Eigen::Index row = 0; row < H.rows(); row += kBand) {
+    const Eigen::Index rows = std::min(kBand, H.rows() - row);
+    const auto band = H.middleRows(row, rows);
+    weighted.noalias() = mass.segment(row, rows).asDiagonal() * band;
+    gram.noalias() += band.transpose() * weighted;
+  }
   return (gram - Eigen::MatrixXd::Identity(H.cols(), H.cols())).cwiseAbs().maxCoeff();
 }
 

@@ -3,6 +3,7 @@
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
+#include <Eigen/QR>
 
 #include <vector>
 
@@ -132,6 +133,24 @@ TEST(HarmonicBasis, IndefiniteStiffnessIsAFactorisationFailure) {
   BasisOptions options;
   options.m = 10;
   EXPECT_EQ(manifoldHarmonicBasis(ops, options).status, BasisStatus::FactorizationFailed);
+}
+
+TEST(HarmonicBasis, OrthonormalityErrorOverBandsOfRowsIsTheWholeGramsDefect) {
+  // more rows than one band (4096) and a last band that is not full
+  const Eigen::Index n = 3 * 4096 + 17;
+  const Eigen::MatrixXd h = Eigen::MatrixXd::Random(n, 7);
+  const Eigen::VectorXd mass = Eigen::VectorXd::Random(n).cwiseAbs() + Eigen::VectorXd::Constant(n, 0.1);
+  const Eigen::MatrixXd gram = h.transpose() * mass.asDiagonal() * h;
+  const double direct = (gram - Eigen::MatrixXd::Identity(7, 7)).cwiseAbs().maxCoeff();
+  EXPECT_NEAR(orthonormalityError(h, mass), direct, 1e-12 * direct);
+
+  // an M-orthonormal basis whose last column is scaled by 1 + ε: the defect is (1 + ε)² − 1
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(h);
+  const Eigen::MatrixXd orthonormal = qr.householderQ() * Eigen::MatrixXd::Identity(n, 7);
+  Eigen::MatrixXd q = mass.cwiseSqrt().cwiseInverse().asDiagonal() * orthonormal;
+  EXPECT_LE(orthonormalityError(q, mass), 1e-12);
+  q.col(6) *= 1.001;
+  EXPECT_NEAR(orthonormalityError(q, mass), 1.001 * 1.001 - 1.0, 1e-10);
 }
 
 }  // namespace

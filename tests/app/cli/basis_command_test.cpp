@@ -56,6 +56,11 @@ TEST_F(BasisCommand, JsonHasEveryKeyAndTheSecondRunUsesTheCache) {
   const QJsonObject cached = QJsonDocument::fromJson(second.out).object();
   EXPECT_TRUE(cached[QStringLiteral("cached")].toBool());
   EXPECT_EQ(cached[QStringLiteral("eigenvalues")].toArray(), lambda);
+  // the solve reports the residual it computed; a cached basis is checked by the command itself, to the same figure
+  const double residual = r[QStringLiteral("max_residual")].toDouble();
+  EXPECT_GT(residual, 0.0);
+  EXPECT_LE(residual, 1e-6);
+  EXPECT_DOUBLE_EQ(cached[QStringLiteral("max_residual")].toDouble(), residual);
 
   const CliRun uncached = runCli(
       basisArgs({QStringLiteral("--m"), QStringLiteral("20"), QStringLiteral("--json"), QStringLiteral("--no-cache")}));
