@@ -18,6 +18,7 @@ MeshViewport::MeshViewport(QWidget* parent)
     : QWidget(parent),
       m_frames(m_buffers, RendererDefaults::reconstructionPath()),
       m_policy(RendererDefaults::adaptiveResolution()),
+      m_pictures(*this),
       m_input(*this),
       m_surface(new ViewportSurface(*this, *this)) {
   m_container = QWidget::createWindowContainer(m_surface, this);  // takes the surface
@@ -31,10 +32,7 @@ MeshViewport::MeshViewport(QWidget* parent)
   m_restoreTimer.setSingleShot(true);
   m_restoreTimer.setInterval(FramePolicy::kIdleRestoreMs +
                              FramePolicy::kIdleRestoreMs / 10);  // the next paint is no longer interactive
-  connect(&m_restoreTimer, &QTimer::timeout, this, &MeshViewport::continuePicture);
-  m_sliceTimer.setSingleShot(true);
-  m_sliceTimer.setInterval(0);
-  connect(&m_sliceTimer, &QTimer::timeout, this, &MeshViewport::drawPictureSlice);
+  connect(&m_restoreTimer, &QTimer::timeout, this, [this] { m_pictures.continuePicture(); });
   connect(m_surface, &QOpenGLWindow::frameSwapped, this, [this] {
     if (const double ms = m_policy.msSincePaint(); ms >= 0.0) {
       m_frameTimes.composeMs = ms;
@@ -67,7 +65,7 @@ void MeshViewport::setMesh(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
   }
   m_input.endGesture();
   m_frames.drop();
-  m_wholePictureShown = false;
+  m_pictures.meshReplaced();
   m_origin = 0.5 * (V.colwise().minCoeff() + V.colwise().maxCoeff());
   m_vertexCount = static_cast<int>(V.rows());
   m_buffers.setIndices(flatIndices(F));
@@ -130,7 +128,7 @@ void MeshViewport::setSceneBounds(const QVector3D& lo, const QVector3D& hi, bool
 void MeshViewport::clearMesh() {
   m_input.endGesture();
   m_frames.drop();
-  m_wholePictureShown = false;
+  m_pictures.meshReplaced();
   m_buffers.clear();
   m_selection.clear();
   m_vertexCount = 0;
@@ -174,7 +172,7 @@ void MeshViewport::setDisplayLevel(spectral::SharedDisplayLevel level) {
   // buffers show its arrays and the camera its box, so this costs O(#V) only for the tints (and O(m) for K).
   m_input.endGesture();
   m_frames.drop();
-  m_wholePictureShown = false;
+  m_pictures.meshReplaced();
   m_origin = g.origin;
   m_vertexCount = static_cast<int>(n);
   const spectral::QuantizedBasis& K = level->level.K;

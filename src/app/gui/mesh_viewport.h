@@ -4,18 +4,18 @@
 // composes classes with one job each (src/app/gui/viewport/): ViewportBuffers (host arrays and GL
 // buffers, one dirty mask), ShownLevel (the shared display level and its frame), CpuReconstructor and
 // GpuReconstructor (the two paths of X̂' + K·Z: the spectral kernel and the vertex shader), FramePolicy (proxy and
-// adaptive resolution of moving frames), ViewportInput (mouse gestures → intent signals such as handlePainted
-// and dragMoved, which a controller maps to session calls) and PresenceOverlay (the other users' cameras and
-// pointers, drawn with QPainter after the GL passes). The camera math lives in OrbitCamera, the normals in
-// vertexNormals(), picking in vertex_picking.h.
+// adaptive resolution of moving frames), PicturePresenter (a large mesh's still picture drawn in slices),
+// ViewportInput (mouse gestures → intent signals such as handlePainted and dragMoved, which a controller maps to
+// session calls) and PresenceOverlay (the other users' cameras and pointers, drawn with QPainter after the GL passes).
+// The camera math lives in OrbitCamera, the normals in vertexNormals(), picking in vertex_picking.h.
 
 #include "app/gui/mesh_viewport_types.h"
 #include "app/gui/orbit_camera.h"
 #include "app/gui/viewport/frame_policy.h"
 #include "app/gui/viewport/lap_timer.h"
 #include "app/gui/viewport/level_frames.h"
+#include "app/gui/viewport/picture_presenter.h"
 #include "app/gui/viewport/presence_overlay.h"
-#include "app/gui/viewport/progressive_picture.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "app/gui/viewport/scene_passes.h"
 #include "app/gui/viewport/viewport_buffers.h"
@@ -74,7 +74,8 @@ namespace sc::app {
 class MeshViewport : public QWidget,
                      protected QOpenGLFunctions,
                      private ViewportInput::View,
-                     private ViewportSurface::Client {
+                     private ViewportSurface::Client,
+                     private PicturePresenter::Host {
   Q_OBJECT
   Q_DISABLE_COPY_MOVE(MeshViewport)
 
@@ -191,23 +192,18 @@ class MeshViewport : public QWidget,
   void setPaintBudget(double ms) { m_policy.setPaintBudget(ms); }
 
   /// Meshes of at least `minimumTriangles` > 0 triangles (default RendererDefaults::progressiveMinimumTriangles()) have
-  /// their full-resolution picture drawn in slices between paints, while adaptive resolution is on and the window is
-  /// single-sampled: a paint shows the complete picture of the current view and shape when there is one (a blit),
-  /// else the interactive proxy meanwhile (without a proxy: the slices drawn so far for a new mesh, the whole mesh
-  /// once it was shown whole) and the slices follow, each about ProgressivePicture::kSliceBudgetMs, each a turn of
-  /// the event loop; new tints alone (a brush dab) patch the complete picture in the paint, redrawing only the
-  /// triangles around the vertices whose tint changed (ProgressivePicture::patchTints()); a change of the view, the
-  /// shape, the wireframe or the size makes the picture stale (dropped; started again when things are still).
-  /// grabFramebuffer() always draws the whole mesh.
-  /// `sliceLimit` > 0 caps a slice's triangles (tests). Off by default on a GPU (adaptive resolution is off there).
+  /// their full-resolution picture drawn in slices between paints while adaptive resolution is on and the window is
+  /// single-sampled (PicturePresenter says what each paint shows meanwhile, ProgressivePicture how slices and patches
+  /// are drawn); a change of the view, the shape, the wireframe or the size makes the picture stale. grabFramebuffer()
+  /// always draws the whole mesh. `sliceLimit` > 0 caps a slice's triangles (tests). Off by default on a GPU.
   void setProgressivePicture(int minimumTriangles, int sliceLimit = 0);
   /// Picking (a brush stroke's or a drag's start) reads the complete picture's depth when it shows the current shape
   /// and view (no wireframe; tints aside) instead of drawing the mesh's depth again.
   /// The picture (its slices, completions and depth reads, for tests) and its image as drawn (context made current).
-  [[nodiscard]] const ProgressivePicture& progressivePicture() const { return m_picture; }
+  [[nodiscard]] const ProgressivePicture& progressivePicture() const { return m_pictures.picture(); }
   [[nodiscard]] QImage progressivePictureImage();
   /// Whether the complete picture is that of the current view and shape (what a still paint shows now).
-  [[nodiscard]] bool progressivePictureCurrent();
+  [[nodiscard]] bool progressivePictureCurrent() { return m_pictures.current(); }
 
   /// Positions the GPU path computes for the current Z, read back through transform feedback (3·#V floats, in
   /// the coordinates given to setMesh()); empty without a basis, coefficients, context or GPU path support.
@@ -254,14 +250,7 @@ class MeshViewport : public QWidget,
   [[nodiscard]] const OrbitCamera& camera() const { return m_camera; }
 
   // --- presence (issue 15): coordinates here are the mesh's own (as given to setMesh / the level's rest positions)
-  /// This user's view: camera eye, target, up, and the surface point under the mouse pointer (if any).
-  struct LocalView {
-    QVector3D eye, target, up;
-    std::optional<QVector3D> pointer;
-    /// The centroid of the painted handle as last reconstructed on the CPU (LevelFrames::lastPositions()); none
-    /// without a handle.
-    std::optional<QVector3D> handle;
-  };
+  using LocalView = ViewportLocalView;
   [[nodiscard]] LocalView localView() const;
   /// The other users' markers to draw (PresenceOverlay), in mesh coordinates; repaints.
   void setPresenceMarkers(std::vector<PresenceMarker> markers);
@@ -344,26 +333,21 @@ class MeshViewport : public QWidget,
   }
   [[nodiscard]] unsigned shapeVersion() const override { return m_shapeVersion; }
 
+  // PicturePresenter::Host (mesh_viewport_render.cpp; proxyMayDraw() in mesh_viewport.cpp).
+  [[nodiscard]] bool picturesPossible() const override;
+  [[nodiscard]] int pictureTriangles() const override { return triangleCount(); }
+  ProgressivePicture::Key currentPictureKey() override;
+  [[nodiscard]] bool proxyMayDraw() const override;
+  PictureScene pictureScene() override;
+  QOpenGLFunctions_3_3_Core& pictureGl() override { return *m_gl33; }
+  [[nodiscard]] bool pictureExposed() const override { return m_surface->isExposed(); }
+  bool makePictureCurrent() override { return m_surface->makeContextCurrent(); }
+  void releasePictureContext() override { doneCurrent(); }
+  [[nodiscard]] bool pictureShapeLagging() const override { return m_frames.fullVertexDataLagging(); }
+  void repaintPicture() override { update(); }
+
   /// Paints into `framebuffer`: the window's (`window`), or a grab's (always the whole mesh at full resolution).
   void paint(unsigned framebuffer, bool window);
-  /// A still window paint of a large mesh: the complete picture of `frame`'s view (a blit), patched first when only
-  /// the tints changed, or until it is complete the proxy (`frame` becomes FramePolicy::standIn(): returns false,
-  /// the caller draws it), or without a proxy the rest of the picture drawn now once the window has shown this mesh
-  /// whole (a brush stroke after an orbit, wireframe), else (a new mesh) the slices so far (drawing the first one now
-  /// if none is); the slices follow on m_sliceTimer. Returns whether the paint showed the picture.
-  bool showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable);
-  /// ProgressivePicture::patchTints() to `key` (buffers uploaded first), context current. Returns whether it follows.
-  bool patchPicture(const ProgressivePicture::Key& key);
-  /// Whether full pictures of this mesh are drawn in slices (setProgressivePicture()).
-  [[nodiscard]] bool drawsProgressively() const;
-  /// The key of the full picture of the current view and shape (the mesh's positions made current first).
-  ProgressivePicture::Key pictureKey();
-  /// Starts (or continues) the slices of the current full picture, or repaints at once when it is complete.
-  void continuePicture();
-  /// One slice of the picture being drawn (m_sliceTimer), then a repaint when it is complete. A picture made stale by
-  /// a change is dropped, not restarted (the next still paint or the idle restore starts it), and nothing is drawn
-  /// while the window is not exposed (a paint resumes it).
-  void drawPictureSlice();
 
   void positionsGiven();
   void updateBounds();
@@ -375,7 +359,6 @@ class MeshViewport : public QWidget,
   void applyFrame();
   void rebuildTints();
   void markMoved();
-  [[nodiscard]] bool proxyMayDraw() const;
   [[nodiscard]] MeshPass meshPass(bool wireframe, bool proxy) const;
   [[nodiscard]] const spectral::QuantizedBasis* gpuBasis() const;  // K when the GPU path draws, else nullptr
   [[nodiscard]] QSize pixelSize() const;
@@ -388,13 +371,8 @@ class MeshViewport : public QWidget,
   ViewportBuffers m_buffers;
   LevelFrames m_frames;
   FramePolicy m_policy;
-  QTimer m_restoreTimer;  // repaints at full resolution after an interactive frame
-  ProgressivePicture m_picture;
-  QTimer m_sliceTimer;  // the next slice of m_picture, after a turn of the event loop
-  int m_progressiveMinimumTriangles = RendererDefaults::progressiveMinimumTriangles();  // 0: never
-  bool m_showingPartial = false;     // the window shows m_picture's slices so far: each slice repaints
-  bool m_showingPicture = false;     // the window's latest paint showed m_picture complete
-  bool m_wholePictureShown = false;  // the window showed this mesh whole since it was set (not only proxy/slices)
+  QTimer m_restoreTimer;        // repaints at full resolution after an interactive frame
+  PicturePresenter m_pictures;  // the progressive picture of a large mesh
   ViewportInput m_input;
   ViewportSelection m_selection;
   bool m_proxyShowsSelection = true;  // m_selection.shownBy(the proxy), cached

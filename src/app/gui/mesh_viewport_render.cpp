@@ -63,9 +63,7 @@ void MeshViewport::cleanup() {
   }
   makeCurrent();
   m_frames.setGlReady(false);
-  m_sliceTimer.stop();
-  m_picture.destroy();
-  m_showingPartial = m_showingPicture = false;
+  m_pictures.destroy();
   if (m_gl33 != nullptr) {
     m_frames.gpu().destroy(*m_gl33);
     m_buffers.destroy(*m_gl33);
@@ -121,14 +119,14 @@ void MeshViewport::paint(unsigned framebuffer, bool window) {
   m_frameTimes.pictureSlices = 0;
   // A still (or idle) picture of a large mesh comes from the progressive picture; a moving frame without the proxy
   // draws the whole mesh as before (reduced), since a picture restarted every frame would show only its first slice.
-  const bool large = window && drawsProgressively();
-  const bool shown =
-      large && !frame.proxy && !(frame.interactive && frame.moved) && showPicture(framebuffer, frame, scalable);
-  if (window) {
-    m_showingPartial = shown && !m_picture.complete();
-    m_showingPicture = shown && !m_showingPartial;
-    m_wholePictureShown = m_wholePictureShown || m_showingPicture || (!shown && !frame.proxy);
+  const bool large = window && m_pictures.active();
+  PicturePresenter::Paint picture = PicturePresenter::Paint::Whole;
+  if (large && !frame.proxy && !(frame.interactive && frame.moved)) {
+    picture = m_pictures.show(framebuffer, frame.interactive, m_stages, m_frameTimes);
+    if (picture == PicturePresenter::Paint::Proxy) frame = m_policy.standIn(scalable);  // until the picture is complete
   }
+  const bool shown = picture == PicturePresenter::Paint::Picture;
+  if (window) m_pictures.windowPainted(shown, frame.proxy);
   if (m_gl33 != nullptr && !shown) {
     m_passes.drawFrame(*m_gl33, m_buffers, m_frames.gpu(), gpuBasis(), meshPass(m_wireframe, frame.proxy),
                        {framebuffer, pixelSize(), frame.scale, frame.scalable}, m_stages, m_frameTimes);
@@ -156,111 +154,32 @@ void MeshViewport::paint(unsigned framebuffer, bool window) {
   m_policy.painted();  // from the end of this paint: a slow frame does not make the next one idle
 }
 
-bool MeshViewport::showPicture(unsigned framebuffer, FramePolicy::Frame& frame, bool scalable) {
-  const ProgressivePicture::Key key = pictureKey();
-  m_stages.start();
-  if (!m_picture.completeFor(key) && !m_picture.drawing(key)) patchPicture(key);
-  const double patchMs = m_stages.lap();
-  const bool complete = m_picture.completeFor(key);
-  // Without a proxy, once the window has shown this mesh whole (e.g. wireframe), a still paint draws the rest of the
-  // picture, as it would the whole mesh, rather than show the slices so far; an interactive one (a resize) draws the
-  // whole mesh, reduced, as before. A brush stroke's press completes the picture (renderDepth()).
-  bool rest = false;
-  if (!complete) {
-    if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
-    if (proxyMayDraw()) {
-      m_sliceTimer.start();
-      frame = m_policy.standIn(scalable);  // the proxy until the picture is complete
-      return false;
-    }
-    rest = m_wholePictureShown && !frame.interactive;
-    if (!rest) m_sliceTimer.start();
-    if (m_wholePictureShown && !rest) return false;
-  }
-  m_stages.start();
-  m_buffers.upload(*m_gl33, gpuBasis());
-  m_frameTimes.uploadMs = m_stages.lap();
-  if (rest || m_picture.slices() == 0) {
-    m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false), rest);
-  }
-  m_picture.blit(*m_gl33, framebuffer);
-  m_frameTimes.meshMs = patchMs + m_stages.lap();
-  m_frameTimes.triangles = triangleCount();
-  m_frameTimes.pictureSlices = m_picture.slices();
-  return true;
-}
-
-bool MeshViewport::patchPicture(const ProgressivePicture::Key& key) {
-  if (!m_picture.followsShape(key)) return false;
-  m_buffers.upload(*m_gl33, gpuBasis());
-  return m_picture.patchTints(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false), key);
-}
-
 void MeshViewport::setProgressivePicture(int minimumTriangles, int sliceLimit) {
-  m_progressiveMinimumTriangles = minimumTriangles;
-  m_picture.setSliceLimit(sliceLimit);
+  m_pictures.setMinimumTriangles(minimumTriangles, sliceLimit);
   update();
 }
 
 QImage MeshViewport::progressivePictureImage() {
   if (!m_surface->makeContextCurrent()) return {};
-  QImage image = m_picture.image().convertToFormat(QImage::Format_RGB32);
+  QImage image = m_pictures.picture().image().convertToFormat(QImage::Format_RGB32);
   doneCurrent();
   return image;
 }
 
-bool MeshViewport::progressivePictureCurrent() { return m_picture.completeFor(pictureKey()); }
-
-bool MeshViewport::drawsProgressively() const {
+bool MeshViewport::picturesPossible() const {
   return m_policy.adaptive() && m_gl33 != nullptr && sampleCount() <= 0 && m_passes.meshReady() &&
-         !pixelSize().isEmpty() && m_progressiveMinimumTriangles > 0 &&
-         triangleCount() >= m_progressiveMinimumTriangles;
+         !pixelSize().isEmpty();
 }
 
-ProgressivePicture::Key MeshViewport::pictureKey() {
+ProgressivePicture::Key MeshViewport::currentPictureKey() {
   m_frames.ensureFullVertexData(m_frameTimes);
   tightenBounds();
   return ProgressivePicture::key(m_buffers, meshPass(m_wireframe, false), pixelSize());
 }
 
-void MeshViewport::continuePicture() {
-  if (!drawsProgressively()) {
-    update();
-    return;
-  }
-  const ProgressivePicture::Key key = pictureKey();
-  if (m_picture.completeFor(key)) {
-    if (!m_showingPicture) update();
-    return;
-  }
-  if (m_picture.followsShape(key) && !m_picture.drawing(key)) {  // new tints: the paint patches the picture
-    update();
-    return;
-  }
-  if (!m_picture.drawing(key)) m_picture.start(key, triangleCount());
-  m_sliceTimer.start();  // the window keeps its interactive frame until the picture is complete
-}
-
-void MeshViewport::drawPictureSlice() {
-  if (!m_picture.drawing() || !drawsProgressively() || !m_surface->isExposed()) {
-    return;
-  }
-  if (m_frames.fullVertexDataLagging()) {  // a newer frame: stale, and no reconstruction here to find out
-    m_picture.reset();
-    return;
-  }
-  if (!m_surface->makeContextCurrent()) return;
-  const ProgressivePicture::Key key = pictureKey();
-  if (!m_picture.drawing(key) && !patchPicture(key)) {  // changed (a gesture, frames): dropped until things are still
-    m_picture.reset();
-    doneCurrent();
-    return;
-  }
+PictureScene MeshViewport::pictureScene() {
   m_buffers.upload(*m_gl33, gpuBasis());
-  const bool complete = m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false));
-  doneCurrent();
-  if (complete || m_showingPartial) update();
-  if (!complete) m_sliceTimer.start();
+  return {*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(m_wireframe, false)};
 }
 
 QSize MeshViewport::pixelSize() const { return (QSizeF(width(), height()) * devicePixelRatioF()).toSize(); }
@@ -279,22 +198,12 @@ DepthImage MeshViewport::renderDepth() {
     return {};
   }
   makeCurrent();
-  // The picture of this shape and view (tints aside; without wireframe, whose fill is pushed back) has this depth: a
-  // read-back instead of a pass over the whole mesh (0.4-0.6 s on llvmpipe at a million vertices). One that is not
-  // complete (a stroke soon after an orbit) is completed here, for a little more than that pass (it shades too), and
-  // shown; the paint after the dab then patches it instead of drawing the whole mesh again.
-  if (!m_wireframe && drawsProgressively()) {
-    const ProgressivePicture::Key key = pictureKey();
-    const bool completing = !m_picture.shapeCompleteFor(key);
-    if (completing) {
-      if (!m_picture.drawing(key) && !patchPicture(key)) m_picture.start(key, triangleCount());
-      m_buffers.upload(*m_gl33, gpuBasis());
-      m_picture.drawNext(*m_gl33, m_passes, m_buffers, m_frames.gpu(), meshPass(false, false), true);
+  // Without wireframe (whose fill is pushed back), a large mesh's picture has this depth (PicturePresenter).
+  if (!m_wireframe) {
+    if (std::optional<DepthImage> image = m_pictures.depthForPicking()) {
+      doneCurrent();
+      return *std::move(image);
     }
-    DepthImage image = m_picture.readDepth(*m_gl33);
-    doneCurrent();
-    if (completing) update();
-    return image;
   }
   m_frames.ensureFullVertexData(m_frameTimes);
   m_buffers.upload(*m_gl33, gpuBasis());

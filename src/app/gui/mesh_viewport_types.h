@@ -1,7 +1,22 @@
 #pragma once
-// Small value types of MeshViewport's interface: its tools, its reconstruction paths and its frame timings.
+// Small value types of MeshViewport's interface: its tools, its reconstruction paths, its frame timings and the
+// local user's view.
+
+#include <QVector3D>
+
+#include <optional>
 
 namespace sc::app {
+
+/// This user's view (MeshViewport::localView()), in the mesh's own coordinates: camera eye, target, up, and the
+/// surface point under the mouse pointer (if any).
+struct ViewportLocalView {
+  QVector3D eye, target, up;
+  std::optional<QVector3D> pointer;
+  /// The centroid of the painted handle as last reconstructed on the CPU (LevelFrames::lastPositions()); none
+  /// without a handle.
+  std::optional<QVector3D> handle;
+};
 
 /// What a left drag does in the viewport. Right/middle drag always pans, the wheel always zooms and Alt+left drag
 /// always orbits.
