@@ -46,10 +46,20 @@ class FakeView final : public PicturePresenter::Host {
   void repaintPicture() override { ++repaints; }
 };
 
-TEST(PicturePresenter, ActiveOnlyFromTheThresholdUpAndWhereTheViewCanDrawPictures) {
+/// A presenter over a FakeView of 1000 triangles, active from 1000 on, and a paint's clock and times.
+class PicturePresenterTest : public ::testing::Test {
+ protected:
+  PicturePresenterTest() { presenter.setMinimumTriangles(1000, 0); }
+  /// A still (or `interactive`) window paint into framebuffer 0.
+  PicturePresenter::Paint paint(bool interactive = false) { return presenter.show(0, interactive, stages, times); }
+
   FakeView view;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
+  PicturePresenter presenter{view};
+  StageClock stages;
+  FrameTimes times;
+};
+
+TEST_F(PicturePresenterTest, ActiveOnlyFromTheThresholdUpAndWhereTheViewCanDrawPictures) {
   EXPECT_TRUE(presenter.active());
   view.triangles = 999;
   EXPECT_FALSE(presenter.active());
@@ -61,38 +71,25 @@ TEST(PicturePresenter, ActiveOnlyFromTheThresholdUpAndWhereTheViewCanDrawPicture
   EXPECT_FALSE(presenter.active()) << "0 means never";
 }
 
-TEST(PicturePresenter, WhileTheProxyMayDrawAStillPaintStartsThePictureAndLetsTheProxyStandIn) {
-  FakeView view;
+TEST_F(PicturePresenterTest, WhileTheProxyMayDrawAStillPaintStartsThePictureAndLetsTheProxyStandIn) {
   view.proxy = true;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
-  StageClock stages;
-  FrameTimes times;
-  EXPECT_EQ(presenter.show(0, false, stages, times), PicturePresenter::Paint::Proxy);
+  EXPECT_EQ(paint(), PicturePresenter::Paint::Proxy);
   EXPECT_TRUE(presenter.picture().drawing(view.key));
   EXPECT_EQ(presenter.picture().slices(), 0) << "the slices follow between paints";
   EXPECT_EQ(times.pictureSlices, 0);
   EXPECT_FALSE(presenter.current());
 }
 
-TEST(PicturePresenter, WithoutAProxyAnInteractivePaintDrawsAMeshShownWholeBeforeWhole) {
-  FakeView view;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
+TEST_F(PicturePresenterTest, WithoutAProxyAnInteractivePaintDrawsAMeshShownWholeBeforeWhole) {
   presenter.windowPainted(false, false);  // the window showed the mesh whole (e.g. wireframe on)
-  StageClock stages;
-  FrameTimes times;
-  EXPECT_EQ(presenter.show(0, true, stages, times), PicturePresenter::Paint::Whole);
+  EXPECT_EQ(paint(true), PicturePresenter::Paint::Whole);
   EXPECT_TRUE(presenter.picture().drawing(view.key)) << "the picture is started for the still paints after it";
   // a new mesh was not shown whole: an interactive paint of it shows the slices so far, which needs GL here
   presenter.meshReplaced();
-  EXPECT_THROW(presenter.show(0, true, stages, times), std::logic_error);
+  EXPECT_THROW(paint(true), std::logic_error);
 }
 
-TEST(PicturePresenter, TheIdleRestoreRepaintsWhenInactiveStartsThePictureElseAndLeavesNewTintsToThePaint) {
-  FakeView view;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
+TEST_F(PicturePresenterTest, TheIdleRestoreRepaintsWhenInactiveStartsThePictureElseAndLeavesNewTintsToThePaint) {
   view.triangles = 10;
   presenter.continuePicture();
   EXPECT_EQ(view.repaints, 1) << "a small mesh is drawn whole by the repaint";
@@ -110,24 +107,16 @@ TEST(PicturePresenter, TheIdleRestoreRepaintsWhenInactiveStartsThePictureElseAnd
   EXPECT_TRUE(presenter.picture().drawing(view.key));
 }
 
-TEST(PicturePresenter, TheNextSliceWaitsForATurnOfTheEventLoop) {
-  FakeView view;
+TEST_F(PicturePresenterTest, TheNextSliceWaitsForATurnOfTheEventLoop) {
   view.proxy = true;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
-  StageClock stages;
-  FrameTimes times;
-  ASSERT_EQ(presenter.show(0, false, stages, times), PicturePresenter::Paint::Proxy);
+  ASSERT_EQ(paint(), PicturePresenter::Paint::Proxy);
   EXPECT_EQ(view.contextRequests, 0) << "not within the paint";
   QCoreApplication::processEvents();
   EXPECT_EQ(view.contextRequests, 1) << "a slice was attempted on the next turn (no context here: none drawn)";
   EXPECT_TRUE(presenter.picture().drawing(view.key));
 }
 
-TEST(PicturePresenter, PickingDepthIsNotThePicturesWhenInactiveOrWithWireframe) {
-  FakeView view;
-  PicturePresenter presenter(view);
-  presenter.setMinimumTriangles(1000, 0);
+TEST_F(PicturePresenterTest, PickingDepthIsNotThePicturesWhenInactiveOrWithWireframe) {
   view.triangles = 10;
   EXPECT_FALSE(presenter.depthForPicking().has_value());
   view.triangles = 5000;
