@@ -2,7 +2,9 @@
 
 #include "spectral/banded_products.h"
 #include "spectral/lanczos_solver.h"
+#include "spectral/parallel_ranges.h"
 #include "spectral/reorthogonalisation_schedule.h"
+#include "spectral/single_threaded_blas.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -78,25 +80,34 @@ class KrylovBasis {
   /// WᵀMW. Cost: one sweep over W.
   Eigen::MatrixXd gram(const Eigen::MatrixXd& w) const { return massGram(w, m_mass, m_threads); }
 
-  /// Makes W orthogonal to every column: one pass (two GEMMs, each a read of Q), and a second for a column the
-  /// first shortened below kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has
-  /// cancellation left it less orthogonal than round-off). The coefficients are not recorded: T stays the block
-  /// tridiagonal matrix of the recurrence, which is what semi-orthogonality keeps accurate. Cost: O(#V·size()).
-  /// Returns the drift the first pass removed: max |q_kᵀ M w|/‖w‖_M over W's columns.
-  double orthogonaliseFully(Eigen::MatrixXd& w) const {
+  /// What a full pass removed and left: the drift (max |q_kᵀ M w|/‖w‖_M over W's columns, before the pass) and W's
+  /// new Gram matrix WᵀMW.
+  struct FullPass {
     double drift = 0.0;
+    Eigen::MatrixXd gram;
+  };
+
+  /// Makes W orthogonal to every column: one pass (two sweeps over bands of rows of Q, banded_products.h, on the
+  /// basis's threads), and a second for a column the first shortened below kSecondPass of its length
+  /// (Daniel–Gragg–Kaufman–Stewart's criterion: only then has cancellation left it less orthogonal than round-off).
+  /// The coefficients are not recorded: T stays the block tridiagonal matrix of the recurrence, which is what
+  /// semi-orthogonality keeps accurate. Cost: two reads of Q per pass, O(#V·size()).
+  FullPass orthogonaliseFully(Eigen::MatrixXd& w) const {
+    FullPass result;
+    Eigen::VectorXd before = mNorms(w);
     for (int pass = 0; pass < 2 && m_size > 0; ++pass) {
-      const Eigen::VectorXd before = mNorms(w);
-      const auto q = columns();
-      const Eigen::MatrixXd h = q.transpose() * (m_mass.asDiagonal() * w);
-      w.noalias() -= q * h;
+      const Eigen::MatrixXd h = massProjection(columns(), m_mass, w, m_threads);
+      result.gram = subtractWithGram(w, columns(), h, m_mass, m_threads);
       if (pass == 0)
-        drift = (h.cwiseAbs().colwise().maxCoeff().transpose().array() /
-                 before.array().max(std::numeric_limits<double>::min()))
-                    .maxCoeff();
-      if ((mNorms(w).array() >= kSecondPass * before.array()).all()) break;
+        result.drift = (h.cwiseAbs().colwise().maxCoeff().transpose().array() /
+                        before.array().max(std::numeric_limits<double>::min()))
+                           .maxCoeff();
+      const Eigen::VectorXd after = result.gram.diagonal().cwiseMax(0.0).cwiseSqrt();
+      if ((after.array() >= kSecondPass * before.array()).all()) break;
+      before = after;
     }
-    return drift;
+    if (m_size == 0) result.gram = gram(w);
+    return result;
   }
 
   /// The M-norm of each column of W. Cost: O(#V·cols).
@@ -164,18 +175,22 @@ class KrylovBasis {
   }
 
   /// Q·C for C of size() rows and at most size() columns, computed in place in Q's leading columns one band of rows
-  /// at a time (each band of Q·C needs only that band of Q), then Q shrunk to them: the Ritz vectors cost no second
-  /// #V × pairs matrix (800 MB at 1M vertices and m = 100). Leaves the basis empty. Cost: O(#V·size()·C.cols()).
+  /// at a time (each band of Q·C needs only that band of Q; the bands are split over the basis's threads), then Q
+  /// shrunk to them: the Ritz vectors cost no second #V × pairs matrix (800 MB at 1M vertices and m = 100). Leaves
+  /// the basis empty. Cost: O(#V·size()·C.cols()).
   Eigen::MatrixXd ritzVectors(const Eigen::MatrixXd& coordinates) && {
     constexpr Eigen::Index kBand = 2048;
     const Eigen::Index n = m_q.rows();
     const Eigen::Index k = coordinates.cols();
-    Eigen::MatrixXd band;
-    for (Eigen::Index row = 0; row < n; row += kBand) {
-      const Eigen::Index rows = std::min(kBand, n - row);
-      band.noalias() = m_q.block(row, 0, rows, m_size) * coordinates;
-      m_q.block(row, 0, rows, k) = band;
-    }
+    const Eigen::Index bands = (n + kBand - 1) / kBand;
+    parallelRanges(bands, m_threads, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
+      Eigen::MatrixXd band;
+      for (Eigen::Index row = first * kBand; row < std::min(n, last * kBand); row += kBand) {
+        const Eigen::Index rows = std::min(kBand, n - row);
+        band.noalias() = m_q.block(row, 0, rows, m_size) * coordinates;
+        m_q.block(row, 0, rows, k) = band;
+      }
+    });
     m_q.conservativeResize(n, k);  // column-major, same rows: a realloc that keeps the leading columns
     m_size = 0;
     return std::move(m_q);
@@ -317,8 +332,9 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       scale = krylov.mNorms(w);
       Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
       if (schedule.due()) {
-        schedule.record(krylov.orthogonaliseFully(w));
-        product = krylov.gram(w);
+        KrylovBasis::FullPass pass = krylov.orthogonaliseFully(w);
+        schedule.record(pass.drift);
+        product = std::move(pass.gram);
       } else {
         schedule.record(-1.0);
       }
@@ -358,6 +374,7 @@ BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, doubl
   };
   ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
   op.setSolveThreads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  const SingleThreadedBlas oneBlasThread;  // the run's own threads split the solves and the sweeps over Q
   return nearestPairs(op, ops.mass, pairs, sigma, options);
 }
 

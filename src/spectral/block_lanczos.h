@@ -37,7 +37,9 @@ BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, i
                          const BasisOptions& options);
 
 /// The first `pairs` eigenpairs around σ < 0 by nearestPairs() on a new factor; progress and cancellation through
-/// options.progress. For meshes too large for spectrum slicing's several factors and bases.
+/// options.progress. For meshes too large for spectrum slicing's several factors and bases. Runs on one thread per
+/// core of its own (the solves' columns, the sweeps' bands of rows, the Ritz vectors' bands), with OpenBLAS on one
+/// thread meanwhile (single_threaded_blas.h).
 /// Cost: one factorisation, about 3.2·pairs solves, O(#V·K²) GEMM work; memory nnz(L) + #V·K doubles, K ≈ 3.2·pairs.
 BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options);
 

@@ -5,6 +5,7 @@
 #include "spectral/lanczos_solver.h"
 #include "spectral/mesh_components.h"
 #include "spectral/shift_invert_operator.h"
+#include "spectral/single_threaded_blas.h"
 
 #include <algorithm>
 #include <atomic>
@@ -18,34 +19,8 @@
 #include <thread>
 #include <utility>
 
-// OpenBLAS's thread-count controls, when the BLAS linked is OpenBLAS (weak: absent with another BLAS).
-extern "C" {
-__attribute__((weak)) int openblas_get_num_threads();
-__attribute__((weak)) void openblas_set_num_threads(int threads);
-}
-
 namespace sc::spectral::detail {
 namespace {
-
-/// One BLAS thread while the slices run on their own threads (two slices each running a 2-thread OpenBLAS GEMV on 2
-/// cores took 5.0-5.3 s on the 100k dragon against 3.9 s; Lanczos 5.7-6.0 s). The setting is process-wide, so it
-/// is restored on leaving; another thread's BLAS call meanwhile runs on one thread too.
-class SingleThreadedBlas {
- public:
-  SingleThreadedBlas() {
-    if (openblas_get_num_threads == nullptr || openblas_set_num_threads == nullptr) return;
-    m_previous = openblas_get_num_threads();
-    openblas_set_num_threads(1);
-  }
-  ~SingleThreadedBlas() {
-    if (m_previous > 0) openblas_set_num_threads(m_previous);
-  }
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
- private:
-  int m_previous = 0;
-};
 
 /// Fewer pairs per slice than this cost more in factorisations and overlaps than they save in orthogonalisation.
 constexpr int kMinimumPairsPerSlice = 12;

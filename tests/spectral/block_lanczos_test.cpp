@@ -4,6 +4,7 @@
 
 #include "spectral/block_lanczos.h"
 #include "spectral/lanczos_solver.h"
+#include "spectral/single_threaded_blas.h"
 #include "spectral/subspace_iteration.h"
 #include "test_meshes.h"
 
@@ -20,8 +21,8 @@ struct Problem {
   double bottomShift{};  ///< σ < 0, as manifoldHarmonicBasis() uses
 };
 
-Problem torusProblem() {
-  const auto mesh = testing::torus(48, 16);  // 768 vertices
+Problem torusProblem(int major = 48, int minor = 16) {  // 768 vertices by default
+  const auto mesh = testing::torus(major, minor);
   Problem problem{laplaceOperators(mesh.V, mesh.F), 0.0};
   problem.bottomShift = -4.0 * std::numbers::pi / problem.ops.totalArea;
   return problem;
@@ -62,10 +63,35 @@ TEST(BlockLanczos, BottomOfTheSpectrumMatchesSpectra) {
 }
 
 TEST(BlockLanczos, SolvesAndSweepsOnThreeThreadsMatchSpectra) {
-  // the large-mesh path: each block's columns solved on their own threads, the row-band sweeps split too
-  const Problem problem = torusProblem();
+  // the large-mesh path: each block's columns solved on their own threads, the row-band sweeps (local and full
+  // passes) and the Ritz vectors' bands split too: 4,608 vertices are 9 bands of 512 rows and 3 bands of 2,048
+  const Problem problem = torusProblem(96, 48);
   const BasisResult block = blockPairs(problem, 40, problem.bottomShift, 0, 3);
   expectSamePairs(problem, block, spectraPairs(problem, 40, problem.bottomShift), problem.bottomShift);
+}
+
+TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
+  if (openblas_get_num_threads == nullptr || openblas_set_num_threads == nullptr) GTEST_SKIP() << "not OpenBLAS";
+  const int original = openblas_get_num_threads();
+  openblas_set_num_threads(2);
+  {
+    const detail::SingleThreadedBlas one;
+    EXPECT_EQ(openblas_get_num_threads(), 1);
+  }
+  EXPECT_EQ(openblas_get_num_threads(), 2);
+  const Problem problem = torusProblem();
+  BasisOptions options;
+  int calls = 0;
+  options.progress = [&calls](double) {
+    EXPECT_EQ(openblas_get_num_threads(), 1);  // called from the run's solves
+    ++calls;
+    return true;
+  };
+  const BasisResult run = detail::blockLanczosEigenpairs(problem.ops, 20, problem.bottomShift, options);
+  ASSERT_TRUE(run.ok()) << run.message;
+  EXPECT_GT(calls, 0);
+  EXPECT_EQ(openblas_get_num_threads(), 2);
+  openblas_set_num_threads(original);
 }
 
 TEST(BlockLanczos, InteriorShiftFindsThePairsNearestItOnBothSides) {
