@@ -4,7 +4,6 @@
 #include "spectral/lanczos_solver.h"
 #include "spectral/parallel_ranges.h"
 #include "spectral/reorthogonalisation_schedule.h"
-#include "spectral/single_threaded_blas.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -43,8 +42,13 @@ constexpr double kSecondPass = 0.5;
 class KrylovBasis {
  public:
   /// `threads`: the row-band sweeps of the local orthogonalisation and Cholesky QR run on this many threads.
-  KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity, int threads)
-      : m_mass(mass), m_q(mass.size(), capacity), m_t(Eigen::MatrixXd::Zero(capacity, capacity)), m_threads(threads) {}
+  /// `deflation`: M-orthonormal columns every vector of the basis is kept M-orthogonal to (nullptr: none).
+  KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity, int threads, const Eigen::MatrixXd* deflation)
+      : m_mass(mass),
+        m_q(mass.size(), capacity),
+        m_t(Eigen::MatrixXd::Zero(capacity, capacity)),
+        m_threads(threads),
+        m_deflation(deflation) {}
 
   Eigen::Index size() const { return m_size; }
   Eigen::Index capacity() const { return m_q.cols(); }
@@ -75,6 +79,14 @@ class KrylovBasis {
     }
     m_t.block(m_size - local, m_size - kLanczosBlock, local, kLanczosBlock) = total;
     return product;
+  }
+
+  /// Removes the deflation columns X from W (twice: W −= X·XᵀMW), so that the operator acts on X's M-orthogonal
+  /// complement, where its eigenpairs are the others. Nothing without deflation. Cost: four reads of X.
+  void deflate(Eigen::MatrixXd& w) const {
+    if (m_deflation == nullptr || m_deflation->cols() == 0) return;
+    for (int pass = 0; pass < 2; ++pass)
+      subtractWithGram(w, *m_deflation, massProjection(*m_deflation, m_mass, w, m_threads), m_mass, m_threads);
   }
 
   /// WᵀMW. Cost: one sweep over W.
@@ -136,6 +148,7 @@ class KrylovBasis {
         }
         if (attempt == 3) throw BasisExhausted{};
         Eigen::MatrixXd fresh = Eigen::MatrixXd::NullaryExpr(w.rows(), 1, [&] { return uniform(random); });
+        deflate(fresh);
         orthogonaliseFully(fresh);
         w.col(c) = fresh;
         scale[c] = std::sqrt(fresh.col(0).dot(m_mass.cwiseProduct(fresh.col(0))));
@@ -209,6 +222,7 @@ class KrylovBasis {
   Eigen::MatrixXd m_t;
   Eigen::Index m_size = 0;
   int m_threads = 1;
+  const Eigen::MatrixXd* m_deflation = nullptr;
 };
 
 /// Ritz pairs of the projected matrix that are wanted and converged, or the reason they are not yet.
@@ -290,7 +304,7 @@ BasisResult failure(BasisStatus status, std::string message, const ShiftInvertOp
 }  // namespace
 
 BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int maxColumns,
-                                     double sigma, const BasisOptions& options) {
+                                     double sigma, const BasisOptions& options, const Eigen::MatrixXd* deflation) {
   const Eigen::Index n = mass.size();
   const Eigen::Index least = pairs + 2 * kLanczosBlock;
   const Eigen::Index capacity =
@@ -298,7 +312,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
   if (pairs < 1 || capacity < least)
     return failure(BasisStatus::NotConverged, "the mesh is too small for block Lanczos", op);
   try {
-    KrylovBasis krylov(mass, capacity, op.solveThreads());
+    KrylovBasis krylov(mass, capacity, op.solveThreads(), deflation);
     {
       // The basis's pages are fresh: their first writes took 5 s of page faults at 1M vertices (about 8 µs per 4 KB
       // page on the measuring VM). With a core to spare (the large-mesh run), the columns a run needs
@@ -311,16 +325,20 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       }
       op.set_shift(sigma);
     }
-    std::mt19937 random(kSeed);
+    // a deflated run starts elsewhere: from the first run's start block, whose part in each eigenspace the found
+    // vectors already span, deflation would leave nothing of a missing copy
+    std::mt19937 random(kSeed + (deflation != nullptr ? static_cast<unsigned>(deflation->cols()) : 0U));
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     Eigen::MatrixXd w = Eigen::MatrixXd::NullaryExpr(n, kLanczosBlock, [&] { return uniform(random); });
     // A random block carries every frequency; (S − σM)⁻¹M damps the high ones by their |θ|, which S would amplify
     // again in ‖Sh − λMh‖ (by up to λ_max/λ: 7e-5 instead of 3e-7 on the 1M mesh's slivers). Two applications keep
     // them out of every Krylov vector and so out of the Ritz vectors (ARPACK puts its start in the operator's range
     // the same way).
+    krylov.deflate(w);
     for (int smoothing = 0; smoothing < kStartSmoothing; ++smoothing) {
       const Eigen::MatrixXd start = mass.asDiagonal() * w;
       op.solve(start, w);
+      krylov.deflate(w);
       w.array().rowwise() /= krylov.mNorms(w).transpose().array().max(std::numeric_limits<double>::min());
     }
     Eigen::VectorXd scale = krylov.mNorms(w);
@@ -329,6 +347,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
     ReorthogonalisationSchedule schedule;
     for (int block = 0;; ++block) {
       op.solve(mass.asDiagonal() * krylov.lastBlock(), w);
+      krylov.deflate(w);
       scale = krylov.mNorms(w);
       Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
       if (schedule.due()) {
@@ -365,17 +384,6 @@ BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, i
     if (result.status != BasisStatus::NotConverged) return result;
   }
   return lanczosNearestPairs(op, mass, pairs, std::max(5 * pairs / 2, pairs + 20), sigma, options);
-}
-
-BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
-  const double expectedSolves = 3.2 * pairs + 20.0;  // 316 solves at 1M vertices and m = 100
-  auto observer = [&options, expectedSolves](int solves) {
-    return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));
-  };
-  ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
-  op.setSolveThreads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  const SingleThreadedBlas oneBlasThread;  // the run's own threads split the solves and the sweeps over Q
-  return nearestPairs(op, ops.mass, pairs, sigma, options);
 }
 
 }  // namespace sc::spectral::detail

@@ -1,6 +1,7 @@
 #pragma once
 // Block shift-invert Lanczos: the eigenpairs of S h = λ M h nearest a shift, four right-hand sides at a time.
-// Internal to src/spectral (spectrum_slices.cpp runs it in each slice; lanczos_solver.cpp falls back to Spectra).
+// Internal to src/spectral (spectrum_slices.cpp runs it in each slice, large_mesh_eigenpairs.cpp once for the whole
+// band, repeated_eigenvalues.cpp deflated; lanczos_solver.cpp is the fallback).
 
 #include "spectral/basis_types.h"
 #include "spectral/shift_invert_operator.h"
@@ -24,23 +25,20 @@ inline constexpr int kLanczosBlock = 4;
 /// the solve count through op), except: NotConverged when `maxColumns` (clamped to [pairs + 2·block, #V / 2]) columns
 /// are used up first, or when #V is too small for that range; the caller then uses lanczosNearestPairs(), which
 /// restarts. The start block is pseudo-random with a fixed seed, so the result is reproducible.
+/// `deflation` (M-orthonormal columns X, or nullptr): every vector is kept M-orthogonal to X (removed after each
+/// solve), so the pairs returned are those nearest σ among the eigenpairs not in X's span; costs four reads of X per
+/// block (repeated_eigenvalues.h finds the missing copies of a repeated eigenvalue this way).
 /// Cost: about 2.2·pairs + 55 solves in blocks of four (188 for 60 pairs at 100k); O(#V·K²) GEMM work for K columns
 /// (on half to all of the blocks: all at interior shifts, where each solve adds 10⁻¹¹–10⁻¹⁰ of drift);
 /// memory #V·maxColumns doubles reserved, of which only the K used are touched.
 BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int maxColumns,
-                                     double sigma, const BasisOptions& options);
+                                     double sigma, const BasisOptions& options,
+                                     const Eigen::MatrixXd* deflation = nullptr);
 
 /// The `pairs` eigenpairs nearest σ on op: blockLanczosNearestPairs() with 4·pairs + 40 columns when
 /// options.blockLanczos, else or when that does not converge Spectra's lanczosNearestPairs() (ncv = max(5/2·pairs,
 /// pairs + 20), restarting) on the same factor. Same contract as lanczosNearestPairs().
 BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
                          const BasisOptions& options);
-
-/// The first `pairs` eigenpairs around σ < 0 by nearestPairs() on a new factor; progress and cancellation through
-/// options.progress. For meshes too large for spectrum slicing's several factors and bases. Runs on one thread per
-/// core of its own (the solves' columns, the sweeps' bands of rows, the Ritz vectors' bands), with OpenBLAS on one
-/// thread meanwhile (single_threaded_blas.h).
-/// Cost: one factorisation, about 3.2·pairs solves, O(#V·K²) GEMM work; memory nnz(L) + #V·K doubles, K ≈ 3.2·pairs.
-BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options);
 
 }  // namespace sc::spectral::detail

@@ -3,6 +3,7 @@
 #include "spectral/block_lanczos.h"
 #include "spectral/hierarchical_basis.h"
 #include "spectral/lanczos_solver.h"
+#include "spectral/large_mesh_eigenpairs.h"
 #include "spectral/mesh_components.h"
 #include "spectral/shift_invert_operator.h"
 #include "spectral/single_threaded_blas.h"

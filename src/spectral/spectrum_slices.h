@@ -53,9 +53,9 @@ MergedSlices mergeSlices(std::vector<SpectrumSlice> slices, int m, double scale,
 /// 3. Checks: Sylvester's count at a gap just above index m − 1 (one more factorisation: the top slice's part above
 ///    its own shift is the only one no overlap checks), mergeSlices(), and the M-orthonormality of the columns around
 ///    each hand-over (≤ 1e-8). Every index is thus placed by an exact count and checked by a second one.
-/// Runs blockLanczosEigenpairs() instead above options.sliceMaximumVertices (one factor and one Krylov basis in
-/// memory; lanczosEigenpairs() when options.blockLanczos is false), and lanczosEigenpairs() when #V is below
-/// options.sliceMinimumVertices or k < 2; falls back to hierarchicalEigenpairs() when a check of step 3 fails
+/// Runs blockLanczosEigenpairs() (large_mesh_eigenpairs.h) instead above options.sliceMaximumVertices (one factor and
+/// one Krylov basis in memory; lanczosEigenpairs() when options.blockLanczos is false), and lanczosEigenpairs() when #V
+/// is below options.sliceMinimumVertices or k < 2; falls back to hierarchicalEigenpairs() when a check of step 3 fails
 /// (result.message says which). Cost: k + 1 simplicial factorisations (k symbolic analyses), about 3.5·(m + 2·guard·k)
 /// solves in blocks of four and O(#V·Σ K_j²) orthogonalisation for K_j ≈ 3.5·m/k Krylov columns (against O(#V·(5m/2)²)
 /// for one run), spread over the threads; memory O(threads·(nnz(L) + #V·K_j) + #V·m).

@@ -1,14 +1,18 @@
 // Block shift-invert Lanczos (the solver inside each spectrum slice) against Spectra's restarted Lanczos on the same
 // factor: bottom and interior shifts, solves on several threads, and how it ends when it cannot finish (columns used
-// up, cancellation).
+// up, cancellation); the large-mesh run's OpenBLAS setting and its completion of repeated eigenvalues.
 
 #include "spectral/block_lanczos.h"
+#include "spectral/harmonic_basis.h"
 #include "spectral/lanczos_solver.h"
+#include "spectral/large_mesh_eigenpairs.h"
+#include "spectral/repeated_eigenvalues.h"
 #include "spectral/single_threaded_blas.h"
 #include "spectral/subspace_iteration.h"
 #include "test_meshes.h"
 
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
 
 #include <cmath>
 #include <numbers>
@@ -92,6 +96,42 @@ TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
   EXPECT_GT(calls, 0);
   EXPECT_EQ(openblas_get_num_threads(), 2);
   openblas_set_num_threads(original);
+}
+
+TEST(BlockLanczos, SixEqualSpheresInTheOneRunGiveEveryCopyOfEachEigenvalue) {
+  // The large-mesh run has no count check: a multiplicity above the block's four columns (here 0 six times, then
+  // the first non-constant harmonic eighteen times) must still come out whole. Reference: the dense generalised
+  // eigenproblem of the same S and M (1,932 vertices).
+  testing::GeneratedMesh mesh = testing::icosphere(2);
+  for (int copy = 1; copy < 6; ++copy) mesh = testing::joined(mesh, testing::icosphere(2, 1.0, {3.0 * copy, 0, 0}));
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(Eigen::MatrixXd(ops.stiffness),
+                                                                        Eigen::MatrixXd(ops.mass.asDiagonal()));
+  ASSERT_EQ(dense.info(), Eigen::Success);
+  const int pairs = 30;  // 6 + 18, then into the next cluster of 30
+  const double sigma = -4.0 * std::numbers::pi / ops.totalArea;
+  const BasisResult run = detail::blockLanczosEigenpairs(ops, pairs, sigma, BasisOptions{});
+  ASSERT_TRUE(run.ok()) << run.message;
+  const Eigen::VectorXd expected = dense.eigenvalues().head(pairs);
+  EXPECT_LE(((run.basis.eigenvalues - expected).array().abs() / (expected.array().abs() + std::abs(sigma))).maxCoeff(),
+            1e-8);
+  EXPECT_LE(expected[23] / expected[6], 1.0 + 1e-6) << "the spheres' first harmonics form one cluster of 18";
+  EXPECT_LE(orthonormalityError(run.basis.vectors, ops.mass), 1e-8);
+  const Eigen::MatrixXd& h = run.basis.vectors;
+  EXPECT_LE(
+      detail::relativeResiduals(ops.stiffness * h, ops.mass.asDiagonal() * h, ops.mass, run.basis.eigenvalues, sigma)
+          .maxCoeff(),
+      1e-7);
+  EXPECT_GT(run.operatorApplications, 0);
+}
+
+TEST(RepeatedEigenvalues, LargestClusterCountsNeighboursWithinTheRelativeGap) {
+  const double scale = 1.0;
+  EXPECT_EQ(detail::largestCluster(Eigen::VectorXd(), scale), 0);
+  EXPECT_EQ(detail::largestCluster(Eigen::VectorXd::Constant(1, 5.0), scale), 1);
+  Eigen::VectorXd values(8);
+  values << 0.0, 1e-9, 2.0, 2.0 + 1e-7, 2.0 + 2e-7, 2.0 + 3e-7, 3.0, 3.0 + 1e-2;
+  EXPECT_EQ(detail::largestCluster(values, scale), 4);  // 2, four times; 3 and 3.01 are 3e-3 apart relatively
 }
 
 TEST(BlockLanczos, InteriorShiftFindsThePairsNearestItOnBothSides) {
