@@ -67,9 +67,12 @@ struct BasisOptions {
   /// Slices: meshes with fewer vertices use Lanczos (slicing pays for its extra factorisations on large meshes).
   Eigen::Index sliceMinimumVertices = 20000;
   /// Slices: meshes with more vertices run one block Lanczos (blockLanczosEigenpairs(): one factor, one Krylov
-  /// basis). Each running slice holds its own factor and #V·K Krylov vectors: at 1M vertices two (Spectra) slices
-  /// peaked at 4.07 GB against Lanczos's 3.24 GB, and the one block run peaks at 3.07 GB (docs/benchmarks.md).
-  Eigen::Index sliceMaximumVertices = 600000;
+  /// basis, its solves and sweeps split over the cores). Each running slice holds its own factor and #V·K Krylov
+  /// vectors: on the 437k scan the slices took 11.6–14.4 s and 1.82 GB against 10.7–11.7 s and 1.34 GB for the one
+  /// run; on the 100k dragon the two were within the noise (one run 2.3–2.5 s, slices 2.4–2.8 s), and the slices
+  /// keep their exact count of every index there; on the 23k dragon the slices won, 0.42 s against 0.48 s
+  /// (docs/benchmarks.md, seventh pass).
+  Eigen::Index sliceMaximumVertices = 200000;
   /// σ = −shiftFactor·4π/area. Negative so that S − σM is SPD (Cholesky applies, S itself is singular);
   /// about the first non-zero eigenvalue of a sphere of the same area, which keeps the operator well scaled.
   double shiftFactor = 1.0;

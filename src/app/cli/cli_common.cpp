@@ -24,7 +24,7 @@ SubcommandParser::SubcommandParser(const QString& name, const QString& descripti
       m_solver(QStringLiteral("solver"),
                QStringLiteral(
                    "eigensolver: slices (default; spectrum slicing: block Lanczos runs around several "
-                   "shifts on parallel threads; Lanczos below 20,000 vertices, one block Lanczos run above 600,000), "
+                   "shifts on parallel threads; Lanczos below 20,000 vertices, one block Lanczos run above 200,000), "
                    "lanczos (Spectra's, the reference), or hierarchical (coarse start + block subspace iteration to a "
                    "residual of 1e-6)"),
                QStringLiteral("name"), QStringLiteral("slices")) {
