@@ -41,7 +41,8 @@ constexpr double kSecondPass = 0.5;
 /// The Krylov basis Q (M-orthonormal columns) and the projected matrix T = QᵀM(S − σM)⁻¹MQ built block by block.
 class KrylovBasis {
  public:
-  /// `threads`: the row-band sweeps of the local orthogonalisation and Cholesky QR run on this many threads.
+  /// `threads`: the row-band sweeps (local orthogonalisation, Cholesky QR, full passes, deflation) and the Ritz
+  /// vectors' bands run on this many threads.
   /// `deflation`: M-orthonormal columns every vector of the basis is kept M-orthogonal to (nullptr: none).
   KrylovBasis(const Eigen::VectorXd& mass, Eigen::Index capacity, int threads, const Eigen::MatrixXd* deflation)
       : m_mass(mass),
@@ -378,11 +379,13 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
 }
 
 BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
-                         const BasisOptions& options) {
+                         const BasisOptions& options, bool* singleVector) {
+  if (singleVector != nullptr) *singleVector = false;
   if (options.blockLanczos) {
     BasisResult result = blockLanczosNearestPairs(op, mass, pairs, 4 * pairs + 40, sigma, options);
     if (result.status != BasisStatus::NotConverged) return result;
   }
+  if (singleVector != nullptr) *singleVector = true;
   return lanczosNearestPairs(op, mass, pairs, std::max(5 * pairs / 2, pairs + 20), sigma, options);
 }
 

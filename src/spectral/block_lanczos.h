@@ -15,7 +15,7 @@ inline constexpr int kLanczosBlock = 4;
 /// The `pairs` eigenpairs of S h = λ M h whose eigenvalues are nearest σ, sorted ascending, M-orthonormal, by block
 /// Lanczos on (S − σM)⁻¹M in the M inner product, without restarts: blocks of kLanczosBlock columns, each made
 /// M-orthogonal to the last two blocks (the recurrence) and M-orthonormal by Cholesky QR; against every earlier
-/// column (classical Gram–Schmidt as two GEMMs, each a read of the basis) only as partial re-orthogonalisation
+/// column (classical Gram–Schmidt as two banded sweeps, each a read of the basis) only as partial re-orthogonalisation
 /// decides: in pairs of blocks, as often as the drift each full pass measures asks, so that the basis stays
 /// semi-orthogonal (drift ≤ 10⁻⁹ < √ε; Simon 1984). The projected block-tridiagonal matrix is solved densely after
 /// every block where that costs little beside the block's solves (large meshes), else every few blocks; a Ritz
@@ -37,8 +37,9 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
 
 /// The `pairs` eigenpairs nearest σ on op: blockLanczosNearestPairs() with 4·pairs + 40 columns when
 /// options.blockLanczos, else or when that does not converge Spectra's lanczosNearestPairs() (ncv = max(5/2·pairs,
-/// pairs + 20), restarting) on the same factor. Same contract as lanczosNearestPairs().
+/// pairs + 20), restarting) on the same factor. Same contract as lanczosNearestPairs(). `singleVector`, when given, is
+/// set to whether Spectra's single-vector run produced the result (it may miss copies of a repeated eigenvalue).
 BasisResult nearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
-                         const BasisOptions& options);
+                         const BasisOptions& options, bool* singleVector = nullptr);
 
 }  // namespace sc::spectral::detail

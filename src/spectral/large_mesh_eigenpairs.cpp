@@ -18,8 +18,9 @@ BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, doubl
   ShiftInvertOperator op(ops.stiffness, ops.mass, observer);
   op.setSolveThreads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   const SingleThreadedBlas oneBlasThread;  // the run's own threads split the solves and the sweeps over Q
-  BasisResult result = nearestPairs(op, ops.mass, pairs, sigma, options);
-  completeRepeatedEigenvalues(op, ops.mass, pairs, sigma, options, result);
+  bool singleVector = false;
+  BasisResult result = nearestPairs(op, ops.mass, pairs, sigma, options, &singleVector);
+  completeRepeatedEigenvalues(op, ops.mass, pairs, sigma, options, singleVector, result);
   return result;
 }
 

@@ -11,8 +11,9 @@ namespace sc::spectral::detail {
 /// meshes too large for spectrum slicing's several factors and bases. Runs on one thread per core of its own (the
 /// solves' columns, the sweeps' bands of rows, the Ritz vectors' bands), with OpenBLAS on one thread meanwhile
 /// (single_threaded_blas.h).
-/// Cost: one factorisation, about 3.2·pairs solves, O(#V·K²) sweep work; memory nnz(L) + #V·K doubles, K ≈ 3.2·pairs
-/// (a cluster of kLanczosBlock or more equal eigenvalues adds factorisations and small runs).
+/// Cost: one factorisation, about 2.2·pairs + 55 solves (K columns), O(#V·K²) sweep work; memory nnz(L) + #V·K
+/// doubles (a cluster of kLanczosBlock or more equal eigenvalues adds factorisations and small runs, e.g. a mesh of
+/// four or more components: its zeros).
 BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options);
 
 }  // namespace sc::spectral::detail

@@ -43,43 +43,47 @@ void fail(BasisResult& result, BasisStatus status, std::string message) {
 
 }  // namespace
 
-int largestCluster(const Eigen::VectorXd& values, double scale) {
-  int largest = values.size() > 0 ? 1 : 0;
-  int run = 1;
-  for (Eigen::Index i = 1; i < values.size(); ++i) {
-    run = sameCluster(values[i - 1], values[i], scale) ? run + 1 : 1;
-    largest = std::max(largest, run);
-  }
-  return largest;
+Eigen::Index clusterEnd(const Eigen::VectorXd& values, Eigen::Index first, double scale) {
+  Eigen::Index last = first;
+  while (last + 1 < values.size() && sameCluster(values[first], values[last + 1], scale)) ++last;
+  return last;
 }
 
 void completeRepeatedEigenvalues(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, double sigma,
-                                 const BasisOptions& options, BasisResult& result) {
-  if (!result.ok()) return;
+                                 const BasisOptions& options, bool singleVectorRun, BasisResult& result) {
+  if (!result.ok() || result.basis.eigenvalues.size() == 0) return;
   const double scale = std::abs(sigma);
   Eigen::VectorXd& values = result.basis.eigenvalues;
   Eigen::MatrixXd& vectors = result.basis.vectors;
-  const double halfGap = 0.5 * kClusterGap;
+  const auto margin = [scale](double value) { return 0.5 * kClusterGap * (std::abs(value) + scale); };
   int runs = 0;
-  for (int from = 0;;) {
-    // the next cluster of at least kLanczosBlock values [first, last] that starts below index pairs
-    const auto found = static_cast<int>(values.size());
-    int first = from;
-    int last = from;
-    for (; first < std::min(pairs, found); first = last + 1) {
-      last = first;
-      while (last + 1 < found && sameCluster(values[last], values[last + 1], scale)) ++last;
-      if (last - first + 1 >= kLanczosBlock) break;
+  for (Eigen::Index from = 0;;) {
+    const auto found = static_cast<Eigen::Index>(values.size());
+    const Eigen::Index limit = std::min<Eigen::Index>(pairs, found);
+    // the range [first, last] to count: a single-vector run's whole result, or a block run's next large cluster
+    Eigen::Index first = from;
+    Eigen::Index last = from;
+    if (singleVectorRun) {
+      first = 0;
+      last = clusterEnd(values, limit - 1, scale);
+    } else {
+      for (; first < limit; first = last + 1) {
+        last = clusterEnd(values, first, scale);
+        if (last - first + 1 >= kLanczosBlock) break;
+      }
+      if (first >= limit) break;
     }
-    if (first >= std::min(pairs, found)) break;
-    // a cluster that reaches index pairs − 1 needs only what lies below it counted; another, what lies up to its top
-    const bool reachesEnd = last >= pairs - 1;
-    const double point = reachesEnd ? (first > 0 ? 0.5 * (values[first - 1] + values[first])
-                                                 : values[first] - halfGap * (std::abs(values[first]) + scale))
-                                    : (last + 1 < found ? 0.5 * (values[last] + values[last + 1])
-                                                        : values[last] + halfGap * (std::abs(values[last]) + scale));
-    const int expected = reachesEnd ? first : last + 1;
-    int below = 0;
+    const bool countBelowIt = !singleVectorRun && last >= pairs - 1;
+    const double point =
+        countBelowIt
+            ? (first > 0 ? 0.5 * (values[first - 1] + values[first]) : values[first] - margin(values[first]))
+            : (last + 1 < found ? 0.5 * (values[last] + values[last + 1]) : values[last] + margin(values[last]));
+    const Eigen::Index expected = countBelowIt ? first : last + 1;
+    if (options.progress && !options.progress(0.99)) {
+      fail(result, BasisStatus::Cancelled, "cancelled");
+      return;
+    }
+    Eigen::Index below = 0;
     try {
       op.set_shift(point);
       below = op.eigenvaluesBelowShift();
@@ -89,25 +93,29 @@ void completeRepeatedEigenvalues(ShiftInvertOperator& op, const Eigen::VectorXd&
       return;
     }
     if (below == expected) {
-      if (reachesEnd) break;
+      if (singleVectorRun || countBelowIt) break;
       from = last + 1;
       continue;
     }
+    const std::string counts = std::to_string(below) + " eigenvalues lie below " + std::to_string(point) +
+                               ", the eigensolver found " + std::to_string(expected);
     if (below < expected || runs == kRounds) {
       fail(result, BasisStatus::NotConverged,
-           std::to_string(below) + " eigenvalues lie below " + std::to_string(point) + ", block Lanczos found " +
-               std::to_string(expected) + " (copies of a repeated eigenvalue missing after " + std::to_string(runs) +
-               " deflated runs)");
+           counts + " (copies of a repeated eigenvalue missing after " + std::to_string(runs) + " deflated runs)");
       return;
     }
     // at most one block's worth: those are copies of the missing eigenvalue, which the block spans at once (asked
     // for all six missing copies of the spheres' harmonic, the run did not converge in 64 columns)
-    const int wanted = std::min(below - expected, kLanczosBlock);
+    const int wanted = static_cast<int>(std::min<Eigen::Index>(below - expected, kLanczosBlock));
     BasisResult more = blockLanczosNearestPairs(op, mass, wanted, 4 * wanted + 40, sigma, options, &vectors);
     ++runs;
     result.operatorApplications = op.solveCount();
     if (!more.ok()) {
       fail(result, more.status, more.message);
+      return;
+    }
+    if ((more.basis.eigenvalues.array() < point).count() == 0) {
+      fail(result, BasisStatus::NotConverged, counts + ", and a deflated run found none of the missing ones");
       return;
     }
     Eigen::VectorXd joinedValues(found + more.basis.eigenvalues.size());
@@ -116,7 +124,7 @@ void completeRepeatedEigenvalues(ShiftInvertOperator& op, const Eigen::VectorXd&
     joinedVectors << vectors, more.basis.vectors;
     values = std::move(joinedValues);
     vectors = std::move(joinedVectors);
-    sortPairs(values, vectors);  // then the same cluster is counted again
+    sortPairs(values, vectors);  // then the same range is counted again
   }
   if (values.size() > pairs) {
     values.conservativeResize(pairs);

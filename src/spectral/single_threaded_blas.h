@@ -1,6 +1,6 @@
 #pragma once
 // SingleThreadedBlas: OpenBLAS on one thread for a scope, where the caller runs its own threads. Internal to
-// src/spectral (spectrum_slices.cpp, block_lanczos.cpp).
+// src/spectral (spectrum_slices.cpp, large_mesh_eigenpairs.cpp).
 
 // OpenBLAS's thread-count controls, when the BLAS linked is OpenBLAS (weak: absent with another BLAS).
 extern "C" {

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace sc::spectral {
 namespace {
@@ -74,10 +75,23 @@ TEST(BlockLanczos, SolvesAndSweepsOnThreeThreadsMatchSpectra) {
   expectSamePairs(problem, block, spectraPairs(problem, 40, problem.bottomShift), problem.bottomShift);
 }
 
+/// Restores OpenBLAS's thread count on leaving the scope (a failed assertion returns early).
+class BlasThreadsRestored {
+ public:
+  BlasThreadsRestored() : m_original(openblas_get_num_threads()) {}
+  ~BlasThreadsRestored() { openblas_set_num_threads(m_original); }
+  BlasThreadsRestored(const BlasThreadsRestored&) = delete;
+  BlasThreadsRestored& operator=(const BlasThreadsRestored&) = delete;
+
+ private:
+  int m_original;
+};
+
 TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
   if (openblas_get_num_threads == nullptr || openblas_set_num_threads == nullptr) GTEST_SKIP() << "not OpenBLAS";
-  const int original = openblas_get_num_threads();
+  const BlasThreadsRestored restored;
   openblas_set_num_threads(2);
+  if (openblas_get_num_threads() != 2) GTEST_SKIP() << "this OpenBLAS build runs on one thread only";
   {
     const detail::SingleThreadedBlas one;
     EXPECT_EQ(openblas_get_num_threads(), 1);
@@ -95,43 +109,122 @@ TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
   ASSERT_TRUE(run.ok()) << run.message;
   EXPECT_GT(calls, 0);
   EXPECT_EQ(openblas_get_num_threads(), 2);
-  openblas_set_num_threads(original);
 }
+
+/// Six equal unit spheres side by side (6 × 162 vertices): λ = 0 six times, then the first non-constant harmonic
+/// eighteen times, then the next thirty times.
+struct SixSpheres {
+  LaplaceOperators ops;
+  double sigma{};
+  Eigen::VectorXd exact;         ///< the dense generalised eigenproblem's first `kPairs` eigenvalues
+  Eigen::MatrixXd exactVectors;  ///< its first 60 eigenvectors, M-orthonormal
+  static constexpr int kPairs = 30;
+
+  SixSpheres() {
+    testing::GeneratedMesh mesh = testing::icosphere(2);
+    for (int copy = 1; copy < 6; ++copy) mesh = testing::joined(mesh, testing::icosphere(2, 1.0, {3.0 * copy, 0, 0}));
+    ops = laplaceOperators(mesh.V, mesh.F);
+    sigma = -4.0 * std::numbers::pi / ops.totalArea;
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(Eigen::MatrixXd(ops.stiffness),
+                                                                          Eigen::MatrixXd(ops.mass.asDiagonal()));
+    if (dense.info() != Eigen::Success) return;
+    exact = dense.eigenvalues().head(kPairs);
+    exactVectors = dense.eigenvectors().leftCols(60);
+  }
+
+  /// Every eigenvalue equal to the dense one (relative to |λ| + |σ|), M-orthonormal vectors with small residuals.
+  void expectExact(const BasisResult& run) const {
+    ASSERT_EQ(exact.size(), kPairs);
+    ASSERT_TRUE(run.ok()) << run.message;
+    ASSERT_EQ(run.basis.eigenvalues.size(), kPairs);
+    EXPECT_LE(((run.basis.eigenvalues - exact).array().abs() / (exact.array().abs() + std::abs(sigma))).maxCoeff(),
+              1e-8);
+    EXPECT_LE(orthonormalityError(run.basis.vectors, ops.mass), 1e-8);
+    const Eigen::MatrixXd& h = run.basis.vectors;
+    EXPECT_LE(
+        detail::relativeResiduals(ops.stiffness * h, ops.mass.asDiagonal() * h, ops.mass, run.basis.eigenvalues, sigma)
+            .maxCoeff(),
+        1e-7);
+  }
+};
 
 TEST(BlockLanczos, SixEqualSpheresInTheOneRunGiveEveryCopyOfEachEigenvalue) {
-  // The large-mesh run has no count check: a multiplicity above the block's four columns (here 0 six times, then
-  // the first non-constant harmonic eighteen times) must still come out whole. Reference: the dense generalised
-  // eigenproblem of the same S and M (1,932 vertices).
-  testing::GeneratedMesh mesh = testing::icosphere(2);
-  for (int copy = 1; copy < 6; ++copy) mesh = testing::joined(mesh, testing::icosphere(2, 1.0, {3.0 * copy, 0, 0}));
-  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> dense(Eigen::MatrixXd(ops.stiffness),
-                                                                        Eigen::MatrixXd(ops.mass.asDiagonal()));
-  ASSERT_EQ(dense.info(), Eigen::Success);
-  const int pairs = 30;  // 6 + 18, then into the next cluster of 30
-  const double sigma = -4.0 * std::numbers::pi / ops.totalArea;
-  const BasisResult run = detail::blockLanczosEigenpairs(ops, pairs, sigma, BasisOptions{});
-  ASSERT_TRUE(run.ok()) << run.message;
-  const Eigen::VectorXd expected = dense.eigenvalues().head(pairs);
-  EXPECT_LE(((run.basis.eigenvalues - expected).array().abs() / (expected.array().abs() + std::abs(sigma))).maxCoeff(),
-            1e-8);
-  EXPECT_LE(expected[23] / expected[6], 1.0 + 1e-6) << "the spheres' first harmonics form one cluster of 18";
-  EXPECT_LE(orthonormalityError(run.basis.vectors, ops.mass), 1e-8);
-  const Eigen::MatrixXd& h = run.basis.vectors;
-  EXPECT_LE(
-      detail::relativeResiduals(ops.stiffness * h, ops.mass.asDiagonal() * h, ops.mass, run.basis.eigenvalues, sigma)
-          .maxCoeff(),
-      1e-7);
-  EXPECT_GT(run.operatorApplications, 0);
+  // A multiplicity above the block's four columns must still come out whole: the run alone misses copies, which the
+  // large-mesh run's counts find.
+  const SixSpheres spheres;
+  ASSERT_LE(spheres.exact[23] / spheres.exact[6], 1.0 + 1e-6) << "the first harmonics form one cluster of 18";
+  detail::ShiftInvertOperator op(spheres.ops.stiffness, spheres.ops.mass, {});
+  const BasisResult alone = detail::nearestPairs(op, spheres.ops.mass, SixSpheres::kPairs, spheres.sigma, {});
+  ASSERT_TRUE(alone.ok()) << alone.message;
+  EXPECT_GT((alone.basis.eigenvalues - spheres.exact).cwiseAbs().maxCoeff(), 1.0) << "the run alone missed no copy";
+  const BasisResult run = detail::blockLanczosEigenpairs(spheres.ops, SixSpheres::kPairs, spheres.sigma, {});
+  spheres.expectExact(run);
+  EXPECT_GT(run.operatorApplications, alone.operatorApplications);  // the deflated runs' solves are counted
 }
 
-TEST(RepeatedEigenvalues, LargestClusterCountsNeighboursWithinTheRelativeGap) {
+TEST(RepeatedEigenvalues, ASingleVectorRunIsCountedWholeAndCompleted) {
+  // Spectra's fallback may miss copies of any multiplicity, so everything up to index m − 1 is counted. Its result
+  // here is made up from exact pairs: the six zeros, one copy of the first harmonic and one of the second in the
+  // place of the first's second copy, so that no cluster reaches four and the block rule sees nothing wrong.
+  const SixSpheres spheres;
+  ASSERT_EQ(spheres.exactVectors.cols(), 60);
+  constexpr int pairs = 8;
+  const std::vector<int> picked{0, 1, 2, 3, 4, 5, 6, 24};
+  const auto madeUp = [&spheres, &picked] {
+    BasisResult result;
+    result.status = BasisStatus::Ok;
+    result.basis.eigenvalues.resize(pairs);
+    result.basis.vectors.resize(spheres.exactVectors.rows(), pairs);
+    for (int i = 0; i < pairs; ++i) {
+      const int index = picked[static_cast<std::size_t>(i)];
+      result.basis.vectors.col(i) = spheres.exactVectors.col(index);
+      result.basis.eigenvalues[i] = spheres.exact[index];
+    }
+    return result;
+  };
+  detail::ShiftInvertOperator op(spheres.ops.stiffness, spheres.ops.mass, {});
+  BasisResult asBlock = madeUp();
+  detail::completeRepeatedEigenvalues(op, spheres.ops.mass, pairs, spheres.sigma, BasisOptions{}, false, asBlock);
+  ASSERT_TRUE(asBlock.ok()) << asBlock.message;
+  EXPECT_EQ(asBlock.basis.eigenvalues, madeUp().basis.eigenvalues) << "the block rule counts the zeros only";
+  BasisResult asSingle = madeUp();
+  detail::completeRepeatedEigenvalues(op, spheres.ops.mass, pairs, spheres.sigma, BasisOptions{}, true, asSingle);
+  ASSERT_TRUE(asSingle.ok()) << asSingle.message;
+  const Eigen::VectorXd expected = spheres.exact.head(pairs);  // six zeros, then the first harmonic twice
+  EXPECT_LE((asSingle.basis.eigenvalues - expected).cwiseAbs().maxCoeff(), 1e-8 * (2.0 + std::abs(spheres.sigma)));
+  EXPECT_LE(orthonormalityError(asSingle.basis.vectors, spheres.ops.mass), 1e-8);
+}
+
+TEST(RepeatedEigenvalues, ACancelBeforeACountIsHonoured) {
+  const SixSpheres spheres;
+  detail::ShiftInvertOperator op(spheres.ops.stiffness, spheres.ops.mass, {});
+  BasisResult run = detail::nearestPairs(op, spheres.ops.mass, SixSpheres::kPairs, spheres.sigma, {});
+  ASSERT_TRUE(run.ok()) << run.message;
+  BasisOptions options;
+  int calls = 0;
+  options.progress = [&calls](double) {
+    ++calls;
+    return false;
+  };
+  detail::completeRepeatedEigenvalues(op, spheres.ops.mass, SixSpheres::kPairs, spheres.sigma, options, false, run);
+  EXPECT_EQ(run.status, BasisStatus::Cancelled);
+  EXPECT_EQ(calls, 1);  // asked once, before the first count (the zeros' cluster)
+  EXPECT_EQ(run.basis.size(), 0);
+}
+
+TEST(RepeatedEigenvalues, AClusterIsTheValuesWithinOneGapOfItsFirst) {
   const double scale = 1.0;
-  EXPECT_EQ(detail::largestCluster(Eigen::VectorXd(), scale), 0);
-  EXPECT_EQ(detail::largestCluster(Eigen::VectorXd::Constant(1, 5.0), scale), 1);
   Eigen::VectorXd values(8);
   values << 0.0, 1e-9, 2.0, 2.0 + 1e-7, 2.0 + 2e-7, 2.0 + 3e-7, 3.0, 3.0 + 1e-2;
-  EXPECT_EQ(detail::largestCluster(values, scale), 4);  // 2, four times; 3 and 3.01 are 3e-3 apart relatively
+  EXPECT_EQ(detail::clusterEnd(values, 0, scale), 1);
+  EXPECT_EQ(detail::clusterEnd(values, 2, scale), 5);
+  EXPECT_EQ(detail::clusterEnd(values, 6, scale), 6);  // 3 and 3.01 are 2.5e-3 apart relatively
+  EXPECT_EQ(detail::clusterEnd(values, 7, scale), 7);
+  // a chain of steps each under the gap is cut where it leaves the first value's gap: 1e-4·(|λ| + 1) ≈ 2e-4 here
+  Eigen::VectorXd chain(4);
+  chain << 1.0, 1.0 + 1.5e-4, 1.0 + 3e-4, 1.0 + 4.5e-4;
+  EXPECT_EQ(detail::clusterEnd(chain, 0, scale), 1);
+  EXPECT_EQ(detail::clusterEnd(chain, 2, scale), 3);
 }
 
 TEST(BlockLanczos, InteriorShiftFindsThePairsNearestItOnBothSides) {
