@@ -1,12 +1,14 @@
 #pragma once
 // SingleThreadedBlas: OpenBLAS on one thread for a scope, where the caller runs its own threads. Internal to
-// src/spectral (spectrum_slices.cpp, large_mesh_eigenpairs.cpp).
+// src/spectral (spectrum_slices.cpp, large_mesh_eigenpairs.cpp, lanczos_solver.cpp).
 
 // OpenBLAS's thread-count controls, when the BLAS linked is OpenBLAS (weak: absent with another BLAS).
 extern "C" {
 __attribute__((weak)) int openblas_get_num_threads();
 __attribute__((weak)) void openblas_set_num_threads(int threads);
 }
+
+#include <mutex>
 
 namespace sc::spectral::detail {
 
@@ -15,23 +17,38 @@ namespace sc::spectral::detail {
 /// two slices each running a 2-thread OpenBLAS GEMV took 5.0–5.3 s on the 100k dragon against 3.9 s; the one block
 /// Lanczos run on the 437k scan took 250 s with OpenBLAS's threads against 25 s with one, while two busy processes
 /// shared the cores (its BLAS calls came from two band threads at once, and OpenBLAS's waits for its own threads
-/// turn into scheduler time slices there). The setting is process-wide, so it is restored on leaving; another
-/// thread's BLAS call meanwhile runs on one thread too. Without OpenBLAS it does nothing.
+/// turn into scheduler time slices there). The setting is process-wide, so it is restored when the last holder
+/// leaves; another thread's BLAS call meanwhile runs on one thread too. Without OpenBLAS it does nothing.
 class SingleThreadedBlas {
  public:
   SingleThreadedBlas() {
     if (openblas_get_num_threads == nullptr || openblas_set_num_threads == nullptr) return;
-    m_previous = openblas_get_num_threads();
-    openblas_set_num_threads(1);
+    const std::lock_guard lock(shared().mutex);
+    if (shared().holders++ == 0) {
+      shared().previous = openblas_get_num_threads();
+      openblas_set_num_threads(1);
+    }
   }
   ~SingleThreadedBlas() {
-    if (m_previous > 0) openblas_set_num_threads(m_previous);
+    if (openblas_get_num_threads == nullptr || openblas_set_num_threads == nullptr) return;
+    const std::lock_guard lock(shared().mutex);
+    if (--shared().holders == 0 && shared().previous > 0) openblas_set_num_threads(shared().previous);
   }
   SingleThreadedBlas(const SingleThreadedBlas&) = delete;
   SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
 
  private:
-  int m_previous = 0;
+  /// One count per process: the first holder saves the setting, the last restores it, so that holders on several
+  /// threads (nested or overlapping) never leave OpenBLAS on one thread, nor restore it while another still runs.
+  struct Shared {
+    std::mutex mutex;
+    int holders = 0;
+    int previous = 0;
+  };
+  static Shared& shared() {
+    static Shared state;
+    return state;
+  }
 };
 
 }  // namespace sc::spectral::detail

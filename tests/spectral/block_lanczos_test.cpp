@@ -15,6 +15,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -94,6 +95,13 @@ TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
   if (openblas_get_num_threads() != 2) GTEST_SKIP() << "this OpenBLAS build runs on one thread only";
   {
     const detail::SingleThreadedBlas one;
+    EXPECT_EQ(openblas_get_num_threads(), 1);
+  }
+  EXPECT_EQ(openblas_get_num_threads(), 2);
+  {  // holders that overlap (as on two threads): the setting comes back when the last one leaves
+    auto first = std::make_unique<detail::SingleThreadedBlas>();
+    const detail::SingleThreadedBlas second;
+    first.reset();
     EXPECT_EQ(openblas_get_num_threads(), 1);
   }
   EXPECT_EQ(openblas_get_num_threads(), 2);
