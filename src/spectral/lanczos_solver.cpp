@@ -15,7 +15,8 @@ namespace {
 
 using Solver = Spectra::SymGEigsShiftSolver<ShiftInvertOperator, DiagonalMassOperator, Spectra::GEigsMode::ShiftInvert>;
 
-/// Sorts the pairs by ascending eigenvalue (Spectra orders them by its selection rule).
+}  // namespace
+
 void sortAscending(HarmonicBasis& basis) {
   std::vector<Eigen::Index> order(static_cast<std::size_t>(basis.eigenvalues.size()));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
@@ -31,8 +32,6 @@ void sortAscending(HarmonicBasis& basis) {
   basis.eigenvalues = std::move(values);
   basis.vectors = std::move(vectors);
 }
-
-}  // namespace
 
 BasisResult lanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int ncv, double sigma,
                                 const BasisOptions& options) {

@@ -20,4 +20,8 @@ BasisResult lanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sig
 BasisResult lanczosNearestPairs(ShiftInvertOperator& op, const Eigen::VectorXd& mass, int pairs, int ncv, double sigma,
                                 const BasisOptions& options);
 
+/// Sorts the pairs by ascending eigenvalue, vectors with them (stable; nothing moves when they already are).
+/// Cost: O(#V·pairs) copies when any moves.
+void sortAscending(HarmonicBasis& basis);
+
 }  // namespace sc::spectral::detail
