@@ -10,7 +10,10 @@
 
 namespace sc::spectral::detail {
 
-BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma, const BasisOptions& options) {
+BasisResult blockLanczosEigenpairs(const LaplaceOperators& ops, int pairs, double sigma,
+                                   const BasisOptions& meshOptions) {
+  BasisOptions options = meshOptions;
+  options.tolerance = meshOptions.largeMeshTolerance;
   const double expectedSolves = 3.2 * pairs + 20.0;  // 316 solves at 1M vertices and m = 100
   auto observer = [&options, expectedSolves](int solves) {
     return !options.progress || options.progress(std::min(0.99, solves / expectedSolves));

@@ -6,7 +6,8 @@
 
 namespace sc::spectral::detail {
 
-/// The first `pairs` eigenpairs around σ < 0 by nearestPairs() (block_lanczos.h) on a new factor, then
+/// The first `pairs` eigenpairs around σ < 0 by nearestPairs() (block_lanczos.h) on a new factor, to
+/// options.largeMeshTolerance rather than options.tolerance, then
 /// completeRepeatedEigenvalues() (repeated_eigenvalues.h); progress and cancellation through options.progress. For
 /// meshes too large for spectrum slicing's several factors and bases. Runs on one thread per core of its own (the
 /// solves' columns, the sweeps' bands of rows, the Ritz vectors' bands), with OpenBLAS on one thread meanwhile
