@@ -1,5 +1,6 @@
 // shapecast-lab: the paper experiments and benchmarks (lab_command.h). Usage: shapecast-lab <subcommand> [options].
 
+#include "app/common/legacy_store.h"
 #include "experiments/lab_command.h"
 #include "session/net/nats_client.h"
 
@@ -18,9 +19,8 @@ int main(int argc, char* argv[]) {
   if (needsGui && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
   const std::unique_ptr<QCoreApplication> app =
       needsGui ? std::make_unique<QGuiApplication>(argc, argv) : std::make_unique<QCoreApplication>(argc, argv);
-  // The name that the basis cache and the settings are kept under: the same as shapecast-cli's.
-  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
-  QCoreApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
+  // The names that the basis cache and the settings are kept under: shapecast-cli's and the desktop app's.
+  sc::app::nameApplication(QStringLiteral(SHAPECAST_VERSION));
   arguments = QCoreApplication::arguments();
   arguments.removeFirst();
   return sc::app::runLabCommand(arguments);

@@ -7,7 +7,9 @@
 #include "app/cli/join_command.h"
 #include "app/cli/lab_alias.h"
 #include "app/cli/watch_command.h"
+#include "app/common/legacy_store.h"
 #include "session/net/nats_client.h"
+#include "session/net/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QTextStream>
@@ -54,8 +56,9 @@ int main(int argc, char* argv[]) {
   // argv as given (QCoreApplication may take out the options it knows) for the shapecast-lab alias.
   const std::vector<char*> given(argv + 1, argv + argc);
   const QCoreApplication app(argc, argv);
-  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
-  QCoreApplication::setApplicationVersion(QStringLiteral(SHAPECAST_VERSION));
+  // one store of known hosts and host identity with the desktop app
+  sc::app::nameApplication(QStringLiteral(SHAPECAST_VERSION));
+  sc::app::migrateLegacyStoreIntoThisOne(sc::session::defaultTlsIdentityDirectory());
   QStringList arguments = QCoreApplication::arguments();
   arguments.removeFirst();
   const QString subcommand = arguments.isEmpty() ? QString() : arguments.takeFirst();

@@ -1,6 +1,7 @@
 #include "app/gui/launch_options.h"
 
 #include "app/common/host_address.h"
+#include "app/common/legacy_store.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/join_dialog.h"
 #include "session/net/tls_identity.h"
@@ -69,9 +70,7 @@ LaunchParser::LaunchParser()
 }
 
 std::optional<LaunchOptions> LaunchParser::processApplication(const QCoreApplication& app, const QString& version) {
-  QCoreApplication::setOrganizationName(QStringLiteral("ShapeCast"));
-  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
-  QCoreApplication::setApplicationVersion(version);
+  nameApplication(version);
   m_parser.process(app);
   std::variant<LaunchOptions, LaunchError> parsed = options();
   if (auto* launch = std::get_if<LaunchOptions>(&parsed)) return std::move(*launch);

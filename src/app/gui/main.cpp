@@ -14,6 +14,7 @@
 // same arguments (tools/screenshots/: README-screenshot automation is no part of the application): exit 0 when every
 // PNG was written, 2 otherwise (the reason on stderr), 2 also when shapecast-screenshots cannot be run.
 
+#include "app/common/legacy_store.h"
 #include "app/common/sibling_executable.h"
 #include "app/gui/app_theme.h"
 #include "app/gui/demo.h"
@@ -25,6 +26,7 @@
 #include "app/gui/view_actions.h"
 #include "app/gui/viewport/renderer_defaults.h"
 #include "session/net/nats_client.h"
+#include "session/net/tls_identity.h"
 
 #include <QApplication>
 #include <QImage>
@@ -166,6 +168,7 @@ int main(int argc, char* argv[]) {
   const std::optional<sc::app::LaunchOptions> parsed =
       parser.processApplication(app, QStringLiteral(SHAPECAST_VERSION));
   if (!parsed) return kLaunchExitUsage;
+  sc::app::migrateLegacyStoreIntoThisOne(sc::session::defaultTlsIdentityDirectory());
   const sc::app::LaunchOptions& options = *parsed;
   if (const QString problem = sc::app::RendererDefaults::openGlProblem(); !problem.isEmpty()) {
     printError(problem);

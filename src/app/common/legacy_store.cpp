@@ -1,0 +1,125 @@
+#include "app/common/legacy_store.h"
+
+#include <QCoreApplication>
+#include <QDir>
+#include <QFile>
+#include <QSettings>
+#include <QStandardPaths>
+#include <QStringList>
+
+#include <cstdio>
+
+namespace sc::app {
+namespace {
+
+const QString kHostsGroup = QStringLiteral("knownHosts");
+const QString kMigratedKey = QStringLiteral("migrations/legacyCommandLineStore");
+const QStringList kIdentityFiles{QStringLiteral("host-key.pem"), QStringLiteral("host-cert.pem")};
+
+bool hasIdentity(const QString& directory) {
+  const QDir folder(directory);
+  for (const QString& file : kIdentityFiles)
+    if (!folder.exists(file)) return false;
+  return true;
+}
+
+bool hasAnyIdentityFile(const QString& directory) {
+  const QDir folder(directory);
+  for (const QString& file : kIdentityFiles)
+    if (folder.exists(file)) return true;
+  return false;
+}
+
+QByteArray certificate(const QString& directory) {
+  QFile file(QDir(directory).filePath(kIdentityFiles.back()));
+  return file.open(QIODevice::ReadOnly) ? file.readAll() : QByteArray();
+}
+
+bool sameCertificate(const QString& a, const QString& b) { return certificate(a) == certificate(b); }
+
+/// Copies the identity's files, the folder created 0700 and each file 0600 (as tls_identity.cpp writes them).
+bool copyIdentity(const QString& from, const QString& to) {
+  if (!QDir().mkpath(to)) return false;
+  QFile::setPermissions(to, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
+  for (const QString& file : kIdentityFiles) {
+    const QString target = QDir(to).filePath(file);
+    if (!QFile::copy(QDir(from).filePath(file), target)) return false;
+    QFile::setPermissions(target, QFileDevice::ReadOwner | QFileDevice::WriteOwner);
+  }
+  return true;
+}
+
+void copyHosts(QSettings& legacy, QSettings& current, LegacyStoreMigration& result) {
+  legacy.beginGroup(kHostsGroup);
+  current.beginGroup(kHostsGroup);
+  for (const QString& host : legacy.childKeys()) {
+    const QVariant fingerprint = legacy.value(host);
+    if (!current.contains(host)) {
+      current.setValue(host, fingerprint);
+      ++result.hostsCopied;
+    } else if (current.value(host) != fingerprint) {
+      ++result.hostsKept;
+    }
+  }
+  current.endGroup();
+  legacy.endGroup();
+}
+
+}  // namespace
+
+QString LegacyStoreMigration::notice() const {
+  QStringList parts;
+  if (hostsCopied > 0)
+    parts << QStringLiteral("%1 known host(s) of shapecast-cli's former store are now shared with the desktop app.")
+                 .arg(hostsCopied);
+  if (hostsKept > 0)
+    parts << QStringLiteral("%1 host(s) known to both with different fingerprints keep the desktop app's fingerprint.")
+                 .arg(hostsKept);
+  if (identityReplaced)
+    parts << QStringLiteral(
+        "shapecast-cli host now shows the desktop app's certificate; clients that trusted the command line's former "
+        "one are told once that the fingerprint changed (it is kept in ~/.local/share/shapecast/tls).");
+  return parts.join(QLatin1Char(' '));
+}
+
+LegacyStoreMigration migrateLegacyStore(const StoreLocations& legacy, const StoreLocations& current) {
+  LegacyStoreMigration result;
+  QSettings settings(current.settingsFile, QSettings::IniFormat);
+  if (settings.value(kMigratedKey).toBool()) return result;
+  result.ran = true;
+  if (QFile::exists(legacy.settingsFile)) {
+    QSettings old(legacy.settingsFile, QSettings::IniFormat);
+    copyHosts(old, settings, result);
+  }
+  if (hasIdentity(legacy.identityDirectory)) {
+    if (!hasAnyIdentityFile(current.identityDirectory))
+      result.identityCopied = copyIdentity(legacy.identityDirectory, current.identityDirectory);
+    else if (hasIdentity(current.identityDirectory))  // a half-written one is left for the host to report
+      result.identityReplaced = !sameCertificate(legacy.identityDirectory, current.identityDirectory);
+  }
+  settings.setValue(kMigratedKey, true);
+  settings.sync();
+  return result;
+}
+
+StoreLocations legacyCommandLineStore() {
+  const QString config = QStandardPaths::writableLocation(QStandardPaths::GenericConfigLocation);
+  const QString data = QStandardPaths::writableLocation(QStandardPaths::GenericDataLocation);
+  return {QDir(config).filePath(QStringLiteral("Unknown Organization/shapecast.conf")),
+          QDir(data).filePath(QStringLiteral("shapecast/tls"))};
+}
+
+void nameApplication(const QString& version) {
+  QCoreApplication::setOrganizationName(QStringLiteral("ShapeCast"));
+  QCoreApplication::setApplicationName(QStringLiteral("shapecast"));
+  QCoreApplication::setApplicationVersion(version);
+}
+
+void migrateLegacyStoreIntoThisOne(const QString& identityDirectory) {
+  const LegacyStoreMigration migration =
+      migrateLegacyStore(legacyCommandLineStore(), {QSettings().fileName(), identityDirectory});
+  if (const QString notice = migration.notice(); !notice.isEmpty())
+    std::fprintf(stderr, "shapecast: %s\n", qUtf8Printable(notice));
+}
+
+}  // namespace sc::app
