@@ -3,6 +3,7 @@
 #include "app/common/legacy_store.h"
 #include "experiments/lab_command.h"
 #include "session/net/nats_client.h"
+#include "session/net/tls_identity.h"
 
 #include <QCoreApplication>
 #include <QGuiApplication>
@@ -19,8 +20,10 @@ int main(int argc, char* argv[]) {
   if (needsGui && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
   const std::unique_ptr<QCoreApplication> app =
       needsGui ? std::make_unique<QGuiApplication>(argc, argv) : std::make_unique<QCoreApplication>(argc, argv);
-  // The names that the basis cache and the settings are kept under: shapecast-cli's and the desktop app's.
+  // The names that the settings and the host identity are kept under (shapecast-cli's and the desktop app's), and
+  // their former store moved in first: the experiments' hosts load or create that identity.
   sc::app::nameApplication(QStringLiteral(SHAPECAST_VERSION));
+  sc::app::migrateLegacyStoreIntoThisOne(sc::session::defaultTlsIdentityDirectory());
   arguments = QCoreApplication::arguments();
   arguments.removeFirst();
   return sc::app::runLabCommand(arguments);

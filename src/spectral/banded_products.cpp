@@ -13,8 +13,8 @@ namespace {
 constexpr Eigen::Index kBand = 512;
 /// Rows per band of W −= Q·H: OpenBLAS's kernel for a tall band times a thin H streams Q faster in longer bands (W's
 /// band, b ≤ 8 columns, then takes at most 256 KB, still within L2). At 437k rows and 300 columns of Q on the two
-/// cores: 73–75 ms against 96–103 ms with 512 rows, while Qᵀ·W was slower in the longer bands (66–84 ms against
-/// 55–57 ms), so it keeps kBand.
+/// cores: 62–74 ms against 87–88 ms with 512 rows, while Qᵀ·W was slower in the longer bands (66–84 ms against
+/// 47–57 ms), so it keeps kBand.
 constexpr Eigen::Index kSubtractionBand = 4096;
 
 /// Σ over bands [row, row + rows) of #V of body(row, rows, partial), where body adds its band's share to a

@@ -37,8 +37,10 @@ T get(const std::vector<std::byte>& in, std::size_t offset) {
 }
 
 /// The header's solver field (the reserved 0 of older files is Lanczos).
-/// Slices shares Lanczos's entries: both converge every pair with Spectra to BasisOptions::tolerance. The hierarchical
-/// solver converges to residualTolerance instead, so its bases are kept apart.
+/// Slices shares Lanczos's entries: both converge every pair to BasisOptions::tolerance (above sliceMaximumVertices
+/// the slices' path to largeMeshTolerance: the same eigenvalues to 2e-14, residuals below 1e-6, so its entry serves
+/// `--solver lanczos` too; --no-cache computes the reference afresh). The hierarchical solver converges to
+/// residualTolerance instead, so its bases are kept apart.
 std::uint32_t solverCode(BasisSolver solver) { return solver == BasisSolver::Hierarchical ? 1u : 0u; }
 
 std::vector<std::byte> serialize(const BasisCacheKey& key, const HarmonicBasis& basis) {

@@ -78,10 +78,11 @@ struct BasisOptions {
   double shiftFactor = 1.0;
   /// Relative convergence tolerance on the Ritz values (Spectra's test; block Lanczos uses the same).
   double tolerance = 1e-10;
-  /// `tolerance` of the one block Lanczos run above sliceMaximumVertices (large_mesh_eigenpairs.h), where each solve
-  /// costs most. On the 437k scan 1e-8 gave the eigenvalues of the 1e-10 run to 2.4e-14 (relative) with 292 solves
-  /// instead of 308, and a max residual ‖Sh − λMh‖ of 7.7e-7 instead of 8.5e-9: the level the 100k dragon (3e-7)
-  /// and the 1M mesh (4.3e-7) reach at 1e-10, where round-off sets it (docs/benchmarks.md, eighth pass).
+  /// `tolerance` of the large-mesh path above sliceMaximumVertices (large_mesh_eigenpairs.h: its block Lanczos run,
+  /// the deflated runs and the fallback to Spectra's), where each solve costs most. On the 437k scan 1e-8 gave the
+  /// eigenvalues of the 1e-10 run to 1.8e-14 of |λ| + |σ| with 292 solves instead of 308, and a max residual
+  /// ‖Sh − λMh‖ of 7.7e-7 instead of 8.5e-9: the level the 100k dragon (3e-7) and the 1M mesh (4.3e-7) reach at
+  /// 1e-10, where round-off sets it (docs/benchmarks.md, eighth pass).
   double largeMeshTolerance = 1e-8;
   int maxRestarts = 1000;  ///< Spectra's iteration limit.
   /// Called with the estimated fraction done in [0, 1] from inside the solve; return false to cancel.

@@ -119,6 +119,30 @@ TEST(BlockLanczos, TheLargeMeshRunUsesOneOpenBlasThreadAndRestoresTheSetting) {
   EXPECT_EQ(openblas_get_num_threads(), 2);
 }
 
+TEST(BlockLanczos, TheLargeMeshRunConvergesToItsOwnTolerance) {
+  // BasisOptions::largeMeshTolerance, not `tolerance`, decides when the large-mesh run stops: a tighter one costs
+  // more solves and leaves smaller residuals.
+  const Problem problem = torusProblem();
+  BasisOptions loose;
+  loose.tolerance = 1e-12;  // ignored by this run
+  loose.largeMeshTolerance = 1e-4;
+  BasisOptions tight = loose;
+  tight.tolerance = 1e-4;
+  tight.largeMeshTolerance = 1e-12;
+  const BasisResult a = detail::blockLanczosEigenpairs(problem.ops, 20, problem.bottomShift, loose);
+  const BasisResult b = detail::blockLanczosEigenpairs(problem.ops, 20, problem.bottomShift, tight);
+  ASSERT_TRUE(a.ok()) << a.message;
+  ASSERT_TRUE(b.ok()) << b.message;
+  EXPECT_LT(a.operatorApplications, b.operatorApplications);
+  const auto worst = [&problem](const BasisResult& run) {
+    const Eigen::MatrixXd& h = run.basis.vectors;
+    return detail::relativeResiduals(problem.ops.stiffness * h, problem.ops.mass.asDiagonal() * h, problem.ops.mass,
+                                     run.basis.eigenvalues, problem.bottomShift)
+        .maxCoeff();
+  };
+  EXPECT_LT(worst(b), worst(a));
+}
+
 /// Six equal unit spheres side by side (6 × 162 vertices): λ = 0 six times, then the first non-constant harmonic
 /// eighteen times, then the next thirty times.
 struct SixSpheres {

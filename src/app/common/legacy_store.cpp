@@ -37,16 +37,23 @@ QByteArray certificate(const QString& directory) {
 
 bool sameCertificate(const QString& a, const QString& b) { return certificate(a) == certificate(b); }
 
-/// Copies the identity's files, the folder created 0700 and each file 0600 (as tls_identity.cpp writes them).
+/// Copies the identity's files into a new folder beside `to` (0700, each file 0600, as tls_identity.cpp writes them),
+/// then renames it to `to` (absent or empty), so that `to` holds the whole identity or nothing. Returns whether it
+/// does; a failed copy is removed.
 bool copyIdentity(const QString& from, const QString& to) {
-  if (!QDir().mkpath(to)) return false;
-  QFile::setPermissions(to, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
+  const QString staging = to + QStringLiteral(".migrating");
+  QDir(staging).removeRecursively();
+  bool copied =
+      QDir().mkpath(staging) &&
+      QFile::setPermissions(staging, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
   for (const QString& file : kIdentityFiles) {
-    const QString target = QDir(to).filePath(file);
-    if (!QFile::copy(QDir(from).filePath(file), target)) return false;
-    QFile::setPermissions(target, QFileDevice::ReadOwner | QFileDevice::WriteOwner);
+    const QString target = QDir(staging).filePath(file);
+    copied = copied && QFile::copy(QDir(from).filePath(file), target) &&
+             QFile::setPermissions(target, QFileDevice::ReadOwner | QFileDevice::WriteOwner);
   }
-  return true;
+  copied = copied && (!QDir(to).exists() || QDir().rmdir(to)) && QDir().rename(staging, to);
+  if (!copied) QDir(staging).removeRecursively();
+  return copied;
 }
 
 void copyHosts(QSettings& legacy, QSettings& current, LegacyStoreMigration& result) {
@@ -77,8 +84,16 @@ QString LegacyStoreMigration::notice() const {
                  .arg(hostsKept);
   if (identityReplaced)
     parts << QStringLiteral(
-        "shapecast-cli host now shows the desktop app's certificate; clients that trusted the command line's former "
-        "one are told once that the fingerprint changed (it is kept in ~/.local/share/shapecast/tls).");
+                 "shapecast-cli host now shows the shared store's certificate; clients that trusted the command line's "
+                 "former one are told once that the fingerprint changed (it is kept in %1).")
+                 .arg(legacyIdentityDirectory);
+  if (identityFailed)
+    parts << QStringLiteral(
+                 "The host certificate in %1 could not be copied into the shared store (tried again on the "
+                 "next run).")
+                 .arg(legacyIdentityDirectory);
+  if (settingsFailed)
+    parts << QStringLiteral("The shared settings file could not be written, so this is tried again on the next run.");
   return parts.join(QLatin1Char(' '));
 }
 
@@ -91,14 +106,18 @@ LegacyStoreMigration migrateLegacyStore(const StoreLocations& legacy, const Stor
     QSettings old(legacy.settingsFile, QSettings::IniFormat);
     copyHosts(old, settings, result);
   }
+  result.legacyIdentityDirectory = legacy.identityDirectory;
   if (hasIdentity(legacy.identityDirectory)) {
-    if (!hasAnyIdentityFile(current.identityDirectory))
+    if (!hasAnyIdentityFile(current.identityDirectory)) {
       result.identityCopied = copyIdentity(legacy.identityDirectory, current.identityDirectory);
-    else if (hasIdentity(current.identityDirectory))  // a half-written one is left for the host to report
+      result.identityFailed = !result.identityCopied;
+    } else if (hasIdentity(current.identityDirectory)) {  // a half-written one is left for the host to report
       result.identityReplaced = !sameCertificate(legacy.identityDirectory, current.identityDirectory);
+    }
   }
-  settings.setValue(kMigratedKey, true);
+  if (!result.identityFailed) settings.setValue(kMigratedKey, true);  // else tried again on the next run
   settings.sync();
+  result.settingsFailed = settings.status() != QSettings::NoError;
   return result;
 }
 

@@ -47,11 +47,14 @@ TEST(StoreMigration, TheCliMovesItsFormerKnownHostsAndIdentityIntoTheDesktopApps
   ASSERT_TRUE(certificate.open(QIODevice::ReadOnly)) << "the identity is where the desktop app's host looks";
   EXPECT_EQ(certificate.readAll(), QByteArray("contents of host-cert.pem"));
 
+  QSettings(shared, QSettings::IniFormat).remove(QStringLiteral("knownHosts/studio.example:7001"));  // forgotten
   const CliRun second = runCli({QStringLiteral("basis"), mesh, QStringLiteral("-m"), QStringLiteral("8"),
                                 QStringLiteral("--no-cache"), QStringLiteral("--json")},
                                {}, environment);
   ASSERT_EQ(second.exitCode, 0) << second.err.constData();
   EXPECT_FALSE(second.err.contains("former store")) << "said once, not on every run";
+  EXPECT_FALSE(QSettings(shared, QSettings::IniFormat).contains(QStringLiteral("knownHosts/studio.example:7001")))
+      << "a host forgotten after the migration stays forgotten";
 }
 
 }  // namespace

@@ -87,6 +87,21 @@ TEST_F(LegacyStoreTest, WhenBothHaveAnIdentityTheCurrentOneStaysAndTheUserIsTold
   EXPECT_TRUE(migration.notice().contains(QLatin1String("certificate")));
 }
 
+TEST_F(LegacyStoreTest, AnIdentityThatCannotBeCopiedLeavesNothingBehindAndIsTriedAgain) {
+  ASSERT_TRUE(QDir().mkpath(legacy().identityDirectory + QStringLiteral("/host-cert.pem")));  // a folder: unreadable
+  QFile key(QDir(legacy().identityDirectory).filePath(QStringLiteral("host-key.pem")));
+  ASSERT_TRUE(key.open(QIODevice::WriteOnly));
+  key.write("key");
+  key.close();
+  const LegacyStoreMigration migration = migrateLegacyStore(legacy(), current());
+  EXPECT_TRUE(migration.identityFailed);
+  EXPECT_FALSE(migration.identityCopied);
+  EXPECT_FALSE(QDir(current().identityDirectory).exists(QStringLiteral("host-key.pem"))) << "half an identity";
+  EXPECT_FALSE(QDir(current().identityDirectory + QStringLiteral(".migrating")).exists());
+  EXPECT_TRUE(migration.notice().contains(QLatin1String("could not be copied")));
+  EXPECT_TRUE(migrateLegacyStore(legacy(), current()).ran) << "not recorded, so tried again";
+}
+
 TEST_F(LegacyStoreTest, WithoutALegacyStoreNothingIsCopiedAndNothingIsSaid) {
   const LegacyStoreMigration migration = migrateLegacyStore(legacy(), current());
   EXPECT_TRUE(migration.ran);
