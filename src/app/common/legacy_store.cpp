@@ -1,5 +1,8 @@
 #include "app/common/legacy_store.h"
 
+#include "session/net/tls_identity.h"
+#include "session/net/tls_known_hosts.h"
+
 #include <QCoreApplication>
 #include <QDir>
 #include <QFile>
@@ -7,31 +10,24 @@
 #include <QStandardPaths>
 #include <QStringList>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace sc::app {
 namespace {
 
-const QString kHostsGroup = QStringLiteral("knownHosts");
 const QString kMigratedKey = QStringLiteral("migrations/legacyCommandLineStore");
-const QStringList kIdentityFiles{QStringLiteral("host-key.pem"), QStringLiteral("host-cert.pem")};
+const QStringList kIdentityFiles{session::tlsIdentityFiles().key, session::tlsIdentityFiles().certificate};
 
-bool hasIdentity(const QString& directory) {
+/// How many of the identity's two files `directory` holds.
+int identityFileCount(const QString& directory) {
   const QDir folder(directory);
-  for (const QString& file : kIdentityFiles)
-    if (!folder.exists(file)) return false;
-  return true;
-}
-
-bool hasAnyIdentityFile(const QString& directory) {
-  const QDir folder(directory);
-  for (const QString& file : kIdentityFiles)
-    if (folder.exists(file)) return true;
-  return false;
+  return static_cast<int>(std::count_if(kIdentityFiles.begin(), kIdentityFiles.end(),
+                                        [&folder](const QString& file) { return folder.exists(file); }));
 }
 
 QByteArray certificate(const QString& directory) {
-  QFile file(QDir(directory).filePath(kIdentityFiles.back()));
+  QFile file(QDir(directory).filePath(session::tlsIdentityFiles().certificate));
   return file.open(QIODevice::ReadOnly) ? file.readAll() : QByteArray();
 }
 
@@ -57,8 +53,8 @@ bool copyIdentity(const QString& from, const QString& to) {
 }
 
 void copyHosts(QSettings& legacy, QSettings& current, LegacyStoreMigration& result) {
-  legacy.beginGroup(kHostsGroup);
-  current.beginGroup(kHostsGroup);
+  legacy.beginGroup(session::KnownHosts::settingsGroup());
+  current.beginGroup(session::KnownHosts::settingsGroup());
   for (const QString& host : legacy.childKeys()) {
     const QVariant fingerprint = legacy.value(host);
     if (!current.contains(host)) {
@@ -107,11 +103,13 @@ LegacyStoreMigration migrateLegacyStore(const StoreLocations& legacy, const Stor
     copyHosts(old, settings, result);
   }
   result.legacyIdentityDirectory = legacy.identityDirectory;
-  if (hasIdentity(legacy.identityDirectory)) {
-    if (!hasAnyIdentityFile(current.identityDirectory)) {
+  const int whole = static_cast<int>(kIdentityFiles.size());
+  if (identityFileCount(legacy.identityDirectory) == whole) {
+    const int present = identityFileCount(current.identityDirectory);
+    if (present == 0) {
       result.identityCopied = copyIdentity(legacy.identityDirectory, current.identityDirectory);
       result.identityFailed = !result.identityCopied;
-    } else if (hasIdentity(current.identityDirectory)) {  // a half-written one is left for the host to report
+    } else if (present == whole) {  // a half-written one is left for the host to report
       result.identityReplaced = !sameCertificate(legacy.identityDirectory, current.identityDirectory);
     }
   }

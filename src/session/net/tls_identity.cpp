@@ -23,8 +23,8 @@ namespace {
 constexpr long kValidFromSeconds = -3600;                 ///< tolerate clocks an hour behind
 constexpr long kValidForSeconds = 20L * 365 * 24 * 3600;  ///< the pin should outlive the installation
 constexpr int kSerialBits = 128;
-const QString kKeyFile = QStringLiteral("host-key.pem");
-const QString kCertificateFile = QStringLiteral("host-cert.pem");
+const QString kKeyFile = tlsIdentityFiles().key;
+const QString kCertificateFile = tlsIdentityFiles().certificate;
 
 template <typename T, void (*Free)(T*)>
 struct OpenSslDeleter {
@@ -224,6 +224,8 @@ std::optional<TlsIdentity> loadOrCreateTlsIdentity(const QString& directory, QSt
   }
   return identity;
 }
+
+TlsIdentityFiles tlsIdentityFiles() { return {QStringLiteral("host-key.pem"), QStringLiteral("host-cert.pem")}; }
 
 QString defaultTlsIdentityDirectory() {
   return QDir(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)).filePath(QStringLiteral("tls"));

@@ -51,6 +51,13 @@ std::optional<TlsIdentity> generateTlsIdentity(const CertificateProfile& profile
 /// existing identity is never replaced. Cost: two small file reads, or one generation and two writes.
 std::optional<TlsIdentity> loadOrCreateTlsIdentity(const QString& directory, QString* error = nullptr);
 
+/// The files of an identity in its folder: the key ("host-key.pem"), then the certificate ("host-cert.pem").
+struct TlsIdentityFiles {
+  QString key;
+  QString certificate;
+};
+TlsIdentityFiles tlsIdentityFiles();
+
 /// Where the host keeps its identity: QStandardPaths::AppDataLocation + "/tls" (needs the application name set).
 QString defaultTlsIdentityDirectory();
 

@@ -16,7 +16,9 @@ std::unique_ptr<QSettings> open(const QString& file) {
 QString key(const QString& host, quint16 port) {
   // '/' separates QSettings groups; IPv6 addresses are bracketed as in URLs.
   const QString name = host.contains(QLatin1Char(':')) ? QStringLiteral("[%1]").arg(host) : host;
-  return QStringLiteral("knownHosts/%1:%2").arg(QString(name).replace(QLatin1Char('/'), QLatin1Char('_'))).arg(port);
+  return QStringLiteral("%1/%2:%3")
+      .arg(KnownHosts::settingsGroup(), QString(name).replace(QLatin1Char('/'), QLatin1Char('_')))
+      .arg(port);
 }
 
 }  // namespace

@@ -18,6 +18,9 @@ class KnownHosts {
   /// file (tests). Cost: QSettings reads the store lazily; each call below is one lookup or one write.
   explicit KnownHosts(QString file = {});
 
+  /// The QSettings group of the entries ("knownHosts"): one key per host:port, the fingerprint as its value.
+  static QString settingsGroup() { return QStringLiteral("knownHosts"); }
+
   [[nodiscard]] std::optional<QByteArray> lookup(const QString& host, quint16 port) const;
   void remember(const QString& host, quint16 port, const QByteArray& fingerprint);
   void forget(const QString& host, quint16 port);
