@@ -8,17 +8,17 @@
 #include "session/net/tls_identity.h"
 #include "session/net/tls_known_hosts.h"
 #include "session/net/tls_server.h"
+#include "session/net/tls_stream.h"
 
 #include <QtCore/QTimer>
-#include <QtCore/QVariant>
-#include <QtNetwork/QSslSocket>
 
 #include <algorithm>
 
 namespace sc::session {
 namespace {
 
-/// The TLS socket's read buffer under a link rate: small, so that TCP's flow control backs up to the host.
+/// The TLS stream's buffers under a link rate (its own and its socket's): small, so that TCP's flow control backs
+/// up to the host.
 constexpr qint64 kLinkReadBuffer = 64 * 1024;
 /// Under a link rate, the kernel's receive buffer of the TLS socket: 20 ms at the rate, at least 64 KiB. On loopback
 /// the kernel would otherwise grow both ends' buffers to megabytes; the host's socket then reports no progress
@@ -46,8 +46,7 @@ ClientEngineConfig engineConfig(const SessionClientOptions& options) {
 SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
     : QObject(parent), m_options(std::move(options)), m_engine(engineConfig(m_options)) {
   m_options.password.reset();  // the engine holds it (and drops it once its proof is made)
-  m_socket = new QSslSocket(this);
-  m_socket->setSslConfiguration(clientTlsConfiguration());
+  m_stream = new TlsStream(clientTlsConfiguration(), this);
   m_linkTimer = new QTimer(this);
   m_linkTimer->setSingleShot(true);
   m_linkTimer->setTimerType(Qt::PreciseTimer);
@@ -57,23 +56,16 @@ SessionClient::SessionClient(SessionClientOptions options, QObject* parent)
   m_timer = new QTimer(this);
   m_timer->setSingleShot(true);
   m_timer->setTimerType(Qt::PreciseTimer);
-  connect(m_socket, &QTcpSocket::connected, this, [this] {
-    m_socket->setSocketOption(QAbstractSocket::LowDelayOption, 1);
-    if (m_link) {
-      m_socket->setSocketOption(QAbstractSocket::ReceiveBufferSizeSocketOption,
-                                QVariant::fromValue(linkKernelBuffer(m_link->bitsPerSecond())));
-    }
-  });
-  connect(m_socket, &QSslSocket::encrypted, this, &SessionClient::onEncrypted);
-  connect(m_socket, &QTcpSocket::readyRead, this, &SessionClient::readAvailable);
-  connect(m_socket, &QTcpSocket::disconnected, this, [this] {
+  connect(m_stream, &TlsStream::encrypted, this, &SessionClient::onEncrypted);
+  connect(m_stream, &TlsStream::readyRead, this, &SessionClient::readAvailable);
+  connect(m_stream, &TlsStream::disconnected, this, [this] {
     readStream(true);  // what the host sent before closing (a Leave) is not held back by the link rate
     apply(m_engine.onClosed());
   });
   connect(m_linkTimer, &QTimer::timeout, this, &SessionClient::readAvailable);
-  connect(m_socket, &QTcpSocket::errorOccurred, this, [this](QAbstractSocket::SocketError error) {
+  connect(m_stream, &TlsStream::errorOccurred, this, [this](QAbstractSocket::SocketError error, const QString& text) {
     if (error == QAbstractSocket::RemoteHostClosedError) return;  // disconnected() reports it
-    apply(m_engine.onTransportError(m_socket->errorString()));
+    apply(m_engine.onTransportError(text));
   });
   connect(m_channel, &ClientDatagramChannel::frameUpdated, this, [this] {
     m_engine.onFrameChanged(sessionNow());
@@ -86,13 +78,13 @@ SessionClient::~SessionClient() {
   // A decode in flight only posts its result to this object (a queued call, discarded with the object's pending
   // events by ~QObject): wait for it here, before any member it could be racing with is gone.
   if (m_decoder.joinable()) m_decoder.join();
-  disconnect(m_socket, nullptr, this, nullptr);
+  disconnect(m_stream, nullptr, this, nullptr);
 }
 
 void SessionClient::start() { apply(m_engine.start()); }
 
 void SessionClient::onEncrypted() {
-  const QByteArray presented = certificateFingerprint(m_socket->peerCertificate());
+  const QByteArray presented = certificateFingerprint(m_stream->peerCertificate());
   m_hostFingerprint = presented;  // also when refused below: the UI shows what was seen
   KnownHosts known(m_options.knownHostsFile);
   const bool tofu = m_options.trustOnFirstUse;
@@ -114,16 +106,15 @@ void SessionClient::readAvailable() { readStream(false); }
 void SessionClient::readStream(bool unthrottled) {
   QByteArray bytes;
   if (!m_link || unthrottled) {
-    bytes = m_socket->readAll();
+    bytes = m_stream->readAll();
     if (m_link) m_link->consume(static_cast<std::size_t>(bytes.size()), sessionNow());
   } else {
-    // Asks for every allowed byte even when fewer are decrypted: a read beyond QSslSocket's buffer makes it
-    // decrypt more (its buffer is bounded, so the rest waits encrypted until a read asks for it, and no readyRead
-    // would come for it). A read short of the allowance means nothing more is decrypted yet: readyRead follows
-    // when it is. Reading the whole allowance means more may wait: read again when kLinkReadChunk is allowed.
+    // A read short of the allowance means nothing more is buffered yet: readyRead follows when it is (a read lets
+    // the stream take more from the host). Reading the whole allowance means more may wait: read again when
+    // kLinkReadChunk is allowed.
     const Micros now = sessionNow();
     const auto allowed = static_cast<qint64>(m_link->available(now));
-    if (allowed > 0) bytes = m_socket->read(allowed);
+    if (allowed > 0) bytes = m_stream->read(allowed);
     m_link->consume(static_cast<std::size_t>(bytes.size()), now);
     if (bytes.size() == allowed) {
       const Micros at = m_link->availableAt(kLinkReadChunk, now);
@@ -179,13 +170,15 @@ void SessionClient::setImpairment(std::optional<ImpairmentSettings> settings) {
   makeLink();
   m_channel->setImpairment(std::move(settings), m_link);
   // Bytes the old link held back are read under the new one (or at once without a rate).
-  if (m_socket->bytesAvailable() > 0) QTimer::singleShot(0, this, &SessionClient::readAvailable);
+  if (m_stream->bytesAvailable() > 0) QTimer::singleShot(0, this, &SessionClient::readAvailable);
 }
 
 void SessionClient::makeLink() {
   const bool rated = m_options.impairment && m_options.impairment->rate.bitsPerSecond > 0.0;
   m_link = rated ? std::make_shared<LinkRate>(m_options.impairment->rate) : nullptr;
-  m_socket->setReadBufferSize(rated ? kLinkReadBuffer : 0);
+  m_stream->setBufferSizes(rated ? kLinkReadBuffer : TlsStream::kDefaultReadLimit,
+                           rated ? kLinkReadBuffer : TlsStream::kDefaultSocketBuffer);
+  m_stream->setReceiveBufferSize(rated ? linkKernelBuffer(m_link->bitsPerSecond()) : 0);
   if (!rated) m_linkTimer->stop();
 }
 

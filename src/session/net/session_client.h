@@ -3,9 +3,10 @@
 // socket-free ClientEngine (session/engine/client_engine.h), which holds every session rule (states and failure
 // texts, the Welcome's ResolutionRequest, heartbeat, StatsReport and host-silence cadence, lock renewal, the level
 // pipeline's decisions, keyframes, the coalescing of frame updates). This class keeps only what needs the
-// operating system: the TLS control socket (and its certificate check), the ClientDatagramChannel, ONE timer armed
-// at the engine's nextWakeUp(), the level decode worker thread, and the translation of the engine's actions into
-// socket calls and signals.
+// operating system: the TLS control connection (a TlsStream: its socket is read and decrypted on a thread of its
+// own, so a busy client thread does not stall the host's sends; tls_stream.h) and its certificate check, the
+// ClientDatagramChannel, ONE timer armed at the engine's nextWakeUp(), the level decode worker thread, and the
+// translation of the engine's actions into socket calls and signals.
 //
 // States:  Idle --start()--> Connecting --connected--> Handshaking --Welcome--> Loading --level decoded--> Ready
 //          (Connecting covers the TCP connect and the TLS 1.3 handshake; the Hello is sent once the host's
@@ -77,10 +78,11 @@
 #include <utility>
 #include <vector>
 
-class QSslSocket;
 class QTimer;
 
 namespace sc::session {
+
+class TlsStream;
 
 struct SessionClientOptions {
   QString host = QStringLiteral("127.0.0.1");  ///< host name or address of the session host
@@ -270,8 +272,8 @@ class SessionClient final : public QObject {
 
   SessionClientOptions m_options;
   ClientEngine m_engine;
-  State m_state = State::Idle;  ///< as last announced by stateChanged()
-  QSslSocket* m_socket = nullptr;
+  State m_state = State::Idle;    ///< as last announced by stateChanged()
+  TlsStream* m_stream = nullptr;  ///< the control connection, read on a thread of its own
   QByteArray m_hostFingerprint;
   ClientDatagramChannel* m_channel = nullptr;
   QTimer* m_timer = nullptr;         ///< single-shot, armed at m_engine.nextWakeUp()

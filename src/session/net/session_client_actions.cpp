@@ -4,8 +4,9 @@
 
 #include "session/engine/session_clock.h"
 
+#include "session/net/tls_stream.h"
+
 #include <QtNetwork/QHostAddress>
-#include <QtNetwork/QSslSocket>
 
 #include <utility>
 #include <variant>
@@ -34,11 +35,11 @@ void SessionClient::apply(ClientActions actions) {
 }
 
 void SessionClient::execute(client_action::Connect) {
-  m_socket->connectToHostEncrypted(m_options.host, m_options.port);
+  m_stream->connectToHostEncrypted(m_options.host, m_options.port);
 }
 
 void SessionClient::execute(client_action::Send& send) {
-  if (m_socket->state() == QAbstractSocket::ConnectedState) m_socket->write(send.frame);
+  m_stream->write(send.frame);  // dropped unless connected
 }
 
 void SessionClient::execute(client_action::StateChanged changed) {
@@ -47,7 +48,7 @@ void SessionClient::execute(client_action::StateChanged changed) {
 }
 
 void SessionClient::execute(client_action::OpenDatagrams& open) {
-  QHostAddress host = m_socket->peerAddress();
+  QHostAddress host = m_stream->peerAddress();
   bool ipv4 = false;
   const quint32 v4 = host.toIPv4Address(&ipv4);
   if (ipv4) host = QHostAddress(v4);
@@ -65,9 +66,9 @@ void SessionClient::execute(client_action::CloseDatagrams) { m_channel->close();
 
 void SessionClient::execute(client_action::Disconnect disconnect) {
   if (disconnect.flush) {
-    m_socket->disconnectFromHost();  // writes what was sent first (our Leave)
+    m_stream->disconnectFromHost();  // writes what was sent first (our Leave)
   } else {
-    m_socket->abort();
+    m_stream->abort();
   }
 }
 

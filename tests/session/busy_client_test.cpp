@@ -1,0 +1,107 @@
+// A client whose thread stands still in the middle of a level transfer (the desktop app's GUI thread in a long first
+// paint on software GL, a slow or swapping machine) for longer than the host's sendStallTimeout: its TlsStream keeps
+// taking the host's bytes on a thread of its own, so the host does not drop it as a peer that does not read, and the
+// level arrives whole once the thread moves again. The host runs on a thread of its own, as another process would.
+#include "session/net/session_client.h"
+#include "session/net/session_host.h"
+
+#include <gtest/gtest.h>
+
+#include <QtCore/QThread>
+#include <QtTest/QTest>
+
+#include "harmonic_host_model.h"
+#include "test_meshes.h"
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <thread>
+#include <utility>
+
+namespace sc::session {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// A SessionHost made, run and destroyed on a thread of its own; run() executes a call there and waits for it.
+class HostOnItsOwnThread {
+ public:
+  HostOnItsOwnThread(std::shared_ptr<const HostModel> model, SessionHostOptions options) {
+    m_thread.start();
+    m_context.moveToThread(&m_thread);
+    run([&] {
+      m_host = std::make_unique<SessionHost>(std::move(model), std::move(options));
+      m_started = m_host->start(&m_error);
+      m_port = m_host->tcpPort();
+    });
+  }
+  ~HostOnItsOwnThread() {
+    run([&] { m_host.reset(); });
+    m_thread.quit();
+    m_thread.wait();
+  }
+  HostOnItsOwnThread(const HostOnItsOwnThread&) = delete;
+  HostOnItsOwnThread& operator=(const HostOnItsOwnThread&) = delete;
+
+  template <class Call>
+  void run(Call call) {
+    QMetaObject::invokeMethod(&m_context, std::move(call), Qt::BlockingQueuedConnection);
+  }
+  [[nodiscard]] SessionHostCounters counters() {
+    SessionHostCounters counters;
+    run([&] { counters = m_host->counters(); });
+    return counters;
+  }
+
+  bool m_started = false;
+  QString m_error;
+  quint16 m_port = 0;
+
+ private:
+  QThread m_thread;
+  QObject m_context;  // lives on m_thread: the target of run()
+  std::unique_ptr<SessionHost> m_host;
+};
+
+TEST(BusyClient, AClientWhoseThreadStandsStillMidTransferKeepsReceivingAndIsNotDropped) {
+  // icosphere(6) with m = 200 random columns: an incompressible payload of about 2 · 40962 · 200 bytes = 16 MB, more
+  // than the kernel's buffers on loopback hold (both ends autotune to a few MB), so a client that does not read
+  // stalls the host's queue.
+  const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(6), 200, 29);
+  SessionHostOptions hostOptions;
+  hostOptions.address = QHostAddress::LocalHost;
+  hostOptions.hostName = QStringLiteral("host");
+  hostOptions.sendStallTimeout = 500ms;
+  HostOnItsOwnThread host(model, std::move(hostOptions));
+  ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
+
+  SessionClientOptions options;
+  options.port = host.m_port;
+  options.name = QStringLiteral("busy");
+  SessionClient client(std::move(options));
+  quint64 received = 0;
+  quint64 total = 0;
+  QObject::connect(&client, &SessionClient::modelProgress, [&](quint64 r, quint64 t) {
+    received = r;
+    total = t;
+  });
+  client.start();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return received > 0 || client.state() >= SessionClient::State::Ready; }, 20000))
+      << client.errorText().toStdString();
+  ASSERT_EQ(client.state(), SessionClient::State::Loading) << "the transfer ended before the test could stall it";
+  ASSERT_GT(total, 12u << 20);
+
+  std::this_thread::sleep_for(2500ms);  // the client's thread stands still: five times the host's stall timeout
+
+  ASSERT_TRUE(QTest::qWaitFor([&] { return client.state() >= SessionClient::State::Ready; }, 30000));
+  EXPECT_EQ(client.state(), SessionClient::State::Ready) << client.errorText().toStdString();
+  EXPECT_EQ(client.levelVertexCount(), static_cast<std::uint32_t>(model->vertexCount()));
+  EXPECT_GE(client.streamBytesRead(), total);
+  const SessionHostCounters counters = host.counters();
+  EXPECT_EQ(counters.slowPeersDropped, 0u);
+  EXPECT_EQ(counters.transfersCompleted, 1u);
+}
+
+}  // namespace
+}  // namespace sc::session
