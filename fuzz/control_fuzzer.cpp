@@ -19,6 +19,7 @@
 #include "session/wire/control_frame.h"
 #include "session/wire/control_messages.h"
 #include "session/wire/model_transfer.h"
+#include "session/wire/password_auth.h"
 #include "spectral/resolution_level.h"
 
 #include <QtCore/QtEndian>
@@ -80,7 +81,13 @@ class Receivers {
     m_passwordHost.handleMessage(result.message);
     m_openHost.handleMessage(result.message);
     const auto* challenge = std::get_if<Challenge>(&result.message);
-    if (challenge == nullptr || challenge->iterations <= kClientIterationLimit) m_client.handleMessage(result.message);
+    if (challenge == nullptr || challenge->iterations <= kClientIterationLimit) {
+      const HandshakeOutput out = m_client.handleMessage(result.message);
+      if (out.deriveKey) {  // what the adapter's worker does, then the proof
+        const PasswordKeyRequest& r = *out.deriveKey;
+        m_client.keyDerived(derivePasswordKey(r.password, r.salt, r.iterations));
+      }
+    }
     if (const auto* begin = std::get_if<ModelBegin>(&result.message)) m_receiver.begin(*begin);
     if (const auto* chunk = std::get_if<ModelChunk>(&result.message)) receiveChunk(*chunk);
   }

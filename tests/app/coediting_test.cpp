@@ -177,7 +177,10 @@ TEST_F(CoeditingTest, TwoWindowsDragAtOnceAndTheHostSeesBothShapesAndBothPeople)
   ClientController* carol = sc::testing::joinAndWait(carolWindow, carolSettings);
   ASSERT_EQ(carol->state(), State::Live) << carol->errorText().toStdString();
 
+  // Bob asks first and is granted first (two clients' requests, each sent from its own connection's thread, reach
+  // the host in no fixed order otherwise).
   ASSERT_TRUE(bob->requestLock());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return bob->canDrag(); }, 5000)) << bob->lockText().toStdString();
   ASSERT_TRUE(carol->requestLock());
   ASSERT_TRUE(QTest::qWaitFor([&] { return bob->canDrag() && carol->canDrag(); }, 5000))
       << bob->lockText().toStdString() << " / " << carol->lockText().toStdString();

@@ -1,18 +1,23 @@
 // A client whose thread stands still in the middle of a level transfer (the desktop app's GUI thread in a long first
 // paint on software GL, a slow or swapping machine) for longer than the host's sendStallTimeout: its TlsStream keeps
 // taking the host's bytes on a thread of its own, so the host does not drop it as a peer that does not read, and the
-// level arrives whole once the thread moves again. The host runs on a thread of its own, as another process would.
+// level arrives whole once the thread moves again; and its thread keeps turning while the password key (PBKDF2) is
+// derived. The host runs on a thread of its own, as another process would.
 #include "session/net/session_client.h"
 #include "session/net/session_host.h"
 
 #include <gtest/gtest.h>
 
+#include <QtCore/QElapsedTimer>
 #include <QtCore/QThread>
+#include <QtCore/QTimer>
 #include <QtTest/QTest>
 
 #include "harmonic_host_model.h"
+#include "session/wire/password_auth.h"
 #include "test_meshes.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -101,6 +106,47 @@ TEST(BusyClient, AClientWhoseThreadStandsStillMidTransferKeepsReceivingAndIsNotD
   const SessionHostCounters counters = host.counters();
   EXPECT_EQ(counters.slowPeersDropped, 0u);
   EXPECT_EQ(counters.transfersCompleted, 1u);
+}
+
+TEST(BusyClient, TheClientsEventLoopTurnsWhileItDerivesThePasswordKey) {
+  // The host asks for the most PBKDF2 iterations a client answers (1,000,000; the default is 600,000): the client's
+  // key takes 0.25-0.6 s here, on a thread of its own; the client's thread meanwhile serves a 10 ms timer.
+  constexpr std::uint32_t kIterations = kMaxPbkdf2Iterations;
+  QElapsedTimer clock;
+  clock.start();
+  (void)derivePasswordKey(QStringLiteral("reference"), QByteArray(kSaltSize, 's'), kIterations);
+  const qint64 derivationMs = clock.elapsed();  // what the key costs on this machine, now
+
+  const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(2), 20, 3);
+  SessionHostOptions hostOptions;
+  hostOptions.address = QHostAddress::LocalHost;
+  hostOptions.hostName = QStringLiteral("host");
+  hostOptions.password = QStringLiteral("open sesame");
+  hostOptions.pbkdf2Iterations = kIterations;
+  HostOnItsOwnThread host(model, std::move(hostOptions));
+  ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
+
+  SessionClientOptions options;
+  options.port = host.m_port;
+  options.name = QStringLiteral("patient");
+  options.password = QStringLiteral("open sesame");
+  SessionClient client(std::move(options));
+  qint64 longestGapMs = 0;
+  qint64 lastTick = 0;
+  QTimer ticker;
+  QObject::connect(&ticker, &QTimer::timeout, [&] {
+    const qint64 now = clock.elapsed();
+    longestGapMs = std::max(longestGapMs, now - lastTick);
+    lastTick = now;
+  });
+  lastTick = clock.elapsed();
+  ticker.start(10);
+  client.start();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return client.state() >= SessionClient::State::Ready; }, 20000));
+  EXPECT_EQ(client.state(), SessionClient::State::Ready) << client.errorText().toStdString();
+  EXPECT_GT(derivationMs, 100) << "the key must cost enough for the test to see a stall";
+  EXPECT_LT(longestGapMs, derivationMs * 6 / 10)
+      << "the client's thread stood still for " << longestGapMs << " ms; the key takes " << derivationMs << " ms";
 }
 
 }  // namespace

@@ -98,7 +98,13 @@ TEST(ClientHandshakeHostile, TheMinimumIsAcceptedAndTheHostDefaultIsAbove) {
   client.start();
   const HandshakeOutput out =
       client.handleMessage(Challenge{QByteArray(kNonceSize, 'n'), QByteArray(kSaltSize, 's'), kMinPbkdf2Iterations});
-  EXPECT_EQ(out.send.size(), 1u) << "the proof";
+  ASSERT_TRUE(out.deriveKey.has_value()) << "the key to derive";
+  EXPECT_EQ(out.deriveKey->iterations, kMinPbkdf2Iterations);
+  EXPECT_EQ(out.deriveKey->password, QStringLiteral("hunter2"));
+  EXPECT_FALSE(client.holdsPassword()) << "the request holds the only copy";
+  const HandshakeOutput proof =
+      client.keyDerived(derivePasswordKey(out.deriveKey->password, out.deriveKey->salt, out.deriveKey->iterations));
+  EXPECT_EQ(proof.send.size(), 1u) << "the proof";
   EXPECT_EQ(client.state(), ClientHandshake::State::AwaitWelcome);
   EXPECT_GE(kDefaultPbkdf2Iterations, 600'000u);
 }

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "session/wire/control_frame.h"
+#include "session/wire/password_auth.h"
 
 namespace sc::session {
 namespace {
@@ -79,6 +80,10 @@ struct Link {
                                                                      : client.handleDecodeError(result.error);
       clientClosed = clientClosed || out.close;
       sendToHost(out.send);
+      if (out.deriveKey) {  // the adapter's worker, here at once
+        const PasswordKeyRequest& r = *out.deriveKey;
+        sendToHost(client.keyDerived(derivePasswordKey(r.password, r.salt, r.iterations)).send);
+      }
     }
   }
 };
@@ -295,8 +300,10 @@ TEST(Handshake, ClientRefusesUnexpectedHostMessages) {
   ClientHandshake twice(clientConfig(QStringLiteral("pw")));
   twice.start();
   const Challenge challenge{QByteArray(kNonceSize, 'n'), QByteArray(kSaltSize, 's'), kTestIterations};
-  EXPECT_EQ(twice.handleMessage(challenge).send.size(), 1u);  // the ChallengeResponse
-  EXPECT_TRUE(twice.handleMessage(challenge).close);
+  const HandshakeOutput first = twice.handleMessage(challenge);
+  EXPECT_TRUE(first.send.empty() && first.deriveKey.has_value());  // the key is derived before anything is sent
+  EXPECT_TRUE(twice.handleMessage(challenge).close);               // a second Challenge, while deriving
+  EXPECT_TRUE(twice.keyDerived(QByteArray(kMacSize, 'k')).send.empty()) << "a key after the end is ignored";
   EXPECT_EQ(twice.state(), ClientHandshake::State::Refused);
   EXPECT_EQ(twice.failure(), ClientFailure::ProtocolError);
 

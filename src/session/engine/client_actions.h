@@ -10,6 +10,7 @@
 //   PublishFrame   → nothing: the adapter reads the displayed Z and frame number from its datagram channel.
 
 #include "session/engine/client_level_decode.h"
+#include "session/engine/handshake_host.h"
 #include "session/wire/control_messages.h"
 
 #include <Eigen/Core>
@@ -40,6 +41,9 @@ enum class ClientNotice : std::uint8_t {
 namespace client_action {
 
 struct Connect {};  ///< open the control connection (TLS) toward the host
+struct DerivePasswordKey {
+  PasswordKeyRequest request;  ///< run derivePasswordKey off the adapter's thread and hand the key to onPasswordKey()
+};
 struct Send {
   QByteArray frame;  ///< one encoded control frame (encodeControlMessage), never empty
 };
@@ -88,7 +92,7 @@ using ClientAction =
                  client_action::CloseDatagrams, client_action::Disconnect, client_action::Failed, client_action::Notify,
                  client_action::ModelProgress, client_action::SeedKeyframe, client_action::StartDecode,
                  client_action::LevelFailed, client_action::LevelReady, client_action::PublishFrame,
-                 client_action::PresenceReceived>;
+                 client_action::PresenceReceived, client_action::DerivePasswordKey>;
 
 /// In execution order. Empty from a user command (requestLock(), sendDrag(), …) means the command was refused.
 using ClientActions = std::vector<ClientAction>;

@@ -162,8 +162,15 @@ ClientActions ClientEngine::onMessage(const ControlDecodeResult& result, Micros 
   return out;
 }
 
-void ClientEngine::handleHandshake(const HandshakeOutput& handshake, ClientActions& out) {
+ClientActions ClientEngine::onPasswordKey(const QByteArray& key) {
+  ClientActions out;
+  if (m_state == ClientState::Handshaking) handleHandshake(m_handshake.keyDerived(key), out);
+  return out;
+}
+
+void ClientEngine::handleHandshake(HandshakeOutput handshake, ClientActions& out) {
   for (const ControlMessage& message : handshake.send) send(message, out);
+  if (handshake.deriveKey) out.emplace_back(client_action::DerivePasswordKey{std::move(*handshake.deriveKey)});
   if (m_handshake.state() == ClientHandshake::State::Refused) {
     fail(m_handshake.errorText(), out);
   } else if (m_handshake.state() == ClientHandshake::State::Joined && !m_session) {

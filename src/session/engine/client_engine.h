@@ -110,6 +110,9 @@ class ClientEngine {
   /// One decoded control message or the frame reader's error. Feed them one at a time, executing the actions in
   /// between, while acceptsMessages().
   ClientActions onMessage(const ControlDecodeResult& result, Micros now);
+  /// A DerivePasswordKey's result (derivePasswordKey of its request): the ChallengeResponse. Ignored unless the
+  /// handshake still waits for it.
+  ClientActions onPasswordKey(const QByteArray& key);
   /// The OpenDatagrams action succeeded: Loading, the ResolutionRequest, the cadence starts.
   ClientActions onDatagramsOpened(Micros now);
   /// The connection closed without our asking: Failed, with the reason the state implies.
@@ -196,7 +199,7 @@ class ClientEngine {
   void sendLock(const std::optional<LockMessage>& message, ClientActions& out);
   /// requestLock() / releaseLock(): the LockClient's command, when live; LockChanged when it sends something.
   ClientActions lockCommand(std::optional<LockMessage> (LockClient::*command)(Millis), Micros now);
-  void handleHandshake(const HandshakeOutput& handshake, ClientActions& out);
+  void handleHandshake(HandshakeOutput handshake, ClientActions& out);
   void dispatch(const ControlMessage& message, Micros now, ClientActions& out);
   void onHostLeave(const Leave& leave, ClientActions& out);
   /// Another member's presence from the host: PresenceReceived unless its author is 0 or ourselves (dropped,

@@ -57,6 +57,14 @@ HandshakeOutput ClientHandshake::handleChallenge(const Challenge& challenge) {
   }
   m_challenge = challenge;
   HandshakeOutput out;
+  changeState(State::DerivingKey, out);
+  return out;
+}
+
+HandshakeOutput ClientHandshake::keyDerived(const QByteArray& key) {
+  if (m_state != State::DerivingKey) return {};
+  HandshakeOutput out;
+  out.send.emplace_back(answerChallenge(key, *m_challenge, m_config.channelBinding));
   changeState(State::AwaitWelcome, out);
   return out;
 }
@@ -92,15 +100,14 @@ void ClientHandshake::changeState(State next, HandshakeOutput& out) {
     case State::AwaitChallengeOrWelcome:
     case State::Joined:
       break;
-    case State::AwaitWelcome: {
+    case State::AwaitWelcome:
+      break;
+    case State::DerivingKey:
       assert(m_challenge && m_config.password && "entered only on a Challenge with a password");
-      const QByteArray key = derivePasswordKey(*m_config.password, m_challenge->salt, m_challenge->iterations);
-      out.send.emplace_back(answerChallenge(key, *m_challenge, m_config.channelBinding));
-      // The proof is made: the password is not needed again (overwritten where this is its only holder).
-      m_config.password->fill(QChar(u'\0'));
+      // The request takes the password: the adapter overwrites and drops it once the key is made.
+      out.deriveKey = PasswordKeyRequest{std::move(*m_config.password), m_challenge->salt, m_challenge->iterations};
       m_config.password.reset();
       break;
-    }
     case State::Refused:
       out.close = true;  // nothing is sent: the host sees the connection close
       break;

@@ -5,11 +5,13 @@
 //
 // States and transitions (entry side effects in changeState()):
 //   SendHello               --start()-------------------------> AwaitChallengeOrWelcome (returns the Hello)
-//   AwaitChallengeOrWelcome --Challenge, password known-------> AwaitWelcome (entry: send the ChallengeResponse)
+//   AwaitChallengeOrWelcome --Challenge, password known-------> DerivingKey (entry: output deriveKey, a
+//                                                                 PasswordKeyRequest holding the password)
+//   DerivingKey             --keyDerived(key)-----------------> AwaitWelcome (entry: send the ChallengeResponse)
 //   AwaitChallengeOrWelcome --Challenge, < minIterations------> Refused (local: WeakChallenge; no proof is sent)
 //   AwaitChallengeOrWelcome --Challenge, no password----------> Refused (local: PasswordRequired)
-//   AwaitChallengeOrWelcome | AwaitWelcome --Welcome----------> Joined (session info stored)
-//   AwaitChallengeOrWelcome | AwaitWelcome --Refused----------> Refused (host's reason and text stored)
+//   any non-final state but SendHello --Welcome---------------> Joined (session info stored)
+//   any non-final state but SendHello --Refused---------------> Refused (host's reason and text stored)
 //   any non-final state --any other message or decode error---> Refused (local: ProtocolError)
 // Entering Refused sets `close` and sends nothing (the host sees the connection close). Joined and
 // Refused are final: handleMessage() then returns nothing (after Welcome the session layer owns the messages).
@@ -17,8 +19,9 @@
 // Contracts
 //   - Network input is never asserted on. The password is used only to answer a Challenge and never sent.
 //   - Challenge iterations are bounded by the decoder (1..kMaxPbkdf2Iterations), so answering costs at most
-//     kMaxPbkdf2Iterations PBKDF2 rounds, on the calling thread; and from below by minIterations
-//     (kMinPbkdf2Iterations): an impostor host asking for fewer gets no proof to crack at HMAC speed.
+//     kMaxPbkdf2Iterations PBKDF2 rounds, made by the adapter off its thread (deriveKey, keyDerived()); and from
+//     below by minIterations (kMinPbkdf2Iterations): an impostor host asking for fewer gets no proof to crack at
+//     HMAC speed.
 
 #include "session/engine/handshake_host.h"
 #include "session/wire/control_messages.h"
@@ -48,7 +51,7 @@ enum class ClientFailure : std::uint8_t {
 
 class ClientHandshake {
  public:
-  enum class State { SendHello, AwaitChallengeOrWelcome, AwaitWelcome, Joined, Refused };
+  enum class State { SendHello, AwaitChallengeOrWelcome, DerivingKey, AwaitWelcome, Joined, Refused };
 
   explicit ClientHandshake(ClientHandshakeConfig config);
 
@@ -61,6 +64,10 @@ class ClientHandshake {
   /// The frame reader reported an error: local ProtocolError, close (nothing once final).
   HandshakeOutput handleDecodeError(ControlError error);
 
+  /// The key asked for by deriveKey (derivePasswordKey of its password, salt and iterations): the ChallengeResponse
+  /// to send. Ignored (nothing returned) unless state() == DerivingKey: the handshake may have ended meanwhile.
+  HandshakeOutput keyDerived(const QByteArray& key);
+
   [[nodiscard]] State state() const { return m_state; }
   /// Session info from the host's Welcome; set exactly in state Joined.
   [[nodiscard]] const std::optional<Welcome>& session() const { return m_session; }
@@ -70,7 +77,7 @@ class ClientHandshake {
   [[nodiscard]] const std::optional<Refused>& refusal() const { return m_refusal; }
   /// Readable reason for the UI: the host's text, or a local explanation; empty unless Refused.
   [[nodiscard]] const QString& errorText() const { return m_errorText; }
-  /// Whether the password is still held: only until the ChallengeResponse is made (then overwritten and dropped).
+  /// Whether the password is still held: only until a Challenge is answered (then handed over in deriveKey).
   [[nodiscard]] bool holdsPassword() const { return m_config.password.has_value(); }
 
  private:
@@ -81,7 +88,7 @@ class ClientHandshake {
   /// The one place that changes m_state; performs the new state's entry side effects into `out`.
   void changeState(State next, HandshakeOutput& out);
   [[nodiscard]] bool running() const {
-    return m_state == State::AwaitChallengeOrWelcome || m_state == State::AwaitWelcome;
+    return m_state == State::AwaitChallengeOrWelcome || m_state == State::DerivingKey || m_state == State::AwaitWelcome;
   }
 
   ClientHandshakeConfig m_config;

@@ -43,10 +43,21 @@ namespace sc::session {
 /// Source of random bytes: returns exactly `count` bytes.
 using RandomBytes = std::function<QByteArray(int count)>;
 
-/// What a handshake step asks the adapter to do: send `send` in order, then close the connection if `close`.
+/// A password key to derive (derivePasswordKey: PBKDF2, O(iterations), up to a second at kMaxPbkdf2Iterations) off
+/// the adapter's thread and hand back with ClientHandshake::keyDerived(). Holds the client's only copy of the
+/// password from then on: overwrite and drop it once the key is made.
+struct PasswordKeyRequest {
+  QString password;
+  QByteArray salt;
+  std::uint32_t iterations = 0;
+};
+
+/// What a handshake step asks the adapter to do: send `send` in order, then close the connection if `close`; the
+/// client's, on a Challenge it answers, also derive `deriveKey`.
 struct HandshakeOutput {
   std::vector<ControlMessage> send;
   bool close = false;
+  std::optional<PasswordKeyRequest> deriveKey;
 };
 
 /// What the host keeps of a session password: PBKDF2 key with its salt and iteration count, never the password.

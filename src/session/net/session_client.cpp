@@ -9,6 +9,7 @@
 #include "session/net/tls_known_hosts.h"
 #include "session/net/tls_server.h"
 #include "session/net/tls_stream.h"
+#include "session/wire/password_auth.h"
 
 #include <QtCore/QTimer>
 
@@ -17,9 +18,10 @@
 namespace sc::session {
 namespace {
 
-/// The TLS stream's buffers under a link rate (its own and its socket's): small, so that TCP's flow control backs
-/// up to the host.
-constexpr qint64 kLinkReadBuffer = 64 * 1024;
+/// The TLS stream's buffer and its socket's under a link rate: small (at most 32 + 3 · 16 KiB held, tls_stream.h),
+/// so that TCP's flow control backs up to the host.
+constexpr qint64 kLinkReadBuffer = 32 * 1024;
+constexpr qint64 kLinkSocketBuffer = 16 * 1024;
 /// Under a link rate, the kernel's receive buffer of the TLS socket: 20 ms at the rate, at least 64 KiB. On loopback
 /// the kernel would otherwise grow both ends' buffers to megabytes; the host's socket then reports no progress
 /// for seconds at a low rate (Linux wakes a writer only once half its send buffer is free) and the host drops the
@@ -78,6 +80,7 @@ SessionClient::~SessionClient() {
   // A decode in flight only posts its result to this object (a queued call, discarded with the object's pending
   // events by ~QObject): wait for it here, before any member it could be racing with is gone.
   if (m_decoder.joinable()) m_decoder.join();
+  if (m_keyDeriver.joinable()) m_keyDeriver.join();
   disconnect(m_stream, nullptr, this, nullptr);
 }
 
@@ -101,6 +104,24 @@ void SessionClient::onEncrypted() {
   apply(m_engine.onSecured(presented, sessionNow()));
 }
 
+void SessionClient::execute(client_action::DerivePasswordKey& derive) {
+  if (m_keyDeriver.joinable()) m_keyDeriver.join();  // one Challenge per session: a previous one has ended
+  // PBKDF2 (0.35 s at the default 600,000 iterations here) runs off this thread: a GUI stays responsive meanwhile.
+  m_keyDeriver = std::thread([this, request = std::move(derive.request)]() mutable {
+    const QByteArray key = derivePasswordKey(request.password, request.salt, request.iterations);
+    request.password.fill(QChar(u'\0'));  // the session's only copy: overwritten before it is dropped
+    request.password.clear();
+    // Only a queued call touches `this`; the destructor joins this thread, so the object is alive here.
+    QMetaObject::invokeMethod(
+        this, [this, key] { finishPasswordKey(key); }, Qt::QueuedConnection);
+  });
+}
+
+void SessionClient::finishPasswordKey(const QByteArray& key) {
+  if (m_keyDeriver.joinable()) m_keyDeriver.join();  // it has posted this call: it is ending
+  apply(m_engine.onPasswordKey(key));
+}
+
 void SessionClient::readAvailable() { readStream(false); }
 
 void SessionClient::readStream(bool unthrottled) {
@@ -121,7 +142,7 @@ void SessionClient::readStream(bool unthrottled) {
       m_linkTimer->start(static_cast<int>(std::min<Micros::rep>(((at - now).count() + 999) / 1000, 1'000'000)));
     }
   }
-  if (bytes.isEmpty()) return;
+  if (bytes.isEmpty() || !m_engine.acceptsMessages()) return;  // after a failure or Leave nothing is kept
   m_streamBytesRead += static_cast<std::uint64_t>(bytes.size());
   m_engine.onHeard(sessionNow());
   m_reader.append(bytes);
@@ -177,7 +198,7 @@ void SessionClient::makeLink() {
   const bool rated = m_options.impairment && m_options.impairment->rate.bitsPerSecond > 0.0;
   m_link = rated ? std::make_shared<LinkRate>(m_options.impairment->rate) : nullptr;
   m_stream->setBufferSizes(rated ? kLinkReadBuffer : TlsStream::kDefaultReadLimit,
-                           rated ? kLinkReadBuffer : TlsStream::kDefaultSocketBuffer);
+                           rated ? kLinkSocketBuffer : TlsStream::kDefaultSocketBuffer);
   m_stream->setReceiveBufferSize(rated ? linkKernelBuffer(m_link->bitsPerSecond()) : 0);
   if (!rated) m_linkTimer->stop();
 }

@@ -258,6 +258,7 @@ class SessionClient final : public QObject {
   void execute(client_action::LevelReady ready);
   void execute(client_action::PublishFrame);
   void execute(client_action::PresenceReceived& received) { emit presenceReceived(received.presence); }
+  void execute(client_action::DerivePasswordKey& derive);
   void armTimer();
   void wake();
   [[nodiscard]] ReceiverSample sampleReceiver(Micros now);
@@ -269,6 +270,7 @@ class SessionClient final : public QObject {
   void onEncrypted();
   /// The decode worker's result, on this object's thread.
   void finishDecode(DecodedLevel& result);
+  void finishPasswordKey(const QByteArray& key);
 
   SessionClientOptions m_options;
   ClientEngine m_engine;
@@ -282,7 +284,8 @@ class SessionClient final : public QObject {
   std::uint64_t m_streamBytesRead = 0;
   std::optional<Micros> m_armedFor;
   ControlFrameReader m_reader;
-  std::thread m_decoder;                   ///< one level decode at a time (the engine decides); the destructor joins it
+  std::thread m_keyDeriver;  ///< the password key (PBKDF2, up to a second) for the Challenge; the destructor joins it
+  std::thread m_decoder;     ///< one level decode at a time (the engine decides); the destructor joins it
   spectral::DisplayFrame m_frame;          ///< the displayed frame (Z float m by 3; empty before a level)
   mutable std::vector<float> m_positions;  ///< a cache: X̂' + K·m_frame.Z once m_positionsStale is false
   mutable bool m_positionsStale = false;

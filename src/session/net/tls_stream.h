@@ -10,9 +10,11 @@
 // socket's order (connected, encrypted, readyRead…, errorOccurred, disconnected), each after the state it reports
 // (peerAddress(), peerCertificate(), the buffered bytes) is readable.
 // Bounds: the stream thread moves decrypted bytes into the buffer while it holds fewer than readLimit(); then it
-// stops reading, the socket's own buffer (socketBufferSize()) fills, and TCP's flow control backs up to the host,
-// until the owner reads. Plaintext held: at most readLimit() + socketBufferSize() bytes (+ one TLS record). The
-// bytes the socket still holds when the host closes are all moved (disconnected() follows them).
+// stops reading, QSslSocket's own buffers fill (its decrypted buffer and the encrypted bytes it took from the
+// kernel, each up to the socket buffer size of setBufferSizes()), and TCP's flow control backs up to the host, until
+// the owner reads. Held: at most readLimit() + 3 socket buffer sizes, plus the last chunk's unused capacity
+// (256 KiB). The bytes the socket still holds when the host closes are all moved (disconnected() follows them).
+// One connection per stream: make a new TlsStream to connect again.
 // Cost: one thread per stream; each received byte is copied once more than a read on the owner's thread.
 
 #include <QtCore/QByteArray>
@@ -36,7 +38,7 @@ class TlsStream final : public QObject {
  public:
   /// Default readLimit(): 64 MiB, about 5 s of a 100 Mbit/s link, or a 1M-vertex level's first tenth on loopback.
   static constexpr qint64 kDefaultReadLimit = 64 * 1024 * 1024;
-  /// Default socketBufferSize(): QSslSocket's own decrypted buffer while this stream's buffer is full.
+  /// Default socket buffer size (setBufferSizes()): QSslSocket's own buffers while this stream's buffer is full.
   static constexpr qint64 kDefaultSocketBuffer = 1024 * 1024;
 
   /// Starts the stream thread; the socket (with `configuration`) is made there on the first call that needs it.
