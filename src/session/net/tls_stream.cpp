@@ -198,41 +198,41 @@ TlsStream::~TlsStream() {
   delete m_thread;
 }
 
-void TlsStream::connectToHostEncrypted(const QString& host, quint16 port) {
+namespace {
+
+/// Runs `call(worker)` on the stream thread, after the calls queued before it.
+template <class Worker, class Call>
+void queue(Worker* worker, Call call) {
   QMetaObject::invokeMethod(
-      m_worker,
-      [worker = m_worker, host, port] {
-        if (QSslSocket* s = worker->socket()) s->connectToHostEncrypted(host, port);
-      },
-      Qt::QueuedConnection);
+      worker, [worker, call = std::move(call)] { call(*worker); }, Qt::QueuedConnection);
+}
+
+/// Runs `call(socket)` on the stream thread if the socket is there (made on first use; none once closed).
+template <class Worker, class Call>
+void queueOnSocket(Worker* worker, Call call) {
+  queue(worker, [call = std::move(call)](Worker& w) {
+    if (QSslSocket* socket = w.socket()) call(*socket);
+  });
+}
+
+}  // namespace
+
+void TlsStream::connectToHostEncrypted(const QString& host, quint16 port) {
+  queueOnSocket(m_worker, [host, port](QSslSocket& socket) { socket.connectToHostEncrypted(host, port); });
 }
 
 void TlsStream::write(const QByteArray& bytes) {
-  QMetaObject::invokeMethod(
-      m_worker,
-      [worker = m_worker, bytes] {
-        QSslSocket* s = worker->socket();
-        if (s != nullptr && s->state() == QAbstractSocket::ConnectedState) s->write(bytes);
-      },
-      Qt::QueuedConnection);
+  queueOnSocket(m_worker, [bytes](QSslSocket& socket) {
+    if (socket.state() == QAbstractSocket::ConnectedState) socket.write(bytes);
+  });
 }
 
 void TlsStream::disconnectFromHost() {
-  QMetaObject::invokeMethod(
-      m_worker,
-      [worker = m_worker] {
-        if (QSslSocket* s = worker->socket()) s->disconnectFromHost();
-      },
-      Qt::QueuedConnection);
+  queueOnSocket(m_worker, [](QSslSocket& socket) { socket.disconnectFromHost(); });
 }
 
 void TlsStream::abort() {
-  QMetaObject::invokeMethod(
-      m_worker,
-      [worker = m_worker] {
-        if (QSslSocket* s = worker->socket()) s->abort();
-      },
-      Qt::QueuedConnection);
+  queueOnSocket(m_worker, [](QSslSocket& socket) { socket.abort(); });
 }
 
 void TlsStream::setBufferSizes(qint64 readLimit, qint64 socketBuffer) {
@@ -240,18 +240,14 @@ void TlsStream::setBufferSizes(qint64 readLimit, qint64 socketBuffer) {
     QMutexLocker lock(&m_buffer->mutex);
     m_buffer->limit = std::max<qint64>(readLimit, 1);
   }
-  QMetaObject::invokeMethod(
-      m_worker,
-      [worker = m_worker, socketBuffer = std::max<qint64>(socketBuffer, 1)] {
-        worker->setSocketBuffer(socketBuffer);
-        worker->drain(false);  // a larger limit makes room
-      },
-      Qt::QueuedConnection);
+  queue(m_worker, [socketBuffer = std::max<qint64>(socketBuffer, 1)](Worker& worker) {
+    worker.setSocketBuffer(socketBuffer);
+    worker.drain(false);  // a larger limit makes room
+  });
 }
 
 void TlsStream::setReceiveBufferSize(qint64 bytes) {
-  QMetaObject::invokeMethod(
-      m_worker, [worker = m_worker, bytes] { worker->setReceiveBuffer(bytes); }, Qt::QueuedConnection);
+  queue(m_worker, [bytes](Worker& worker) { worker.setReceiveBuffer(bytes); });
 }
 
 qint64 TlsStream::bytesAvailable() const {
@@ -265,9 +261,7 @@ QByteArray TlsStream::read(qint64 maxBytes) {
   const bool wake = m_buffer->waitingForRoom && m_buffer->bytes < m_buffer->limit;
   if (wake) m_buffer->waitingForRoom = false;
   lock.unlock();
-  if (wake)
-    QMetaObject::invokeMethod(
-        m_worker, [worker = m_worker] { worker->drain(false); }, Qt::QueuedConnection);
+  if (wake) queue(m_worker, [](Worker& worker) { worker.drain(false); });
   return out;
 }
 
