@@ -14,6 +14,7 @@
 #include <QtTest/QTest>
 
 #include "harmonic_host_model.h"
+#include "raw_control_peer.h"
 #include "session/wire/password_auth.h"
 #include "test_meshes.h"
 
@@ -106,6 +107,38 @@ TEST(BusyClient, AClientWhoseThreadStandsStillMidTransferKeepsReceivingAndIsNotD
   const SessionHostCounters counters = host.counters();
   EXPECT_EQ(counters.slowPeersDropped, 0u);
   EXPECT_EQ(counters.transfersCompleted, 1u);
+}
+
+TEST(BusyClient, APeerThatReadsNothingMidTransferIsDroppedAtTheStallTimeoutAndOthersJoin) {
+  // The contrast to the test above, and the stall rule over real sockets: a peer made on this thread (which then
+  // sleeps, so the peer reads nothing at all) with a 4 KiB receive window asks for a 7.4 MB level.
+  const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(6), 64, 31);
+  SessionHostOptions hostOptions;
+  hostOptions.address = QHostAddress::LocalHost;
+  hostOptions.hostName = QStringLiteral("host");
+  hostOptions.sendStallTimeout = 500ms;
+  HostOnItsOwnThread host(model, std::move(hostOptions));
+  ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
+
+  testing::RawControlPeer hung(host.m_port, 4096);
+  ASSERT_TRUE(hung.join(QStringLiteral("hung")).has_value());
+  hung.send(ResolutionRequest{0});
+  QTest::qWait(100);  // the request leaves
+  std::this_thread::sleep_for(2000ms);
+  SessionHostCounters counters = host.counters();
+  EXPECT_EQ(counters.slowPeersDropped, 1u) << "the host dropped the peer that read nothing";
+  EXPECT_EQ(counters.transfersCompleted, 0u);
+
+  SessionClientOptions options;
+  options.port = host.m_port;
+  options.name = QStringLiteral("next");
+  SessionClient next(std::move(options));
+  next.start();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return next.state() >= SessionClient::State::Ready; }, 20000));
+  EXPECT_EQ(next.state(), SessionClient::State::Ready) << next.errorText().toStdString();
+  counters = host.counters();
+  EXPECT_EQ(counters.transfersCompleted, 1u);
+  EXPECT_EQ(counters.slowPeersDropped, 1u);
 }
 
 TEST(BusyClient, TheClientsEventLoopTurnsWhileItDerivesThePasswordKey) {
