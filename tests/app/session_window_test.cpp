@@ -24,6 +24,7 @@
 #include <QComboBox>
 #include <QImage>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMessageBox>
 #include <QSettings>
 #include <QSignalSpy>
@@ -69,6 +70,49 @@ class SessionWindowTest : public sc::testing::TorusSessionTest {
     return settings;
   }
 };
+
+TEST_F(SessionWindowTest, AJoinRefusedForItsPasswordAsksForItAgainInTheFilledInJoinForm) {
+  MainWindow hostWindow;
+  HostController* hosting = host(hostWindow);
+  ASSERT_EQ(hosting->state(), State::Live) << hosting->errorText().toStdString();
+  const quint16 port = hosting->tcpPort();
+
+  // No password, then a wrong one, then the right one: each refusal reopens the form, filled in as it was tried.
+  MainWindow joiner;
+  sc::testing::showSessionWindow(joiner, QSize(560, 420));
+  joiner.setErrorDialogsEnabled(true);  // as in the app (showSessionWindow turns them off for the other tests)
+  JoinSettings first = sc::testing::loopbackJoinSettings(port, knownHostsFile());
+  first.name = QStringLiteral("zed");
+  first.levelFraction = 0.5;
+  const QStringList typed{QStringLiteral("wrong"), QStringLiteral("secret")};
+  QStringList problems;
+  QTimer answerer;  // plays the user at each form that opens
+  QObject::connect(&answerer, &QTimer::timeout, [&] {
+    auto* form = qobject_cast<JoinDialog*>(QApplication::activeModalWidget());
+    if (form == nullptr || form->objectName() != QStringLiteral("passwordRetryDialog")) return;
+    const JoinSettings shown = form->settings();
+    EXPECT_EQ(shown.port, port);
+    EXPECT_EQ(shown.name, QStringLiteral("zed"));
+    EXPECT_EQ(shown.levelFraction, std::optional<double>(0.5));
+    EXPECT_FALSE(shown.password.has_value()) << "the refused password is not shown again";
+    problems << form->errorText();
+    auto* password = form->findChild<QLineEdit*>(QStringLiteral("passwordEdit"));
+    ASSERT_NE(password, nullptr);
+    EXPECT_TRUE(password->hasFocus());
+    password->setText(typed.value(static_cast<int>(problems.size()) - 1));
+    form->accept();
+  });
+  answerer.start(50);
+  joiner.joinSession(first);
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return joiner.session() != nullptr && joiner.session()->state() == State::Live; }, 30000))
+      << problems.join(QStringLiteral(" | ")).toStdString();
+  answerer.stop();
+  ASSERT_EQ(problems.size(), 2);
+  EXPECT_TRUE(problems[0].contains(QStringLiteral("password"), Qt::CaseInsensitive)) << problems[0].toStdString();
+  EXPECT_TRUE(problems[1].contains(QStringLiteral("password"), Qt::CaseInsensitive)) << problems[1].toStdString();
+  EXPECT_TRUE(QTest::qWaitFor([hosting] { return hosting->peers().peers.size() == 2; }, 10000));
+}
 
 TEST_F(SessionWindowTest, HostAndClientDeformTogether) {
   MainWindow hostWindow;

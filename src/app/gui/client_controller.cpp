@@ -40,6 +40,8 @@ bool ClientController::join(const JoinSettings& settings) {
   options.knownHostsFile = settings.knownHostsFile;
   options.progressive = true;  // the smallest level first, live, then the requested one (issue 17 item 4)
   m_joinFraction = settings.levelFraction;
+  m_joinSettings = settings;
+  m_joinSettings.password.reset();
   if (!settings.fingerprint.isEmpty()) {
     m_joinTrust = HostTrust::Pinned;
   } else {
@@ -200,6 +202,16 @@ bool ClientController::fingerprintRefused() const {
   return m_client != nullptr && m_client->state() == session::SessionClient::State::Failed &&
          !m_client->hostFingerprint().isEmpty() &&
          m_client->handshake().state() == session::ClientHandshake::State::SendHello;
+}
+
+std::optional<JoinSettings> ClientController::passwordRetry() const {
+  if (m_client == nullptr || m_client->state() != session::SessionClient::State::Failed) return std::nullopt;
+  const session::ClientHandshake& handshake = m_client->handshake();
+  const bool asked = handshake.failure() == session::ClientFailure::PasswordRequired;
+  const bool refused = handshake.failure() == session::ClientFailure::RefusedByHost && handshake.refusal() &&
+                       handshake.refusal()->reason == session::RefuseReason::WrongPassword;
+  if (!asked && !refused) return std::nullopt;
+  return m_joinSettings;
 }
 
 }  // namespace sc::app

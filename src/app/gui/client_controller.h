@@ -76,6 +76,7 @@ class ClientController final : public SessionController {
   void sendPresence(const session::Presence& presence) override;
   [[nodiscard]] HostTrust hostTrust() const override;
   [[nodiscard]] bool fingerprintRefused() const override;
+  [[nodiscard]] std::optional<JoinSettings> passwordRetry() const override;
 
   // --- the client's own figures (diagnostics and tests)
   /// The impairment the datagram channel applies now (nullopt: none).
@@ -104,6 +105,7 @@ class ClientController final : public SessionController {
   session::SessionClient* m_client = nullptr;
   session::DistortionMeter* m_meter = nullptr;
   std::optional<double> m_joinFraction;
+  JoinSettings m_joinSettings;              ///< what join() was given, without the password (passwordRetry())
   HostTrust m_joinTrust = HostTrust::None;  ///< what an accepted certificate means (set by join())
 };
 

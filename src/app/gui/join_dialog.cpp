@@ -43,6 +43,7 @@ QString validateFingerprintText(const QString& text) {
 
 JoinDialog::JoinDialog(QWidget* parent) : QDialog(parent), ui(new Ui::JoinDialog) {
   ui->setupUi(this);
+  ui->errorLabel->setTextFormat(Qt::PlainText);  // it may quote the host's refusal: never rich text
   ui->resolutionCombo->addItem(tr("Full resolution"));
   ui->resolutionCombo->addItem(tr("50 % of the vertices"));
   ui->resolutionCombo->addItem(tr("20 % of the vertices"));
@@ -89,6 +90,11 @@ void JoinDialog::setSettings(const JoinSettings& settings) {
 }
 
 QString JoinDialog::errorText() const { return ui->errorLabel->text(); }
+
+void JoinDialog::askForPassword(const QString& problem) {
+  ui->errorLabel->setText(problem);
+  ui->passwordEdit->setFocus();
+}
 
 void JoinDialog::accept() {
   const JoinSettings s = settings();

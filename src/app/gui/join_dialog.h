@@ -39,6 +39,8 @@ class JoinDialog : public QDialog {
   /// fingerprint is shown as the host shows it (AB:CD:…), or cleared when none.
   void setSettings(const JoinSettings& settings);
   [[nodiscard]] QString errorText() const;
+  /// Shows `problem` (e.g. why the last join failed) above the buttons and puts the cursor in the password field.
+  void askForPassword(const QString& problem);
 
  public slots:
   void accept() override;

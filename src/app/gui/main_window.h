@@ -244,6 +244,8 @@ class MainWindow : public QMainWindow {
   /// The status bar, sessionFailed() and (if enabled) a plain-text dialog for a failure of `controller`
   /// (nullptr: a failure before any controller, e.g. a busy port).
   void reportSessionFailure(const SessionController* controller, const QString& message);
+  /// The Join form again, filled in with `retry` and showing `message`, the password field to type in; OK joins.
+  void askPasswordAndJoin(const JoinSettings& retry, const QString& message);
   void onProgress(int percent, const QString& what);
   /// SessionController::levelDownload: the status bar's progress bar shows "<name> N%" (percent < 0: hidden).
   void onLevelDownload(int percent, const QString& name);

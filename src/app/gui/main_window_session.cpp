@@ -42,6 +42,20 @@ void MainWindow::showJoinDialog() {
   if (dialog.exec() == QDialog::Accepted) joinSession(dialog.settings());
 }
 
+void MainWindow::askPasswordAndJoin(const JoinSettings& retry, const QString& message) {
+  JoinDialog dialog(this);
+  dialog.setObjectName(QStringLiteral("passwordRetryDialog"));
+  dialog.setSettings(retry);
+  dialog.askForPassword(message);
+  if (dialog.exec() != QDialog::Accepted) return;
+  JoinSettings again = dialog.settings();
+  // What the form has no field for stays as it was: the emulated link, the known-hosts store, a vertex count.
+  again.impairment = retry.impairment;
+  again.knownHostsFile = retry.knownHostsFile;
+  if (!again.levelFraction && !retry.levelFraction) again.level = retry.level;
+  joinSession(again);
+}
+
 void MainWindow::adoptSession(SessionController* controller) {
   if (m_session != nullptr) {
     m_session->disconnect(this);
@@ -241,6 +255,12 @@ void MainWindow::reportSessionFailure(const SessionController* controller, const
     box.setInformativeText(fingerprintRefusedAdvice());
     box.exec();
     return;
+  }
+  if (controller != nullptr) {
+    if (const std::optional<JoinSettings> retry = controller->passwordRetry()) {
+      askPasswordAndJoin(*retry, message);
+      return;
+    }
   }
   // The reason is often the host's own Refused text: shown as plain text, never rich text (no links or images a
   // hostile host could plant; docs/security.md, "Hostile host").

@@ -191,6 +191,9 @@ class SessionController : public QObject, protected EditTarget {
   [[nodiscard]] virtual HostTrust hostTrust() const { return HostTrust::None; }
   /// Client: true when the join failed because the host's certificate did not match the pinned or remembered one.
   [[nodiscard]] virtual bool fingerprintRefused() const { return false; }
+  /// Client: the join's settings (without a password) when it failed because the host asked for a password none
+  /// was given for, or refused the one given: what to ask the user again with. nullopt otherwise.
+  [[nodiscard]] virtual std::optional<JoinSettings> passwordRetry() const { return std::nullopt; }
   /// A viewer through NATS (viewer_controller.h): the status text of a read-only session ("Watching S through
   /// NATS"); nullopt for a host or a client, which may edit.
   [[nodiscard]] virtual std::optional<QString> readOnlyText() const { return std::nullopt; }
