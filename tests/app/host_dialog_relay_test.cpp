@@ -17,6 +17,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDialogButtonBox>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QGroupBox>
 #include <QLineEdit>
@@ -25,9 +26,11 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QSpinBox>
+#include <QTcpServer>
 #include <QTest>
 #include <QTimer>
 
+#include <algorithm>
 #include <functional>
 
 namespace sc::app {
@@ -190,6 +193,8 @@ TEST_F(HostDialogRelay, HostingFromTheDialogRelaysTheFramesToAWatchProcess) {
   HostController* host = hostThroughTheDialog(window, server, server.config().hostPassword);
   ASSERT_NE(host, nullptr);
   ASSERT_EQ(host->state(), State::Live) << host->errorText().toStdString();
+  // The broker is connected on a thread of its own after the session is live.
+  (void)QTest::qWaitFor([&] { return host->relay() != nullptr || !failures.isEmpty(); }, 10000);
   ASSERT_NE(host->relay(), nullptr) << (failures.isEmpty() ? std::string("no failure reported")
                                                            : failures.first().first().toString().toStdString());
   ASSERT_TRUE(host->settings().relay);
@@ -248,6 +253,42 @@ TEST_F(HostDialogRelay, AWrongPasswordHostsWithoutTheRelayAndSaysWhy) {
   const QString message = failures.first().first().toString();
   EXPECT_TRUE(message.startsWith(QStringLiteral("Hosting without the relay through NATS"))) << message.toStdString();
   EXPECT_TRUE(message.contains(QStringLiteral("refused the user “host” or its password"))) << message.toStdString();
+}
+
+TEST_F(HostDialogRelay, ABrokerThatNeverAnswersLeavesTheWindowLiveWhileItIsTried) {
+  // A TCP server that accepts and says nothing: cnats waits for its INFO until the 2 s connect timeout.
+  QTcpServer silent;
+  ASSERT_TRUE(silent.listen(QHostAddress::LocalHost));
+  MainWindow window;
+  sc::testing::showSessionWindow(window, {800, 600});
+  QSignalSpy failures(&window, &MainWindow::sessionFailed);
+  HostSettings settings = sc::testing::loopbackHostSettings(m_meshPath, 20);
+  settings.relay = HostRelaySettings{QStringLiteral("nats://127.0.0.1:%1").arg(silent.serverPort()),
+                                     QStringLiteral("silent"),
+                                     QStringLiteral("host"),
+                                     QStringLiteral("pw"),
+                                     {}};
+  HostController* host = sc::testing::hostAndWait(window, settings);
+  ASSERT_EQ(host->state(), State::Live) << host->errorText().toStdString();
+
+  QElapsedTimer clock;
+  clock.start();
+  qint64 lastTick = 0;
+  qint64 longestGapMs = 0;
+  QTimer ticker;  // the window's event loop, seen from inside
+  QObject::connect(&ticker, &QTimer::timeout, [&] {
+    longestGapMs = std::max(longestGapMs, clock.elapsed() - lastTick);
+    lastTick = clock.elapsed();
+  });
+  ticker.start(20);
+  ASSERT_TRUE(QTest::qWaitFor([&failures] { return !failures.isEmpty(); }, 15000));
+  const qint64 triedMs = clock.elapsed();
+  EXPECT_GE(triedMs, 1000) << "the connect gave up before its timeout: the broker did answer";
+  EXPECT_LT(longestGapMs, 500) << "the window stood still while the broker was tried";
+  EXPECT_EQ(host->state(), State::Live) << "the editors' session goes on";
+  EXPECT_EQ(host->relay(), nullptr);
+  EXPECT_TRUE(failures.first().first().toString().startsWith(QStringLiteral("Hosting without the relay through NATS")))
+      << failures.first().first().toString().toStdString();
 }
 
 }  // namespace

@@ -47,7 +47,8 @@ TEST_F(RelayDocksTest, TheHostsDocksShowItsViewersAsOneAggregate) {
   settings.relay = app::HostRelaySettings{server.url(), config.sessionId, config.hostUser, config.hostPassword, {}};
   app::HostController* host = hostAndWait(window, settings);
   ASSERT_EQ(host->state(), app::SessionController::State::Live) << host->errorText().toStdString();
-  ASSERT_NE(host->relay(), nullptr) << "the relay did not start";
+  // The broker is connected on a thread of its own after the session is live.
+  ASSERT_TRUE(QTest::qWaitFor([host] { return host->relay() != nullptr; }, 10000)) << "the relay did not start";
   ASSERT_TRUE(host->relayAudience().has_value());
   EXPECT_EQ(host->relayAudience()->viewers, 0);
 

@@ -50,7 +50,8 @@ HostController::~HostController() {
     m_preparation->cancel();
     m_preparation->join();
   }
-  delete m_relay;  // it follows m_host
+  if (m_relayConnect.joinable()) m_relayConnect.join();  // at most the broker's connect timeout
+  delete m_relay;                                        // it follows m_host
   m_relay = nullptr;
   if (m_host != nullptr) {
     m_host->disconnect(this);
@@ -142,9 +143,21 @@ void HostController::startRelay() {
   options.nats.name = QStringLiteral("shapecast host");
   options.sessionId = m_settings.relay->sessionId;
   m_settings.relay->password.clear();  // the publisher keeps its copy (cnats reconnects with it)
-  auto* relay = new session::RelayPublisher(*m_host, std::move(options), this);
+  emit progress(100, tr("Hosting; connecting to the relay at %1").arg(options.nats.url));
+  m_relayConnect = std::thread([this, options] {
+    auto link = std::make_shared<session::RelayBrokerLink>(session::RelayPublisher::connectToBroker(options));
+    // Only a queued call touches `this`; the destructor joins this thread, so the object is alive here.
+    QMetaObject::invokeMethod(
+        this, [this, link, options] { finishRelay(std::move(*link), options); }, Qt::QueuedConnection);
+  });
+}
+
+void HostController::finishRelay(session::RelayBrokerLink link, const session::RelayPublisherOptions& options) {
+  if (m_relayConnect.joinable()) m_relayConnect.join();     // it has posted this call: it is ending
+  if (m_host == nullptr || state() != State::Live) return;  // hosting ended meanwhile: the link closes here
+  auto* relay = new session::RelayPublisher(*m_host, options, this);
   QString error;
-  if (!relay->start(&error)) {
+  if (!relay->start(std::move(link), &error)) {
     delete relay;
     // The editors' session is up and unaffected: it goes on, without the relay (as with the command line).
     emit failed(tr("Hosting without the relay through NATS: %1. Editors join as usual; viewers through NATS will not "
@@ -153,6 +166,7 @@ void HostController::startRelay() {
     return;
   }
   m_relay = relay;
+  emit progress(100, tr("Hosting; relaying through %1").arg(options.nats.url));
 }
 
 std::optional<session::RelayAudienceSummary> HostController::relayAudience() const {

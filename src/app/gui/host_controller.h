@@ -13,11 +13,12 @@
 #include "app/gui/port_reservation.h"
 #include "app/gui/session_controller.h"
 #include "session/engine/edit_history.h"
+#include "session/net/relay_publisher.h"
 
 #include <memory>
+#include <thread>
 
 namespace sc::session {
-class RelayPublisher;
 class SessionHost;
 struct HostModel;
 struct HostEngineCounters;
@@ -96,9 +97,11 @@ class HostController final : public SessionController {
  private:
   void finishPreparation(const std::shared_ptr<PreparedHost>& prepared);
   void restoreSavedSession();
-  /// Starts the relay publisher of settings().relay on the live host; failed() says why it could not (hosting goes
-  /// on without it).
+  /// Starts the relay publisher of settings().relay on the live host: the broker is connected on a thread of its own
+  /// (up to its 2 s timeout when nobody answers; the window stays live), then finishRelay() starts the publisher
+  /// here; failed() says why it could not (hosting goes on without it).
   void startRelay();
+  void finishRelay(session::RelayBrokerLink link, const session::RelayPublisherOptions& options);
   void onFrame();
 
   HostSettings m_settings;
@@ -108,6 +111,7 @@ class HostController final : public SessionController {
   std::shared_ptr<const model::SessionFile> m_saved;  ///< the session file it was started from
   session::SessionHost* m_host = nullptr;
   session::RelayPublisher* m_relay = nullptr;  ///< child of this, deleted before m_host
+  std::thread m_relayConnect;                  ///< connectToBroker() for startRelay(); the destructor joins it
 };
 
 }  // namespace sc::app

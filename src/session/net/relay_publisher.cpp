@@ -43,7 +43,27 @@ RelayPublisher::~RelayPublisher() {
 
 std::string RelayPublisher::frameSubject() const { return relayFrameSubject(m_options.sessionId); }
 
-bool RelayPublisher::start(QString* error) {
+RelayBrokerLink RelayPublisher::connectToBroker(const RelayPublisherOptions& options) {
+  RelayBrokerLink link;
+  if (!isValidSessionId(options.sessionId)) {
+    link.error = QStringLiteral("invalid session id (1..32 of A-Z a-z 0-9 _ -)");
+    return link;
+  }
+  QString why;
+  link.nats = NatsConnection::connect(options.nats, &why);
+  if (!link.nats) {
+    link.error = QStringLiteral("NATS: ") + why;
+    return link;
+  }
+  const std::string bucket = relayBucket(options.sessionId);
+  link.kv = link.nats->createBucket(bucket, &why);
+  if (!link.kv) link.error = QStringLiteral("NATS key-value bucket %1: %2").arg(QString::fromStdString(bucket), why);
+  return link;
+}
+
+bool RelayPublisher::start(QString* error) { return start(connectToBroker(m_options), error); }
+
+bool RelayPublisher::start(RelayBrokerLink link, QString* error) {
   auto fail = [error](const QString& why) {
     if (error) *error = why;
     return false;
@@ -54,11 +74,10 @@ bool RelayPublisher::start(QString* error) {
   if (!identity) return fail(QStringLiteral("the host has no TLS identity yet (start it first)"));
   m_signer = std::make_unique<RelaySigner>(identity->privateKey.toDer(), m_options.sessionId);
   if (!m_signer->valid()) return fail(QStringLiteral("the host's key cannot sign relay messages"));
+  if (!link.nats || !link.kv) return fail(link.error);
+  m_nats = std::move(link.nats);
+  m_kv = std::move(link.kv);
   QString why;
-  m_nats = NatsConnection::connect(m_options.nats, &why);
-  if (!m_nats) return fail(QStringLiteral("NATS: ") + why);
-  m_kv = m_nats->createBucket(m_bucket, &why);
-  if (!m_kv) return fail(QStringLiteral("NATS key-value bucket %1: %2").arg(QString::fromStdString(m_bucket), why));
   RelayFacts facts;
   facts.rowCount = m_host.model().rowCount();
   facts.vertexCount = static_cast<std::uint32_t>(m_host.model().vertexCount());

@@ -35,6 +35,13 @@ struct RelayPublisherOptions {
   int keyframeEvery = 30;  ///< frames between two stored keyframes while the shape moves, ≥ 1
 };
 
+/// The broker's side of a relay: made by RelayPublisher::connectToBroker() on any thread, handed to start().
+struct RelayBrokerLink {
+  std::unique_ptr<NatsConnection> nats;
+  std::unique_ptr<NatsKeyValue> kv;  ///< the session's bucket (destroyed before the connection it uses)
+  QString error;                     ///< why not, when nats or kv is null
+};
+
 /// What the publisher sent.
 struct RelayPublisherCounters {
   std::int64_t frames = 0;     ///< frames published on the frame subject
@@ -52,9 +59,16 @@ class RelayPublisher final : public QObject {
   RelayPublisher(SessionHost& host, RelayPublisherOptions options, QObject* parent = nullptr);
   ~RelayPublisher() override;
 
+  /// Connects to `options`' broker and creates the session's bucket. Blocks (the connection up to its timeout, 2 s
+  /// by default, then a JetStream request): call it off a GUI thread. Thread-safe; touches no publisher.
+  static RelayBrokerLink connectToBroker(const RelayPublisherOptions& options);
+
   /// Connects, creates the bucket, stores the facts and the current shape as the keyframe, then follows the host's
-  /// frames. False with `error` set when any of it fails.
+  /// frames. False with `error` set when any of it fails. Same as start(connectToBroker(options), error).
   bool start(QString* error = nullptr);
+  /// start() with the broker link made beforehand (on a worker, so that the caller's thread never waits on the
+  /// broker's connect); `link` is taken also when it failed (its error is reported).
+  bool start(RelayBrokerLink link, QString* error = nullptr);
   [[nodiscard]] const RelayPublisherCounters& counters() const { return m_counters; }
   [[nodiscard]] NatsConnection* connection() const { return m_nats.get(); }
   [[nodiscard]] std::string frameSubject() const;
