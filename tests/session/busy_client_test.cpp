@@ -70,21 +70,33 @@ class HostOnItsOwnThread {
   std::unique_ptr<SessionHost> m_host;
 };
 
+/// 127.0.0.1, any port, named "host", dropping a peer whose queue has not drained for 0.5 s (sendStallTimeout).
+SessionHostOptions loopbackHostOptions() {
+  SessionHostOptions options;
+  options.address = QHostAddress::LocalHost;
+  options.hostName = QStringLiteral("host");
+  options.sendStallTimeout = 500ms;
+  return options;
+}
+
+/// A client of 127.0.0.1:`port` named `name`, SessionClientOptions' defaults otherwise.
+SessionClientOptions clientOptions(quint16 port, const QString& name) {
+  SessionClientOptions options;
+  options.port = port;
+  options.name = name;
+  return options;
+}
+
 TEST(BusyClient, AClientWhoseThreadStandsStillMidTransferKeepsReceivingAndIsNotDropped) {
   // icosphere(6) with m = 200 random columns: an incompressible payload of about 2 · 40962 · 200 bytes = 16 MB, more
   // than the kernel's buffers on loopback hold (both ends autotune to a few MB), so a client that does not read
   // stalls the host's queue.
   const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(6), 200, 29);
-  SessionHostOptions hostOptions;
-  hostOptions.address = QHostAddress::LocalHost;
-  hostOptions.hostName = QStringLiteral("host");
-  hostOptions.sendStallTimeout = 500ms;
+  SessionHostOptions hostOptions = loopbackHostOptions();
   HostOnItsOwnThread host(model, std::move(hostOptions));
   ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
 
-  SessionClientOptions options;
-  options.port = host.m_port;
-  options.name = QStringLiteral("busy");
+  SessionClientOptions options = clientOptions(host.m_port, QStringLiteral("busy"));
   SessionClient client(std::move(options));
   quint64 received = 0;
   quint64 total = 0;
@@ -113,10 +125,7 @@ TEST(BusyClient, APeerThatReadsNothingMidTransferIsDroppedAtTheStallTimeoutAndOt
   // The contrast to the test above, and the stall rule over real sockets: a peer made on this thread (which then
   // sleeps, so the peer reads nothing at all) with a 4 KiB receive window asks for a 7.4 MB level.
   const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(6), 64, 31);
-  SessionHostOptions hostOptions;
-  hostOptions.address = QHostAddress::LocalHost;
-  hostOptions.hostName = QStringLiteral("host");
-  hostOptions.sendStallTimeout = 500ms;
+  SessionHostOptions hostOptions = loopbackHostOptions();
   HostOnItsOwnThread host(model, std::move(hostOptions));
   ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
 
@@ -129,9 +138,7 @@ TEST(BusyClient, APeerThatReadsNothingMidTransferIsDroppedAtTheStallTimeoutAndOt
   EXPECT_EQ(counters.slowPeersDropped, 1u) << "the host dropped the peer that read nothing";
   EXPECT_EQ(counters.transfersCompleted, 0u);
 
-  SessionClientOptions options;
-  options.port = host.m_port;
-  options.name = QStringLiteral("next");
+  SessionClientOptions options = clientOptions(host.m_port, QStringLiteral("next"));
   SessionClient next(std::move(options));
   next.start();
   ASSERT_TRUE(QTest::qWaitFor([&] { return next.state() >= SessionClient::State::Ready; }, 20000));
@@ -151,17 +158,13 @@ TEST(BusyClient, TheClientsEventLoopTurnsWhileItDerivesThePasswordKey) {
   const qint64 derivationMs = clock.elapsed();  // what the key costs on this machine, now
 
   const std::shared_ptr<const HostModel> model = testing::incompressibleHostModel(sc::testing::icosphere(2), 20, 3);
-  SessionHostOptions hostOptions;
-  hostOptions.address = QHostAddress::LocalHost;
-  hostOptions.hostName = QStringLiteral("host");
+  SessionHostOptions hostOptions = loopbackHostOptions();
   hostOptions.password = QStringLiteral("open sesame");
   hostOptions.pbkdf2Iterations = kIterations;
   HostOnItsOwnThread host(model, std::move(hostOptions));
   ASSERT_TRUE(host.m_started) << host.m_error.toStdString();
 
-  SessionClientOptions options;
-  options.port = host.m_port;
-  options.name = QStringLiteral("patient");
+  SessionClientOptions options = clientOptions(host.m_port, QStringLiteral("patient"));
   options.password = QStringLiteral("open sesame");
   SessionClient client(std::move(options));
   qint64 longestGapMs = 0;
