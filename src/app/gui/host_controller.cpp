@@ -50,8 +50,9 @@ HostController::~HostController() {
     m_preparation->cancel();
     m_preparation->join();
   }
-  if (m_relayConnect.joinable()) m_relayConnect.join();  // at most the broker's connect timeout
-  delete m_relay;                                        // it follows m_host
+  // At most the broker's connect and request timeouts (2 + 2 s per URL) when it never answers; milliseconds usually.
+  if (m_relayConnect.joinable()) m_relayConnect.join();
+  delete m_relay;  // it follows m_host
   m_relay = nullptr;
   if (m_host != nullptr) {
     m_host->disconnect(this);

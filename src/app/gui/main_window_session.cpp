@@ -6,6 +6,7 @@
 
 #include "ui_main_window.h"
 
+#include "app/common/password_memory.h"
 #include "app/gui/host_controller.h"
 #include "app/gui/host_dialog.h"
 #include "app/gui/interactive_proxy.h"
@@ -47,13 +48,19 @@ void MainWindow::askPasswordAndJoin(const JoinSettings& retry, const QString& me
   dialog.setObjectName(QStringLiteral("passwordRetryDialog"));
   dialog.setSettings(retry);
   dialog.askForPassword(message);
+  const std::optional<double> shownFraction = dialog.settings().levelFraction;
   if (dialog.exec() != QDialog::Accepted) return;
   JoinSettings again = dialog.settings();
-  // What the form has no field for stays as it was: the emulated link, the known-hosts store, a vertex count.
+  // What the form has no field for stays as it was: the emulated link, the known-hosts store, and the resolution
+  // asked for (a vertex count or a percentage the form's choices lack) unless the user picked another.
   again.impairment = retry.impairment;
   again.knownHostsFile = retry.knownHostsFile;
-  if (!again.levelFraction && !retry.levelFraction) again.level = retry.level;
+  if (again.levelFraction == shownFraction) {
+    again.level = retry.level;
+    again.levelFraction = retry.levelFraction;
+  }
   joinSession(again);
+  forgetPassword(again.password);  // the session holds its own copy until its proof
 }
 
 void MainWindow::adoptSession(SessionController* controller) {
@@ -258,7 +265,9 @@ void MainWindow::reportSessionFailure(const SessionController* controller, const
   }
   if (controller != nullptr) {
     if (const std::optional<JoinSettings> retry = controller->passwordRetry()) {
-      askPasswordAndJoin(*retry, message);
+      // After the failing client has finished reporting (this runs inside its signal): the form is modal.
+      QMetaObject::invokeMethod(
+          this, [this, settings = *retry, message] { askPasswordAndJoin(settings, message); }, Qt::QueuedConnection);
       return;
     }
   }

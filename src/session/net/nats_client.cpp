@@ -14,6 +14,17 @@
 namespace sc::session {
 namespace {
 
+/// The connection's JetStream context, made once: its requests wait `timeout` (the connect timeout; cnats' default
+/// would be 5 s).
+natsStatus jetStreamOf(jsCtx** js, natsConnection* connection, std::chrono::milliseconds timeout) {
+  if (*js != nullptr) return NATS_OK;
+  jsOptions options;
+  natsStatus s = jsOptions_Init(&options);
+  options.Wait = timeout.count();
+  if (s == NATS_OK) s = natsConnection_JetStream(js, connection, &options);
+  return s;
+}
+
 /// How long natsShutdown() waits for cnats' threads to end (a TLS connection's threads must be gone before OpenSSL's
 /// exit handler frees its state).
 constexpr std::int64_t kShutdownWaitMs = 5000;
@@ -232,7 +243,7 @@ NatsKeyValue::NatsKeyValue() : m_handles(std::make_unique<Handles>()) {}
 NatsKeyValue::~NatsKeyValue() = default;
 
 std::unique_ptr<NatsKeyValue> NatsConnection::createBucket(const std::string& bucket, QString* error) {
-  natsStatus s = m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  natsStatus s = jetStreamOf(&m_handles->js, m_handles->connection, m_timeout);
   std::unique_ptr<NatsKeyValue> out(new NatsKeyValue());
   kvConfig config;
   if (s == NATS_OK) s = kvConfig_Init(&config);
@@ -247,7 +258,7 @@ std::unique_ptr<NatsKeyValue> NatsConnection::createBucket(const std::string& bu
 }
 
 std::unique_ptr<NatsKeyValue> NatsConnection::bindBucket(const std::string& bucket, QString* error) {
-  natsStatus s = m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  natsStatus s = jetStreamOf(&m_handles->js, m_handles->connection, m_timeout);
   std::unique_ptr<NatsKeyValue> out(new NatsKeyValue());
   if (s == NATS_OK) s = js_KeyValue(&out->m_handles->kv, m_handles->js, bucket.c_str());
   if (s != NATS_OK) {
@@ -281,8 +292,7 @@ NatsStream::~NatsStream() = default;
 std::int64_t NatsConnection::maxPayload() const { return natsConnection_GetMaxPayload(m_handles->connection); }
 
 std::unique_ptr<NatsStream> NatsConnection::bindStream(const std::string& name, QString* error) {
-  const natsStatus s =
-      m_handles->js ? NATS_OK : natsConnection_JetStream(&m_handles->js, m_handles->connection, nullptr);
+  const natsStatus s = jetStreamOf(&m_handles->js, m_handles->connection, m_timeout);
   if (s != NATS_OK) {
     if (error) *error = statusText(s);
     return nullptr;

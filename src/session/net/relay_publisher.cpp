@@ -45,6 +45,7 @@ std::string RelayPublisher::frameSubject() const { return relayFrameSubject(m_op
 
 RelayBrokerLink RelayPublisher::connectToBroker(const RelayPublisherOptions& options) {
   RelayBrokerLink link;
+  link.sessionId = options.sessionId;
   if (!isValidSessionId(options.sessionId)) {
     link.error = QStringLiteral("invalid session id (1..32 of A-Z a-z 0-9 _ -)");
     return link;
@@ -61,9 +62,7 @@ RelayBrokerLink RelayPublisher::connectToBroker(const RelayPublisherOptions& opt
   return link;
 }
 
-bool RelayPublisher::start(QString* error) { return start(connectToBroker(m_options), error); }
-
-bool RelayPublisher::start(RelayBrokerLink link, QString* error) {
+bool RelayPublisher::makeSigner(QString* error) {
   auto fail = [error](const QString& why) {
     if (error) *error = why;
     return false;
@@ -74,7 +73,23 @@ bool RelayPublisher::start(RelayBrokerLink link, QString* error) {
   if (!identity) return fail(QStringLiteral("the host has no TLS identity yet (start it first)"));
   m_signer = std::make_unique<RelaySigner>(identity->privateKey.toDer(), m_options.sessionId);
   if (!m_signer->valid()) return fail(QStringLiteral("the host's key cannot sign relay messages"));
+  return true;
+}
+
+bool RelayPublisher::start(QString* error) {
+  // What can fail here fails before the broker is asked for anything (no connection, no bucket left behind).
+  return makeSigner(error) && start(connectToBroker(m_options), error);
+}
+
+bool RelayPublisher::start(RelayBrokerLink link, QString* error) {
+  auto fail = [error](const QString& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (!makeSigner(error)) return false;
+  if (link.sessionId != m_options.sessionId) return fail(QStringLiteral("the broker link is another session's"));
   if (!link.nats || !link.kv) return fail(link.error);
+  const std::shared_ptr<const TlsIdentity> identity = m_host.identity();
   m_nats = std::move(link.nats);
   m_kv = std::move(link.kv);
   QString why;

@@ -39,6 +39,7 @@ struct RelayPublisherOptions {
 struct RelayBrokerLink {
   std::unique_ptr<NatsConnection> nats;
   std::unique_ptr<NatsKeyValue> kv;  ///< the session's bucket (destroyed before the connection it uses)
+  QString sessionId;                 ///< whose bucket it is (start() refuses another session's link)
   QString error;                     ///< why not, when nats or kv is null
 };
 
@@ -60,7 +61,8 @@ class RelayPublisher final : public QObject {
   ~RelayPublisher() override;
 
   /// Connects to `options`' broker and creates the session's bucket. Blocks (the connection up to its timeout, 2 s
-  /// by default, then a JetStream request): call it off a GUI thread. Thread-safe; touches no publisher.
+  /// by default, per URL, then a JetStream request up to the same timeout): call it off a GUI thread. Thread-safe;
+  /// touches no publisher.
   static RelayBrokerLink connectToBroker(const RelayPublisherOptions& options);
 
   /// Connects, creates the bucket, stores the facts and the current shape as the keyframe, then follows the host's
@@ -76,6 +78,8 @@ class RelayPublisher final : public QObject {
   [[nodiscard]] RelayAudienceSummary audience() const;
 
  private:
+  /// Checks the session id and the host's identity and makes the signer; false with `error` set.
+  bool makeSigner(QString* error);
   void onFrame(std::uint32_t frame);
   void storeKeyframe();
   void drainStats();

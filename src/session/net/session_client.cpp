@@ -29,6 +29,12 @@ constexpr qint64 kLinkSocketBuffer = 16 * 1024;
 qint64 linkKernelBuffer(double bitsPerSecond) {
   return std::max<qint64>(64 * 1024, static_cast<qint64>(bitsPerSecond / 8.0 * 0.02));
 }
+/// Without a rate, what the TLS stream may read ahead of the engine: this much while no transfer is accepted (control
+/// messages; a hostile host's oversized announcement is refused before more is read), plus the accepted transfer's
+/// size while one arrives, up to kMaxReadAhead (about 5 s of a 100 Mbit/s link: a GUI thread that stands still that
+/// long keeps the host's queue draining).
+constexpr qint64 kControlReadAhead = 1024 * 1024;
+constexpr qint64 kMaxReadAhead = 64 * 1024 * 1024;
 /// Under a link rate, a waiting stream is read again once this many bytes (or all pending, if fewer) are allowed.
 constexpr std::size_t kLinkReadChunk = 4096;
 
@@ -108,18 +114,21 @@ void SessionClient::execute(client_action::DerivePasswordKey& derive) {
   if (m_keyDeriver.joinable()) m_keyDeriver.join();  // one Challenge per session: a previous one has ended
   // PBKDF2 (0.35 s at the default 600,000 iterations here) runs off this thread: a GUI stays responsive meanwhile.
   m_keyDeriver = std::thread([this, request = std::move(derive.request)]() mutable {
-    const QByteArray key = derivePasswordKey(request.password, request.salt, request.iterations);
-    request.password.fill(QChar(u'\0'));  // the session's only copy: overwritten before it is dropped
+    QByteArray key = derivePasswordKey(request.password, request.salt, request.iterations);
+    // The session's copy, overwritten before it is dropped (in place unless the caller still shares it: then the
+    // caller's own wipe, e.g. forgetPassword(), overwrites the original).
+    request.password.fill(QChar(u'\0'));
     request.password.clear();
     // Only a queued call touches `this`; the destructor joins this thread, so the object is alive here.
     QMetaObject::invokeMethod(
-        this, [this, key] { finishPasswordKey(key); }, Qt::QueuedConnection);
+        this, [this, key = std::move(key)]() mutable { finishPasswordKey(key); }, Qt::QueuedConnection);
   });
 }
 
-void SessionClient::finishPasswordKey(const QByteArray& key) {
+void SessionClient::finishPasswordKey(QByteArray& key) {
   if (m_keyDeriver.joinable()) m_keyDeriver.join();  // it has posted this call: it is ending
   apply(m_engine.onPasswordKey(key));
+  key.fill('\0');  // the key answers this host's challenges as the password would: its only copy is overwritten
 }
 
 void SessionClient::readAvailable() { readStream(false); }
@@ -197,10 +206,23 @@ void SessionClient::setImpairment(std::optional<ImpairmentSettings> settings) {
 void SessionClient::makeLink() {
   const bool rated = m_options.impairment && m_options.impairment->rate.bitsPerSecond > 0.0;
   m_link = rated ? std::make_shared<LinkRate>(m_options.impairment->rate) : nullptr;
-  m_stream->setBufferSizes(rated ? kLinkReadBuffer : TlsStream::kDefaultReadLimit,
-                           rated ? kLinkSocketBuffer : TlsStream::kDefaultSocketBuffer);
+  m_readAhead = 0;
+  if (rated) {
+    m_stream->setBufferSizes(kLinkReadBuffer, kLinkSocketBuffer);
+  } else {
+    grantReadAhead(0);
+  }
   m_stream->setReceiveBufferSize(rated ? linkKernelBuffer(m_link->bitsPerSecond()) : 0);
   if (!rated) m_linkTimer->stop();
+}
+
+void SessionClient::grantReadAhead(std::uint64_t transferBytes) {
+  if (m_link) return;  // a rated link keeps its small buffers
+  const qint64 wanted = std::min<qint64>(
+      kControlReadAhead + static_cast<qint64>(std::min<std::uint64_t>(transferBytes, kMaxReadAhead)), kMaxReadAhead);
+  if (wanted == m_readAhead) return;
+  m_readAhead = wanted;
+  m_stream->setBufferSizes(wanted, TlsStream::kDefaultSocketBuffer);
 }
 
 void SessionClient::setDistortion(double maxPct, double meanPct, double lastPct) {

@@ -267,15 +267,18 @@ class SessionClient final : public QObject {
   void readStream(bool unthrottled);
   /// Makes m_link from m_options.impairment (or none) and bounds the socket's read buffer accordingly.
   void makeLink();
+  /// Lets the TLS stream read ahead kControlReadAhead + `transferBytes` (capped) when no link rate is set.
+  void grantReadAhead(std::uint64_t transferBytes);
   void onEncrypted();
   /// The decode worker's result, on this object's thread.
   void finishDecode(DecodedLevel& result);
-  void finishPasswordKey(const QByteArray& key);
+  void finishPasswordKey(QByteArray& key);
 
   SessionClientOptions m_options;
   ClientEngine m_engine;
   State m_state = State::Idle;    ///< as last announced by stateChanged()
   TlsStream* m_stream = nullptr;  ///< the control connection, read on a thread of its own
+  qint64 m_readAhead = 0;         ///< the stream's read limit granted by grantReadAhead() (0: none yet)
   QByteArray m_hostFingerprint;
   ClientDatagramChannel* m_channel = nullptr;
   QTimer* m_timer = nullptr;         ///< single-shot, armed at m_engine.nextWakeUp()

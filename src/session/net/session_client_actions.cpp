@@ -98,6 +98,9 @@ void SessionClient::execute(client_action::Notify notify) {
 }
 
 void SessionClient::execute(client_action::ModelProgress progress) {
+  // An accepted transfer may be read ahead of this thread (its size is checked against the LevelList first).
+  if (progress.received == 0) grantReadAhead(progress.total);
+  if (progress.received == progress.total) grantReadAhead(0);
   emit modelProgress(progress.received, progress.total);
 }
 

@@ -19,12 +19,13 @@ QByteArray secureRandomBytes(int count) {
 QByteArray derivePasswordKey(const QString& password, QByteArrayView salt, std::uint32_t iterations) {
   // OpenSSL's PBKDF2-HMAC-SHA256 (the same derivation Qt's QPasswordDigestor made; the wire format is unchanged), so
   // that the wire and engine layers need no Qt Network. Returns empty only if OpenSSL fails (out of memory).
-  const QByteArray utf8 = password.toUtf8();
+  QByteArray utf8 = password.toUtf8();
   QByteArray key(kMacSize, Qt::Uninitialized);
   const int ok = PKCS5_PBKDF2_HMAC(utf8.constData(), static_cast<int>(utf8.size()),
                                    reinterpret_cast<const unsigned char*>(salt.data()), static_cast<int>(salt.size()),
                                    static_cast<int>(iterations), EVP_sha256(), static_cast<int>(key.size()),
                                    reinterpret_cast<unsigned char*>(key.data()));
+  utf8.fill('\0');  // its own buffer: the password's bytes do not outlive the derivation
   return ok == 1 ? key : QByteArray();
 }
 
