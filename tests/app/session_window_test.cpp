@@ -98,7 +98,8 @@ TEST_F(SessionWindowTest, AJoinRefusedForItsPasswordAsksForItAgainInTheFilledInJ
     problems << form->errorText();
     auto* password = form->findChild<QLineEdit*>(QStringLiteral("passwordEdit"));
     ASSERT_NE(password, nullptr);
-    EXPECT_TRUE(password->hasFocus());
+    EXPECT_EQ(form->focusWidget(), password)
+        << "the cursor goes to the password field";  // hasFocus() needs an active window
     password->setText(typed.value(static_cast<int>(problems.size()) - 1));
     form->accept();
   });

@@ -72,9 +72,10 @@ TEST(TlsStreamBuffer, AnOwnerThatDoesNotReadHoldsTheReadLimitThenGetsEveryByteIn
   EXPECT_EQ(stream.bytesAvailable(), kLimit) << "never more than the read limit buffered";
   EXPECT_GE(readyReads, 1);
   // The buffer's heap is its bytes' (QSslSocket reads 4 KiB records; each read's own array would carry 16-32 KiB of
-  // capacity, 8 times the limit in all). The rest: the sockets' buffers, the sender's queue (about 1 MiB), TLS.
+  // capacity: 38 MB measured for this limit). The rest, up to 5 MB: the sockets' buffers, the sender's queue (about
+  // 1 MiB, plain and encrypted), TLS state (8.0-9.1 MB in all measured).
   if (!sc::testing::kAddressSanitizer) {
-    EXPECT_LT(heapInUse() - heapBefore, 2 * kLimit) << "heap grown while the buffer holds the limit";
+    EXPECT_LT(heapInUse() - heapBefore, 3 * kLimit) << "heap grown while the buffer holds the limit";
   }
 
   QByteArray received;
