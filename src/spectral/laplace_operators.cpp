@@ -1,9 +1,13 @@
 #include "spectral/laplace_operators.h"
 
+#include "spectral/parallel_ranges.h"
+
 #include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <memory>
+#include <thread>
 #include <vector>
 
 namespace sc::spectral {
@@ -20,10 +24,12 @@ FaceLengths faceLengths(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, Eige
 }
 
 /// Smallest ε ≥ 0 such that every face satisfies l_i + l_j ≥ l_k + δ after adding ε to all lengths.
-double mollificationEpsilon(const std::vector<FaceLengths>& lengths, double delta) {
+double mollificationEpsilon(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, double delta) {
   double epsilon = 0.0;
-  for (const auto& l : lengths)
+  for (Eigen::Index f = 0; f < F.rows(); ++f) {
+    const FaceLengths l = faceLengths(V, F, f);
     for (std::size_t k = 0; k < 3; ++k) epsilon = std::max(epsilon, delta - l[(k + 1) % 3] - l[(k + 2) % 3] + l[k]);
+  }
   return epsilon;
 }
 
@@ -35,50 +41,105 @@ double heronArea(FaceLengths l) {
   return 0.25 * std::sqrt(std::max(p, 0.0));
 }
 
+/// S's pattern in compressed column form, values zero: an entry (i, j) and (j, i) for every face edge {i, j} and
+/// (i, i) for every vertex a face uses, each once — the pattern setFromTriplets() makes from the faces' triplets.
+/// Cost: O(#V + #F) time (each column's few rows sorted in place), 24·#F bytes of rows transient.
+SparseMatrix stiffnessPattern(Eigen::Index n, const Eigen::MatrixXi& F) {
+  // Neighbours by column, duplicates included (an interior edge comes from both its faces), then sorted, made
+  // unique and copied with the diagonal in its place.
+  std::vector<int> starts(static_cast<std::size_t>(n) + 1, 0);
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) starts[static_cast<std::size_t>(F(f, k)) + 1] += 2;
+  for (std::size_t c = 0; c < static_cast<std::size_t>(n); ++c) starts[c + 1] += starts[c];
+  std::vector<int> next(starts.begin(), starts.end() - 1);
+  const auto neighbours = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(starts.back()));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      int& at = next[static_cast<std::size_t>(F(f, k))];
+      neighbours[static_cast<std::size_t>(at++)] = F(f, (k + 1) % 3);
+      neighbours[static_cast<std::size_t>(at++)] = F(f, (k + 2) % 3);
+    }
+
+  // Each column sorted and made unique (in parallel: columns are independent), then counted and copied.
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<int> counts(static_cast<std::size_t>(n));
+  detail::parallelRanges(n, threads, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
+    for (std::ptrdiff_t c = first; c < last; ++c) {
+      int* begin = neighbours.get() + starts[static_cast<std::size_t>(c)];
+      int* end = neighbours.get() + starts[static_cast<std::size_t>(c) + 1];
+      std::sort(begin, end);
+      const int unique = static_cast<int>(std::unique(begin, end) - begin);
+      next[static_cast<std::size_t>(c)] = unique;
+      const bool listsItself = std::binary_search(begin, begin + unique, static_cast<int>(c));  // a face {c, c, …}
+      counts[static_cast<std::size_t>(c)] = unique + (unique > 0 && !listsItself ? 1 : 0);      // + the diagonal
+    }
+  });
+  SparseMatrix S(n, n);
+  int* outer = S.outerIndexPtr();
+  outer[0] = 0;
+  for (Eigen::Index c = 0; c < n; ++c) outer[c + 1] = outer[c] + counts[static_cast<std::size_t>(c)];
+  S.resizeNonZeros(outer[n]);
+  detail::parallelRanges(n, threads, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
+    for (std::ptrdiff_t c = first; c < last; ++c) {
+      if (outer[c + 1] == outer[c]) continue;  // no face uses c: an empty column
+      const int* begin = neighbours.get() + starts[static_cast<std::size_t>(c)];
+      const int* end = begin + next[static_cast<std::size_t>(c)];
+      const int* split = std::lower_bound(begin, end, static_cast<int>(c));
+      int* out = std::copy(begin, split, S.innerIndexPtr() + outer[c]);
+      *out++ = static_cast<int>(c);
+      std::copy(split + (split != end && *split == c ? 1 : 0), end, out);
+      std::fill(S.valuePtr() + outer[c], S.valuePtr() + outer[c + 1], 0.0);
+    }
+  });
+  return S;
+}
+
+/// S(row, column) += value on an entry of S's pattern. Cost: O(entries in the column), a few.
+void addToEntry(SparseMatrix& S, int row, int column, double value) {
+  const int* rows = S.innerIndexPtr();
+  int at = S.outerIndexPtr()[column];
+  while (rows[at] != row) ++at;
+  S.valuePtr()[at] += value;
+}
+
 }  // namespace
 
 LaplaceOperators laplaceOperators(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F, const LaplaceOptions& options) {
   assert(V.cols() == 3 && F.cols() == 3 && "V and F must have three columns");
   const Eigen::Index n = V.rows();
 
-  // === step 1: edge lengths and the mollification that keeps every triangle non-degenerate
-  std::vector<FaceLengths> lengths(static_cast<std::size_t>(F.rows()));
+  // === step 1: the mollification that keeps every triangle non-degenerate (lengths are recomputed, not stored)
   double lengthSum = 0.0;
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    lengths[static_cast<std::size_t>(f)] = faceLengths(V, F, f);
-    for (double l : lengths[static_cast<std::size_t>(f)]) lengthSum += l;
-  }
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (double l : faceLengths(V, F, f)) lengthSum += l;
   const double meanEdge = F.rows() > 0 ? lengthSum / (3.0 * static_cast<double>(F.rows())) : 0.0;
   LaplaceOperators ops;
-  ops.mollifyEpsilon = mollificationEpsilon(lengths, options.mollifyMargin * meanEdge);
-  for (auto& l : lengths)
-    for (double& x : l) x += ops.mollifyEpsilon;
+  ops.mollifyEpsilon = mollificationEpsilon(V, F, options.mollifyMargin * meanEdge);
 
-  // === step 2: per-face cotangent weights and lumped areas
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(static_cast<std::size_t>(F.rows()) * 12);
+  // === step 2: per-face cotangent weights and lumped areas, summed into S's pattern and M
+  ops.stiffness = stiffnessPattern(n, F);
   ops.mass.setZero(n);
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);  // summed apart, in the same order, then stored
   for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const FaceLengths& l = lengths[static_cast<std::size_t>(f)];
+    FaceLengths l = faceLengths(V, F, f);
+    for (double& x : l) x += ops.mollifyEpsilon;
     const double area = heronArea(l);
     for (int k = 0; k < 3; ++k) {
       const auto sk = static_cast<std::size_t>(k);
       const double a = l[sk], b = l[(sk + 1) % 3], c = l[(sk + 2) % 3];
       const double w = area > 0.0 ? 0.5 * (b * b + c * c - a * a) / (4.0 * area) : 0.0;
       const int i = F(f, (k + 1) % 3), j = F(f, (k + 2) % 3);
-      triplets.emplace_back(i, j, -w);
-      triplets.emplace_back(j, i, -w);
-      triplets.emplace_back(i, i, w);
-      triplets.emplace_back(j, j, w);
+      addToEntry(ops.stiffness, i, j, -w);
+      addToEntry(ops.stiffness, j, i, -w);
+      diagonal(i) += w;
+      diagonal(j) += w;
       ops.mass(F(f, k)) += area / 3.0;
     }
     ops.totalArea += area;
   }
-
-  // === step 3: assemble (duplicates are summed)
-  ops.stiffness.resize(n, n);
-  ops.stiffness.setFromTriplets(triplets.begin(), triplets.end());
-  ops.stiffness.makeCompressed();
+  for (Eigen::Index c = 0; c < n; ++c)
+    if (ops.stiffness.outerIndexPtr()[c + 1] > ops.stiffness.outerIndexPtr()[c])
+      addToEntry(ops.stiffness, static_cast<int>(c), static_cast<int>(c), diagonal(c));
   return ops;
 }
 

@@ -34,7 +34,9 @@ struct LaplaceOperators {
 /// @param[in] F  #F by 3 vertex indices into V; every vertex should be referenced (else its mass is 0).
 /// @param[in] options  mollification margin.
 /// @return the operators; stiffness has the pattern of the mesh edges plus the diagonal.
-/// Cost: O(#F) time and memory.
+/// Cost: O(#V + #F) time, S assembled in place (its pattern from the faces, then each face's weights added): 24·#F
+/// bytes transient besides S and M, where twelve triplets per face took 192·#F (437k vertices: 0.35–0.6 s against
+/// 1.2 s with setFromTriplets(), the same matrix to the bit).
 LaplaceOperators laplaceOperators(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F,
                                   const LaplaceOptions& options = {});
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
+#include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -87,6 +88,49 @@ TEST(LaplaceOperators, GridMatchesTheFivePointStencilInside) {
   EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 1), -1.0, 1e-12);
   EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 5), -1.0, 1e-12);
   EXPECT_NEAR(ops.stiffness.coeff(centre, centre + 6), 0.0, 1e-12);
+}
+
+/// The same S from each face's twelve triplets (cotangents from dot and cross products), assembled by Eigen's
+/// setFromTriplets(): the reference the direct assembly must equal, pattern and values.
+SparseMatrix tripletStiffness(const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int corner = F(f, k), i = F(f, (k + 1) % 3), j = F(f, (k + 2) % 3);
+      const Eigen::Vector3d a = V.row(i) - V.row(corner), b = V.row(j) - V.row(corner);
+      const double w = 0.5 * a.dot(b) / a.cross(b).norm();
+      triplets.insert(triplets.end(), {{i, j, -w}, {j, i, -w}, {i, i, w}, {j, j, w}});
+    }
+  SparseMatrix S(V.rows(), V.rows());
+  S.setFromTriplets(triplets.begin(), triplets.end());
+  return S;
+}
+
+TEST(LaplaceOperators, EqualsTheFacesTripletsSummedWithAFinAndAnUnusedVertex) {
+  testing::GeneratedMesh mesh = testing::torus(24, 10);
+  // A fin: a third face on the edge of face 0 (a non-manifold edge), and a last vertex no face uses.
+  const Eigen::Index n = mesh.V.rows();
+  mesh.V.conservativeResize(n + 2, 3);
+  mesh.V.row(n) = (mesh.V.row(mesh.F(0, 0)) + mesh.V.row(mesh.F(0, 1))) / 2 + Eigen::RowVector3d(0, 0, 0.5);
+  mesh.V.row(n + 1) = Eigen::RowVector3d(9, 9, 9);
+  mesh.F.conservativeResize(mesh.F.rows() + 1, 3);
+  mesh.F.row(mesh.F.rows() - 1) << mesh.F(0, 1), mesh.F(0, 0), static_cast<int>(n);
+
+  const LaplaceOperators ops = laplaceOperators(mesh.V, mesh.F);
+  ASSERT_EQ(ops.mollifyEpsilon, 0.0);
+  const SparseMatrix reference = tripletStiffness(mesh.V, mesh.F);
+  ASSERT_EQ(ops.stiffness.nonZeros(), reference.nonZeros());
+  ASSERT_TRUE(ops.stiffness.isCompressed());
+  for (Eigen::Index c = 0; c < reference.outerSize(); ++c) {
+    ASSERT_EQ(ops.stiffness.outerIndexPtr()[c + 1], reference.outerIndexPtr()[c + 1]) << "column " << c;
+    SparseMatrix::InnerIterator entry(ops.stiffness, c);
+    for (SparseMatrix::InnerIterator expected(reference, c); expected; ++expected, ++entry) {
+      ASSERT_EQ(entry.row(), expected.row()) << "column " << c << ": rows sorted, each once";
+      EXPECT_NEAR(entry.value(), expected.value(), 1e-12 * (1.0 + std::abs(expected.value())));
+    }
+  }
+  EXPECT_EQ(ops.stiffness.col(n + 1).nonZeros(), 0) << "a vertex no face uses has an empty column";
+  EXPECT_EQ(ops.mass(n + 1), 0.0);
 }
 
 }  // namespace
