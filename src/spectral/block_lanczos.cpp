@@ -1,6 +1,7 @@
 #include "spectral/block_lanczos.h"
 
 #include "spectral/banded_products.h"
+#include "spectral/huge_pages.h"
 #include "spectral/lanczos_solver.h"
 #include "spectral/parallel_ranges.h"
 #include "spectral/reorthogonalisation_schedule.h"
@@ -49,7 +50,9 @@ class KrylovBasis {
         m_q(mass.size(), capacity),
         m_t(Eigen::MatrixXd::Zero(capacity, capacity)),
         m_threads(threads),
-        m_deflation(deflation) {}
+        m_deflation(deflation) {
+    adviseHugePages(m_q.data(), static_cast<std::size_t>(m_q.size()) * sizeof(double));  // before any first write
+  }
 
   Eigen::Index size() const { return m_size; }
   Eigen::Index capacity() const { return m_q.cols(); }
