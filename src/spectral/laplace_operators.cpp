@@ -1,5 +1,6 @@
 #include "spectral/laplace_operators.h"
 
+#include "spectral/huge_pages.h"
 #include "spectral/parallel_ranges.h"
 
 #include <algorithm>
@@ -53,6 +54,7 @@ SparseMatrix stiffnessPattern(Eigen::Index n, const Eigen::MatrixXi& F) {
   for (std::size_t c = 0; c < static_cast<std::size_t>(n); ++c) starts[c + 1] += starts[c];
   std::vector<int> next(starts.begin(), starts.end() - 1);
   const auto neighbours = std::make_unique_for_overwrite<int[]>(static_cast<std::size_t>(starts.back()));
+  detail::adviseHugePages(neighbours.get(), static_cast<std::size_t>(starts.back()) * sizeof(int));
   for (Eigen::Index f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
       int& at = next[static_cast<std::size_t>(F(f, k))];
@@ -79,6 +81,8 @@ SparseMatrix stiffnessPattern(Eigen::Index n, const Eigen::MatrixXi& F) {
   outer[0] = 0;
   for (Eigen::Index c = 0; c < n; ++c) outer[c + 1] = outer[c] + counts[static_cast<std::size_t>(c)];
   S.resizeNonZeros(outer[n]);
+  detail::adviseHugePages(S.innerIndexPtr(), static_cast<std::size_t>(outer[n]) * sizeof(int));
+  detail::adviseHugePages(S.valuePtr(), static_cast<std::size_t>(outer[n]) * sizeof(double));
   detail::parallelRanges(n, threads, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
     for (std::ptrdiff_t c = first; c < last; ++c) {
       if (outer[c + 1] == outer[c]) continue;  // no face uses c: an empty column
