@@ -63,9 +63,15 @@ TEST_F(MeshViewportProgressivePicture, AStillPictureIsDrawnInSlicesAndEqualsTheM
     viewport.setWireframe(wireframe);
     viewport.setProgressivePicture(1000, kSliceLimit);
     // a new mesh: its picture's slices are drawn between paints (once a mesh was shown whole, a still paint without a
-    // proxy would draw the rest of its picture at once)
+    // proxy would draw the rest of its picture at once). Set after an idle pause, so that its first paint is not an
+    // interactive frame of a moving shape (one soon after the last paint or grab), which draws the mesh whole.
+    ASSERT_TRUE(waitForCurrentPicture());
+    QTest::qWait(sc::app::FramePolicy::kIdleRestoreMs * 2);
     const auto sphere = sc::testing::icosphere(5, 1.0, Eigen::Vector3d(wireframe ? 0.1 : 0.0, 0.0, 0.0));
     viewport.setMesh(sphere.V, sphere.F);
+    // a still paint in the middle (an expose: a loaded machine's, another window's) shows the slices so far
+    ASSERT_TRUE(QTest::qWaitFor([this] { return viewport.progressivePicture().slices() >= 2; }, 20000));
+    viewport.repaint();
     ASSERT_TRUE(waitForCurrentPicture());
     EXPECT_GE(viewport.progressivePicture().slices(), viewport.triangleCount() / kSliceLimit)
         << "drawn a slice at a time";
