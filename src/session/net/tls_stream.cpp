@@ -9,6 +9,8 @@
 #include <QtCore/QVariant>
 #include <QtNetwork/QSslSocket>
 
+#include <openssl/crypto.h>
+
 #include <algorithm>
 #include <deque>
 #include <utility>
@@ -181,6 +183,11 @@ TlsStream::TlsStream(QSslConfiguration configuration, QObject* parent)
   m_thread->setObjectName(QStringLiteral("tls-stream"));
   m_worker = new Worker(this, m_buffer, std::move(configuration));
   m_worker->moveToThread(m_thread);
+  // OpenSSL keeps state per thread (its error queue), freed by a thread-exit handler that runs after the thread's
+  // function returns, so possibly after wait() in the destructor: a process that exits then loses it (LeakSanitizer
+  // found 10 KB in 3 of 12 runs of a test). Freed here instead, on the thread, before wait() can return.
+  connect(
+      m_thread, &QThread::finished, m_thread, [] { OPENSSL_thread_stop(); }, Qt::DirectConnection);
   m_thread->start();
 }
 
