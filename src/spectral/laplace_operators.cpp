@@ -121,7 +121,8 @@ LaplaceOperators laplaceOperators(const Eigen::MatrixXd& V, const Eigen::MatrixX
   ops.mollifyEpsilon = mollificationEpsilon(V, F, options.mollifyMargin * meanEdge);
 
   // === step 2: per-face cotangent weights and lumped areas, summed into S's pattern and M
-  ops.stiffness = stiffnessPattern(n, F);
+  SparseMatrix pattern = stiffnessPattern(n, F);
+  ops.stiffness.swap(pattern);  // not an assignment: that would copy it (Eigen 3.4 has no sparse move)
   ops.mass.setZero(n);
   Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);  // summed apart, in the same order, then stored
   for (Eigen::Index f = 0; f < F.rows(); ++f) {

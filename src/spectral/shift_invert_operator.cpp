@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 namespace sc::spectral::detail {
 namespace {
@@ -34,6 +35,40 @@ void adviseCholmodOntoHugePages() {
     SuiteSparse_config.calloc_func = cholmodCalloc;
     SuiteSparse_config.realloc_func = cholmodRealloc;
   });
+}
+
+/// `shifted` = S − σ·M with S's pattern, in arrays advised onto huge pages: S copied and σ·m subtracted from each
+/// diagonal entry, the values Eigen's S + (−σ·M) gives, without that sum's growing temporary (its reallocations and
+/// page faults: 14% of the 437k basis's). Where S lacks a diagonal entry (a vertex no face uses), that sum. Cost:
+/// O(nnz). (An out-parameter: returning it by value could copy it, Eigen 3.4 having no sparse move.)
+void shiftedStiffness(const SparseMatrix& S, const Eigen::VectorXd& mass, double sigma, SparseMatrix& shifted) {
+  const Eigen::Index n = S.cols();
+  std::vector<int> diagonalAt(static_cast<std::size_t>(n));
+  bool everyDiagonal = S.isCompressed();
+  for (Eigen::Index c = 0; c < n && everyDiagonal; ++c) {
+    const int* begin = S.innerIndexPtr() + S.outerIndexPtr()[c];
+    const int* end = S.innerIndexPtr() + S.outerIndexPtr()[c + 1];
+    const int* at = std::lower_bound(begin, end, static_cast<int>(c));
+    everyDiagonal = at != end && *at == c;
+    diagonalAt[static_cast<std::size_t>(c)] = static_cast<int>(at - S.innerIndexPtr());
+  }
+  if (!everyDiagonal) {
+    SparseMatrix shiftedMass(S.rows(), S.cols());
+    shiftedMass.setIdentity();
+    shiftedMass.diagonal() = -sigma * mass;
+    shifted = S + shiftedMass;
+    return;
+  }
+  const auto nonZeros = static_cast<std::size_t>(S.nonZeros());
+  shifted.resize(n, n);
+  std::copy(S.outerIndexPtr(), S.outerIndexPtr() + n + 1, shifted.outerIndexPtr());
+  shifted.resizeNonZeros(static_cast<Eigen::Index>(nonZeros));
+  adviseHugePages(shifted.innerIndexPtr(), nonZeros * sizeof(int));
+  adviseHugePages(shifted.valuePtr(), nonZeros * sizeof(double));
+  std::copy(S.innerIndexPtr(), S.innerIndexPtr() + nonZeros, shifted.innerIndexPtr());
+  std::copy(S.valuePtr(), S.valuePtr() + nonZeros, shifted.valuePtr());
+  double* values = shifted.valuePtr();
+  for (Eigen::Index c = 0; c < n; ++c) values[diagonalAt[static_cast<std::size_t>(c)]] += -sigma * mass(c);
 }
 
 }  // namespace
@@ -84,10 +119,8 @@ ShiftInvertOperator::ShiftInvertOperator(const SparseMatrix& S, const Eigen::Vec
 void ShiftInvertOperator::set_shift(const double& sigma) {
   if (m_factored && sigma == m_sigma) return;
   m_factored = false;
-  SparseMatrix shiftedMass(m_S.rows(), m_S.cols());
-  shiftedMass.setIdentity();
-  shiftedMass.diagonal() = -sigma * m_mass;
-  const SparseMatrix shifted = m_S + shiftedMass;
+  SparseMatrix shifted;
+  shiftedStiffness(m_S, m_mass, sigma, shifted);
   if (!m_analysed) {
     m_factor.analyzePattern(shifted);
     m_analysed = true;

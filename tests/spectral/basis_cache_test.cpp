@@ -10,6 +10,7 @@
 #include <iterator>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace sc::spectral {
 namespace {
@@ -147,6 +148,27 @@ TEST(MeshContentHash, ChangesWithAnyCoordinateOrIndex) {
   Eigen::MatrixXi F = mesh.F;
   std::swap(F(3, 0), F(3, 1));
   EXPECT_NE(h, meshContentHash(mesh.V, F));
+}
+
+TEST(MeshContentHash, IsTheChecksumOfItsBytesLaidEndToEnd) {
+  // What cache files written before it was computed in pieces hold: counts, then V and F row by row. An odd face
+  // count leaves a tail shorter than a word; half a megabyte of bytes spans several of its buffers.
+  const auto mesh = testing::icosphere(5);
+  const Eigen::MatrixXi F = mesh.F.topRows(mesh.F.rows() - 1);
+  std::vector<std::byte> bytes;
+  const auto put = [&bytes](const auto& value) {
+    const auto* p = reinterpret_cast<const std::byte*>(&value);
+    bytes.insert(bytes.end(), p, p + sizeof(value));
+  };
+  put(static_cast<std::uint64_t>(mesh.V.rows()));
+  put(static_cast<std::uint64_t>(F.rows()));
+  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i)
+    for (Eigen::Index c = 0; c < 3; ++c) put(mesh.V(i, c));
+  for (Eigen::Index f = 0; f < F.rows(); ++f)
+    for (Eigen::Index c = 0; c < 3; ++c) put(static_cast<std::int32_t>(F(f, c)));
+  ASSERT_NE(bytes.size() % 8, 0u);
+  ASSERT_GT(bytes.size(), std::size_t{4} << 16);
+  EXPECT_EQ(meshContentHash(mesh.V, F), checksum64(bytes));
 }
 
 }  // namespace
