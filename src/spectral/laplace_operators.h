@@ -32,7 +32,7 @@ struct LaplaceOperators {
   /// moves copied S (36 MB at 437k vertices, into pages not yet touched: 9,000 page faults each).
   LaplaceOperators(LaplaceOperators&& other) noexcept { swap(other); }
   LaplaceOperators& operator=(LaplaceOperators&& other) noexcept {
-    swap(other);
+    LaplaceOperators(std::move(other)).swap(*this);  // this one's arrays go with the temporary, not into `other`
     return *this;
   }
   ~LaplaceOperators() = default;
