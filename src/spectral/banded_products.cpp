@@ -60,6 +60,23 @@ Eigen::MatrixXd subtractWithGram(Eigen::MatrixXd& w, const Eigen::Ref<const Eige
       kSubtractionBand);
 }
 
+SubtractedBlock subtractWithGramAndProjection(Eigen::MatrixXd& w, const Eigen::Ref<const Eigen::MatrixXd>& q,
+                                              const Eigen::MatrixXd& h, const Eigen::VectorXd& mass, int threads) {
+  const Eigen::Index b = w.cols();
+  const Eigen::MatrixXd sums = sumOverBands(  // the Gram matrix above the projection
+      w.rows(), b + q.cols(), b, threads,
+      [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& sum) {
+        auto band = w.middleRows(row, rows);
+        const auto qBand = q.middleRows(row, rows);
+        band.noalias() -= qBand * h;
+        const Eigen::MatrixXd weighted = mass.segment(row, rows).asDiagonal() * band;
+        sum.topRows(b).noalias() += band.transpose() * weighted;
+        sum.bottomRows(q.cols()).noalias() += qBand.transpose() * weighted;
+      },
+      kSubtractionBand);
+  return {sums.topRows(b), sums.bottomRows(q.cols())};
+}
+
 Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
                                  int threads) {
   return sumOverBands(w.rows(), w.cols(), w.cols(), threads,

@@ -20,6 +20,20 @@ Eigen::MatrixXd massProjection(const Eigen::Ref<const Eigen::MatrixXd>& q, const
 Eigen::MatrixXd subtractWithGram(Eigen::MatrixXd& w, const Eigen::Ref<const Eigen::MatrixXd>& q,
                                  const Eigen::MatrixXd& h, const Eigen::VectorXd& mass, int threads);
 
+/// What subtractWithGramAndProjection() leaves: the new W's Gram matrix Wᵀ·diag(mass)·W (b × b) and its projection
+/// Qᵀ·diag(mass)·W (k × b).
+struct SubtractedBlock {
+  Eigen::MatrixXd gram;
+  Eigen::MatrixXd projection;
+};
+
+/// subtractWithGram() that also returns the new W's projection on Q, taken from each band while it is in cache:
+/// the second pass of a classical Gram–Schmidt against a few columns then needs no sweep of its own to measure what
+/// the first left. For k of a handful of columns (Q's band stays in cache). Cost: one read of Q, one read and write
+/// of W, 2·#V·b·(2k + b) flops.
+SubtractedBlock subtractWithGramAndProjection(Eigen::MatrixXd& w, const Eigen::Ref<const Eigen::MatrixXd>& q,
+                                              const Eigen::MatrixXd& h, const Eigen::VectorXd& mass, int threads);
+
 /// W ← W·R for R of b × b, and returns the new W's Gram matrix (b × b). Cost: one read and write of W.
 Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
                                  int threads);

@@ -66,20 +66,23 @@ class KrylovBasis {
   /// Makes W orthogonal to the last two blocks (the block three-term recurrence), with a second pass for a column the
   /// first shortened below kSecondPass of its length (`lengths`: W's column M-norms on entry); records the
   /// coefficients, A_j and B_{j−1}ᵀ, in T's column block of the last block. Returns W's new Gram matrix WᵀMW.
-  /// Cost: two or four sweeps over W and the last two blocks (banded_products.h).
+  /// Cost: two or three sweeps over W and the last two blocks (banded_products.h: each subtraction measures what it
+  /// leaves, which the second pass subtracts without a projection sweep of its own).
   Eigen::MatrixXd orthogonaliseLocally(Eigen::MatrixXd& w, Eigen::VectorXd lengths) {
     const Eigen::Index local = std::min<Eigen::Index>(m_size, 2 * kLanczosBlock);
     if (local == 0) return gram(w);
     const auto recent = m_q.middleCols(m_size - local, local);
     Eigen::MatrixXd total = Eigen::MatrixXd::Zero(local, w.cols());
+    Eigen::MatrixXd h = massProjection(recent, m_mass, w, m_threads);
     Eigen::MatrixXd product;
     for (int pass = 0; pass < 2; ++pass) {
-      const Eigen::MatrixXd h = massProjection(recent, m_mass, w, m_threads);
-      product = subtractWithGram(w, recent, h, m_mass, m_threads);
+      SubtractedBlock subtracted = subtractWithGramAndProjection(w, recent, h, m_mass, m_threads);
+      product = std::move(subtracted.gram);
       total += h;
       const Eigen::VectorXd after = product.diagonal().cwiseMax(0.0).cwiseSqrt();
       if ((after.array() >= kSecondPass * lengths.array()).all()) break;
       lengths = after;
+      h = std::move(subtracted.projection);  // what the first pass left, measured in its own sweep
     }
     m_t.block(m_size - local, m_size - kLanczosBlock, local, kLanczosBlock) = total;
     return product;
@@ -96,33 +99,37 @@ class KrylovBasis {
   /// WᵀMW. Cost: one sweep over W.
   Eigen::MatrixXd gram(const Eigen::MatrixXd& w) const { return massGram(w, m_mass, m_threads); }
 
-  /// What a full pass removed and left: the drift (max |q_kᵀ M w|/‖w‖_M over W's columns, before the pass) and W's
-  /// new Gram matrix WᵀMW.
+  /// What a full pass removed and left: each covered column's drift (max |q_kᵀ M w|/‖w‖_M over W's columns, before
+  /// the pass) and W's new Gram matrix WᵀMW.
   struct FullPass {
-    double drift = 0.0;
+    Eigen::VectorXd columnDrift;
     Eigen::MatrixXd gram;
   };
 
-  /// Makes W orthogonal to every column: one pass (two sweeps over bands of rows of Q, banded_products.h, on the
-  /// basis's threads), and a second for a column the first shortened below kSecondPass of its length
-  /// (Daniel–Gragg–Kaufman–Stewart's criterion: only then has cancellation left it less orthogonal than round-off).
-  /// The coefficients are not recorded: T stays the block tridiagonal matrix of the recurrence, which is what
-  /// semi-orthogonality keeps accurate. Cost: two reads of Q per pass, O(#V·size()).
-  FullPass orthogonaliseFully(Eigen::MatrixXd& w) const {
+  /// Makes W orthogonal to the first `reach` columns (at most size()): one pass (two sweeps over bands of rows of
+  /// those columns, banded_products.h, on the basis's threads), and a second for a column the first shortened below
+  /// kSecondPass of its length (Daniel–Gragg–Kaufman–Stewart's criterion: only then has cancellation left it less
+  /// orthogonal than round-off). The coefficients are not recorded: T stays the block tridiagonal matrix of the
+  /// recurrence, which is what semi-orthogonality keeps accurate. Cost: two reads of the covered columns per pass,
+  /// O(#V·reach).
+  FullPass orthogonaliseFully(Eigen::MatrixXd& w, Eigen::Index reach) const {
     FullPass result;
+    reach = std::min(reach, m_size);
+    const auto covered = m_q.leftCols(reach);
     Eigen::VectorXd before = mNorms(w);
-    for (int pass = 0; pass < 2 && m_size > 0; ++pass) {
-      const Eigen::MatrixXd h = massProjection(columns(), m_mass, w, m_threads);
-      result.gram = subtractWithGram(w, columns(), h, m_mass, m_threads);
+    for (int pass = 0; pass < 2 && reach > 0; ++pass) {
+      const Eigen::MatrixXd h = massProjection(covered, m_mass, w, m_threads);
+      result.gram = subtractWithGram(w, covered, h, m_mass, m_threads);
       if (pass == 0)
-        result.drift = (h.cwiseAbs().colwise().maxCoeff().transpose().array() /
-                        before.array().max(std::numeric_limits<double>::min()))
-                           .maxCoeff();
+        result.columnDrift =
+            (h.cwiseAbs().array().rowwise() / before.transpose().array().max(std::numeric_limits<double>::min()))
+                .rowwise()
+                .maxCoeff();
       const Eigen::VectorXd after = result.gram.diagonal().cwiseMax(0.0).cwiseSqrt();
       if ((after.array() >= kSecondPass * before.array()).all()) break;
       before = after;
     }
-    if (m_size == 0) result.gram = gram(w);
+    if (reach == 0) result.gram = gram(w);
     return result;
   }
 
@@ -153,7 +160,7 @@ class KrylovBasis {
         if (attempt == 3) throw BasisExhausted{};
         Eigen::MatrixXd fresh = Eigen::MatrixXd::NullaryExpr(w.rows(), 1, [&] { return uniform(random); });
         deflate(fresh);
-        orthogonaliseFully(fresh);
+        orthogonaliseFully(fresh, m_size);
         w.col(c) = fresh;
         scale[c] = std::sqrt(fresh.col(0).dot(m_mass.cwiseProduct(fresh.col(0))));
       }
@@ -361,11 +368,18 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       scale = krylov.mNorms(w);
       Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
       if (schedule.due()) {
-        KrylovBasis::FullPass pass = krylov.orthogonaliseFully(w);
-        schedule.record(pass.drift);
+        const Eigen::Index reach = schedule.reach(krylov.size());
+        KrylovBasis::FullPass pass = krylov.orthogonaliseFully(w, reach);
+        DriftProfile drift = ReorthogonalisationSchedule::profile(pass.columnDrift);
+        // drift in the last block covered may go on beyond it: then this pass covers every column after all
+        if (reach < krylov.size() && drift.drifting > reach - kLanczosBlock) {
+          pass = krylov.orthogonaliseFully(w, krylov.size());
+          drift = ReorthogonalisationSchedule::profile(pass.columnDrift);
+        }
+        schedule.record(drift);
         product = std::move(pass.gram);
       } else {
-        schedule.record(-1.0);
+        schedule.recordSkipped();
       }
       const Eigen::MatrixXd coupling = krylov.orthonormalise(w, product, scale, random);
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();

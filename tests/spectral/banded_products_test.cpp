@@ -41,6 +41,25 @@ TEST_P(BandedProducts, MatchPlainProducts) {
   EXPECT_LE(maxDifference(newGram, multiplied.transpose() * x.mass.asDiagonal() * multiplied), 1e-10);
 }
 
+TEST_P(BandedProducts, ASubtractionAlsoGivesTheProjectionOfWhatItLeaves) {
+  const int threads = GetParam();
+  const Eigen::Index n = 9001;  // more than two of the subtraction's bands, not a multiple of one
+  const Eigen::MatrixXd q = Eigen::MatrixXd::Random(n, 8);
+  const Eigen::MatrixXd original = Eigen::MatrixXd::Random(n, 4);
+  const Eigen::VectorXd mass = Eigen::VectorXd::Random(n).cwiseAbs().array() + 0.1;
+  const Eigen::MatrixXd h = Eigen::MatrixXd::Random(8, 4);
+  Eigen::MatrixXd w = original;
+  const Eigen::MatrixXd subtracted = original - q * h;
+  const detail::SubtractedBlock result = detail::subtractWithGramAndProjection(w, q, h, mass, threads);
+  ASSERT_EQ(result.gram.rows(), 4);
+  ASSERT_EQ(result.gram.cols(), 4);
+  ASSERT_EQ(result.projection.rows(), 8);
+  ASSERT_EQ(result.projection.cols(), 4);
+  EXPECT_LE(maxDifference(w, subtracted), 1e-12);
+  EXPECT_LE(maxDifference(result.gram, subtracted.transpose() * mass.asDiagonal() * subtracted), 1e-9);
+  EXPECT_LE(maxDifference(result.projection, q.transpose() * mass.asDiagonal() * subtracted), 1e-9);
+}
+
 TEST_P(BandedProducts, SameBitsOnEveryRun) {
   const Operands x;
   const Eigen::MatrixXd first = detail::massProjection(x.q, x.mass, x.w, GetParam());
