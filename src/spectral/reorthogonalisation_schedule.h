@@ -34,7 +34,10 @@ struct DriftProfile {
 /// drifted (above kDriftingColumn and kDriftingFraction of its largest drift); the second covers twice that many
 /// plus kReachMargin, or every column when drift reaches its last block (the caller extends it). What a second pass
 /// leaves is not benign: spread by the recurrence, it grows with the head until the next pair's first pass removes
-/// it, which is why every first pass stays complete.
+/// it, which is why every first pass stays complete. On the 100k dragon's spectrum slices the interior slice's
+/// second passes found drift too far back to be cut, and gave the same bits as complete ones; the slice below the
+/// spectrum gave the same eigenvalues to 10⁻¹⁴ relative (beyond the zero and near-zero modes) with a largest
+/// residual of 1.8e-7 instead of 9.8e-8.
 class ReorthogonalisationSchedule {
  public:
   /// A column drifts when its drift, relative to ‖w‖_M, exceeds both this and kDriftingFraction of the pass's
