@@ -371,8 +371,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
         const Eigen::Index reach = schedule.reach(krylov.size());
         KrylovBasis::FullPass pass = krylov.orthogonaliseFully(w, reach);
         DriftProfile drift = ReorthogonalisationSchedule::profile(pass.columnDrift);
-        // drift in the last block covered may go on beyond it: then this pass covers every column after all
-        if (reach < krylov.size() && drift.drifting > reach - kLanczosBlock) {
+        if (ReorthogonalisationSchedule::cutShort(drift, reach, krylov.size(), kLanczosBlock)) {
           pass = krylov.orthogonaliseFully(w, krylov.size());
           drift = ReorthogonalisationSchedule::profile(pass.columnDrift);
         }

@@ -32,9 +32,9 @@ struct DriftProfile {
 /// columns whose drift exceeds ε^{3/4}). On the 437k dragon (K = 284) the drifts above 10⁻¹² were all in the first
 /// 30 columns, the rest at 10⁻¹³–10⁻¹⁶. The first pass of a pair covers every column and tells how many leading ones
 /// drifted (above kDriftingColumn and kDriftingFraction of its largest drift); the second covers twice that many
-/// plus kReachMargin, or every column when drift reaches its last block (the caller extends it). What a second pass
-/// leaves is not benign: spread by the recurrence, it grows with the head until the next pair's first pass removes
-/// it, which is why every first pass stays complete. On the 100k dragon's spectrum slices the interior slice's
+/// plus kReachMargin, or every column when drift reaches its last block (cutShort(): the caller repeats it). What a
+/// second pass leaves is not benign: spread by the recurrence, it grows with the head until the next pair's first pass
+/// removes it, which is why every first pass stays complete. On the 100k dragon's spectrum slices the interior slice's
 /// second passes found drift too far back to be cut, and gave the same bits as complete ones; the slice below the
 /// spectrum gave the same eigenvalues to 10⁻¹⁴ relative (beyond the zero and near-zero modes) with a largest
 /// residual of 1.8e-7 instead of 9.8e-8.
@@ -65,6 +65,12 @@ class ReorthogonalisationSchedule {
   /// else twice those its first pass found drifting plus kReachMargin (at most `size`).
   Eigen::Index reach(Eigen::Index size) const {
     return m_pending > 0 ? std::min(size, 2 * m_drifting + kReachMargin) : size;
+  }
+
+  /// Whether a pass that covered `reach` of `size` columns, in blocks of `block`, found drift in its last block, which
+  /// may go on beyond it: the caller then repeats the pass over every column.
+  static bool cutShort(const DriftProfile& pass, Eigen::Index reach, Eigen::Index size, Eigen::Index block) {
+    return reach < size && pass.drifting > reach - block;
   }
 
   /// After a block without a full pass.

@@ -65,6 +65,13 @@ TEST(ReorthogonalisationSchedule, TheSecondPassOfAPairCoversTwiceTheDriftingHead
   EXPECT_EQ(schedule.reach(320), 16) << "nothing drifting: the margin";
 }
 
+TEST(ReorthogonalisationSchedule, APassIsCutShortWhenItsLastBlockDrifts) {
+  using Schedule = detail::ReorthogonalisationSchedule;
+  EXPECT_FALSE(Schedule::cutShort({1e-11, 72}, 76, 288, 4)) << "the drift ends before the last block";
+  EXPECT_TRUE(Schedule::cutShort({1e-11, 73}, 76, 288, 4)) << "drift in columns 72–75";
+  EXPECT_FALSE(Schedule::cutShort({1e-11, 288}, 288, 288, 4)) << "a pass over every column is never short";
+}
+
 TEST(ReorthogonalisationSchedule, AColumnDriftsAboveTheFloorAndAThousandthOfTheLargestDrift) {
   using Schedule = detail::ReorthogonalisationSchedule;
   Eigen::VectorXd drift(8);
