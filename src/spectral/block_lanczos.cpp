@@ -5,6 +5,7 @@
 #include "spectral/lanczos_solver.h"
 #include "spectral/parallel_ranges.h"
 #include "spectral/reorthogonalisation_schedule.h"
+#include "spectral/vertex_order.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -281,8 +282,10 @@ int ritzCheckInterval(Eigen::Index n, int pairs) {
   return std::clamp(static_cast<int>(std::ceil(blocks)), 1, std::max(1, pairs / (6 * kLanczosBlock)));
 }
 
-/// The converged Ritz pairs as a result: eigenvalues λ = σ + 1/θ ascending, vectors formed in the Krylov basis.
-BasisResult convergedPairs(const RitzCheck& check, KrylovBasis&& krylov, double sigma, int solves) {
+/// The converged Ritz pairs as a result: eigenvalues λ = σ + 1/θ ascending, vectors formed in the Krylov basis (whose
+/// rows are in `rows`) and put back in the mesh's vertex order on `threads`.
+BasisResult convergedPairs(const RitzCheck& check, KrylovBasis&& krylov, const VertexOrder& rows, int threads,
+                           double sigma, int solves) {
   const auto pairs = check.theta.size();
   BasisResult result;
   result.solver = BasisSolver::Lanczos;
@@ -298,6 +301,7 @@ BasisResult convergedPairs(const RitzCheck& check, KrylovBasis&& krylov, double 
     result.basis.eigenvalues[i] = lambda[order[static_cast<std::size_t>(i)]];
   }
   result.basis.vectors = std::move(krylov).ritzVectors(coordinates);
+  rows.scatterInPlace(result.basis.vectors, threads);
   result.basis.shift = sigma;
   result.status = BasisStatus::Ok;
   return result;
@@ -323,7 +327,12 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
   if (pairs < 1 || capacity < least)
     return failure(BasisStatus::NotConverged, "the mesh is too small for block Lanczos", op);
   try {
-    KrylovBasis krylov(mass, capacity, op.solveThreads(), deflation);
+    // The run keeps every #V-vector in the factor's vertex order, so that its solves skip CHOLMOD's permutations
+    // (ShiftInvertOperator::solveInFactorOrder()): M and the deflation columns are gathered into it once the factor
+    // exists (below), the basis refers to them from the start, and the Ritz vectors are scattered back at the end.
+    Eigen::VectorXd orderedMass(n);
+    Eigen::MatrixXd orderedDeflation;
+    KrylovBasis krylov(orderedMass, capacity, op.solveThreads(), deflation != nullptr ? &orderedDeflation : nullptr);
     {
       // The basis's pages are fresh: their first writes took 5 s of page faults at 1M vertices (about 8 µs per 4 KB
       // page on the measuring VM). With a core to spare (the large-mesh run), the columns a run needs
@@ -336,11 +345,15 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       }
       op.set_shift(sigma);
     }
+    const VertexOrder order(op.factorOrder());
+    orderedMass = order.gather(mass);
+    if (deflation != nullptr) orderedDeflation = order.gather(*deflation);
     // a deflated run starts elsewhere: from the first run's start block, whose part in each eigenspace the found
     // vectors already span, deflation would leave nothing of a missing copy
     std::mt19937 random(kSeed + (deflation != nullptr ? static_cast<unsigned>(deflation->cols()) : 0U));
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    Eigen::MatrixXd w = Eigen::MatrixXd::NullaryExpr(n, kLanczosBlock, [&] { return uniform(random); });
+    // drawn in the mesh's order, so that the start does not depend on the factor's
+    Eigen::MatrixXd w = order.gather(Eigen::MatrixXd::NullaryExpr(n, kLanczosBlock, [&] { return uniform(random); }));
     // A random block carries every frequency; (S − σM)⁻¹M damps the high ones by their |θ|, which S would amplify
     // again in ‖Sh − λMh‖ (by up to λ_max/λ: 7e-5 instead of 3e-7 on the 1M mesh's slivers). Two applications keep
     // them out of every Krylov vector and so out of the Ritz vectors (ARPACK puts its start in the operator's range
@@ -352,8 +365,8 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
     adviseHugePages(rightHandSides.data(), static_cast<std::size_t>(rightHandSides.size()) * sizeof(double));
     krylov.deflate(w);
     for (int smoothing = 0; smoothing < kStartSmoothing; ++smoothing) {
-      rightHandSides.noalias() = mass.asDiagonal() * w;
-      op.solve(rightHandSides, w);
+      rightHandSides.noalias() = orderedMass.asDiagonal() * w;
+      op.solveInFactorOrder(rightHandSides, w);
       krylov.deflate(w);
       w.array().rowwise() /= krylov.mNorms(w).transpose().array().max(std::numeric_limits<double>::min());
     }
@@ -362,8 +375,8 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
     const int checkEvery = ritzCheckInterval(n, pairs);
     ReorthogonalisationSchedule schedule;
     for (int block = 0;; ++block) {
-      rightHandSides.noalias() = mass.asDiagonal() * krylov.lastBlock();
-      op.solve(rightHandSides, w);
+      rightHandSides.noalias() = orderedMass.asDiagonal() * krylov.lastBlock();
+      op.solveInFactorOrder(rightHandSides, w);
       krylov.deflate(w);
       scale = krylov.mNorms(w);
       Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
@@ -384,7 +397,8 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
       if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
         const RitzCheck check = checkRitzPairs(krylov, coupling, pairs, options.tolerance);
-        if (check.converged) return convergedPairs(check, std::move(krylov), sigma, op.solveCount());
+        if (check.converged)
+          return convergedPairs(check, std::move(krylov), order, op.solveThreads(), sigma, op.solveCount());
       }
       if (full)
         return failure(BasisStatus::NotConverged,

@@ -83,7 +83,20 @@ int InertiaLdlt::negativePivots() const {
   return negatives;
 }
 
+std::span<const int> InertiaLdlt::order() const {
+  const cholmod_factor& factor = *m_cholmodFactor;
+  return {static_cast<const int*>(factor.Perm), factor.n};
+}
+
 void InertiaLdlt::solveColumns(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const {
+  solveColumns(CHOLMOD_A, x, y, threads);
+}
+
+void InertiaLdlt::solveColumnsInOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const {
+  solveColumns(CHOLMOD_LDLt, x, y, threads);
+}
+
+void InertiaLdlt::solveColumns(int system, const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const {
   y.resize(x.rows(), x.cols());
   std::atomic<bool> failed{false};
   parallelRanges(x.cols(), threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
@@ -97,7 +110,7 @@ void InertiaLdlt::solveColumns(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int
     columns.x = const_cast<double*>(x.col(begin).data());  // cholmod_solve reads B only
     columns.xtype = CHOLMOD_REAL;
     columns.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* solved = cholmod_solve(CHOLMOD_A, m_cholmodFactor, &columns, &common);
+    cholmod_dense* solved = cholmod_solve(system, m_cholmodFactor, &columns, &common);
     if (solved == nullptr) {
       failed = true;
     } else {
@@ -145,7 +158,16 @@ void ShiftInvertOperator::solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) co
     m_factor.solveColumns(x, y, m_solveThreads);
   else
     y = m_factor.solve(x);
-  for (Eigen::Index column = 0; column < x.cols(); ++column) {
+  countSolves(x.cols());
+}
+
+void ShiftInvertOperator::solveInFactorOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
+  m_factor.solveColumnsInOrder(x, y, m_solveThreads);
+  countSolves(x.cols());
+}
+
+void ShiftInvertOperator::countSolves(Eigen::Index columns) const {
+  for (Eigen::Index column = 0; column < columns; ++column) {
     ++m_solves;
     if (m_observer && !m_observer(m_solves)) throw SolveCancelled{};
   }

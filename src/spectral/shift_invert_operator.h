@@ -7,6 +7,7 @@
 #include <Eigen/CholmodSupport>
 
 #include <functional>
+#include <span>
 
 namespace sc::spectral::detail {
 
@@ -25,6 +26,18 @@ class InertiaLdlt : public Eigen::CholmodSimplicialLDLT<SparseMatrix, Eigen::Low
   /// rather than by memory bandwidth, so two threads with two columns each took 0.55–0.6 of one thread's time with
   /// four at 1M vertices. Throws std::runtime_error when CHOLMOD fails (out of memory). Requires factorize().
   void solveColumns(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const;
+
+  /// The factor's fill-reducing vertex order: LDLᵀ = P A Pᵀ with (P x)[i] = x[order[i]], #V entries (a
+  /// permutation). Requires analyzePattern().
+  std::span<const int> order() const;
+
+  /// solveColumns() on X and Y in order() (P X and P Y): the two permutations cholmod_solve does otherwise are
+  /// gathers and scatters of random rows, which took a third of a four-column solve at 437k vertices (82 ms against
+  /// 54 ms on two threads, docs/benchmarks.md, twelfth pass).
+  void solveColumnsInOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const;
+
+ private:
+  void solveColumns(int system, const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const;
 };
 
 /// y = (S − σM)⁻¹ x through a CHOLMOD simplicial LDLᵀ factor, for any σ that is not an eigenvalue: below the
@@ -56,6 +69,12 @@ class ShiftInvertOperator {
   /// Y = (S − σM)⁻¹ X, every column of X at once (CHOLMOD's multi-column solve); counts X.cols() solves. Throws
   /// SolveCancelled when the observer returns false.
   void solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
+  /// The factor's vertex order (InertiaLdlt::order()): solveInFactorOrder() takes and gives vectors permuted by it,
+  /// x̃[i] = x[order[i]]. The same for every shift (the analysis is done once). Requires set_shift().
+  std::span<const int> factorOrder() const { return m_factor.order(); }
+  /// solve() on X and Y in factorOrder(), without CHOLMOD's two permutations (InertiaLdlt::solveColumnsInOrder());
+  /// for a solver that keeps its vectors in that order throughout (block_lanczos.h).
+  void solveInFactorOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
 
   int solveCount() const { return m_solves; }
   /// Threads solve() splits its columns over (default 1: spectrum slices already run one slice per core).
@@ -74,6 +93,9 @@ class ShiftInvertOperator {
   double m_sigma = 0.0;
   mutable int m_solves = 0;
   int m_solveThreads = 1;
+
+  /// Counts `columns` solves, telling the observer after each; throws SolveCancelled when it returns false.
+  void countSolves(Eigen::Index columns) const;
 };
 
 /// y = M x for the lumped (diagonal) mass matrix; Spectra's B operator and inner product.
