@@ -102,22 +102,33 @@ void InertiaLdlt::solveColumns(int system, const Eigen::MatrixXd& x, Eigen::Matr
   parallelRanges(x.cols(), threads, [&](std::ptrdiff_t begin, std::ptrdiff_t end) {
     cholmod_common common;
     cholmod_start(&common);
-    cholmod_dense columns{};
-    columns.nrow = static_cast<std::size_t>(x.rows());
-    columns.ncol = static_cast<std::size_t>(end - begin);
-    columns.nzmax = columns.nrow * columns.ncol;
-    columns.d = columns.nrow;
-    columns.x = const_cast<double*>(x.col(begin).data());  // cholmod_solve reads B only
-    columns.xtype = CHOLMOD_REAL;
-    columns.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense* solved = cholmod_solve(system, m_cholmodFactor, &columns, &common);
-    if (solved == nullptr) {
+    const auto view = [&x](const double* data, std::ptrdiff_t columns) {
+      cholmod_dense dense{};
+      dense.nrow = static_cast<std::size_t>(x.rows());
+      dense.ncol = static_cast<std::size_t>(columns);
+      dense.nzmax = dense.nrow * dense.ncol;
+      dense.d = dense.nrow;
+      dense.x = const_cast<double*>(data);  // cholmod_solve2 reads B only
+      dense.xtype = CHOLMOD_REAL;
+      dense.dtype = CHOLMOD_DOUBLE;
+      return dense;
+    };
+    cholmod_dense columns = view(x.col(begin).data(), end - begin);
+    // The solution is written straight into Y's columns: cholmod_solve2 keeps an X of the right size and type
+    // (cholmod_ensure_dense) rather than allocating one, which would cost a copy of every solved column.
+    cholmod_dense into = view(y.col(begin).data(), end - begin);
+    cholmod_dense* solved = &into;
+    cholmod_dense* workspace = nullptr;
+    cholmod_dense* entries = nullptr;
+    if (!cholmod_solve2(system, m_cholmodFactor, &columns, nullptr, &solved, nullptr, &workspace, &entries, &common)) {
       failed = true;
-    } else {
+    } else if (solved != &into) {  // not expected: CHOLMOD allocated a solution of its own
       y.middleCols(begin, end - begin) =
           Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solved->x), x.rows(), end - begin);
       cholmod_free_dense(&solved, &common);
     }
+    cholmod_free_dense(&workspace, &common);
+    cholmod_free_dense(&entries, &common);
     cholmod_finish(&common);
   });
   if (failed) throw std::runtime_error("CHOLMOD's solve failed (out of memory)");

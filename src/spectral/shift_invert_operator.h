@@ -21,8 +21,9 @@ class InertiaLdlt : public Eigen::CholmodSimplicialLDLT<SparseMatrix, Eigen::Low
   /// S h = λ M h below σ (exact whenever the factorisation succeeded: no zero pivot). Cost: O(#V).
   int negativePivots() const;
 
-  /// Y = A⁻¹X with X's columns split over `threads` threads, each running cholmod_solve on the shared factor (read
-  /// only) with its own cholmod_common. One solve is bound by the latency of the triangular sweeps' indirect loads
+  /// Y = A⁻¹X with X's columns split over `threads` threads, each running cholmod_solve2 on the shared factor (read
+  /// only) with its own cholmod_common, writing into Y's columns (no solution of CHOLMOD's own to copy: 53 → 42 ms
+  /// for four columns at 437k vertices). One solve is bound by the latency of the triangular sweeps' indirect loads
   /// rather than by memory bandwidth, so two threads with two columns each took 0.55–0.6 of one thread's time with
   /// four at 1M vertices. Throws std::runtime_error when CHOLMOD fails (out of memory). Requires factorize().
   void solveColumns(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const;
@@ -32,8 +33,8 @@ class InertiaLdlt : public Eigen::CholmodSimplicialLDLT<SparseMatrix, Eigen::Low
   std::span<const int> order() const;
 
   /// solveColumns() on X and Y in order() (P X and P Y): the two permutations cholmod_solve does otherwise are
-  /// gathers and scatters of random rows, which took a third of a four-column solve at 437k vertices (82 ms against
-  /// 54 ms on two threads, docs/benchmarks.md, twelfth pass).
+  /// gathers and scatters of random rows (a four-column solve at 437k vertices on two threads, the factor on huge
+  /// pages: 40.3 against 41.8 ms; 54 against 82 ms without huge pages; docs/benchmarks.md, twelfth pass).
   void solveColumnsInOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y, int threads) const;
 
  private:
