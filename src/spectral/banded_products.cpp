@@ -88,6 +88,20 @@ Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, c
                       });
 }
 
+void multiplyInto(const Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
+                  Eigen::Ref<Eigen::MatrixXd> out, Eigen::MatrixXd& weighted, int threads) {
+  const Eigen::Index n = w.rows();
+  const Eigen::Index bands = (n + kBand - 1) / kBand;
+  parallelRanges(bands, threads, [&](std::ptrdiff_t first, std::ptrdiff_t last) {
+    for (Eigen::Index row = first * kBand; row < std::min(n, last * kBand); row += kBand) {
+      const Eigen::Index rows = std::min(kBand, n - row);
+      auto band = out.middleRows(row, rows);
+      band.noalias() = w.middleRows(row, rows) * r;
+      weighted.middleRows(row, rows).noalias() = mass.segment(row, rows).asDiagonal() * band;
+    }
+  });
+}
+
 Eigen::MatrixXd massGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& mass, int threads) {
   return sumOverBands(w.rows(), w.cols(), w.cols(), threads,
                       [&](Eigen::Index row, Eigen::Index rows, Eigen::MatrixXd& gram) {

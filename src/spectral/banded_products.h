@@ -38,6 +38,12 @@ SubtractedBlock subtractWithGramAndProjection(Eigen::MatrixXd& w, const Eigen::R
 Eigen::MatrixXd multiplyWithGram(Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
                                  int threads);
 
+/// Out = W·R and Weighted = diag(mass)·Out in one sweep, W untouched (Out and Weighted #V × b, sized by the caller):
+/// the last Cholesky QR pass of a block written straight into the Krylov basis, with the next solve's right-hand
+/// sides. Cost: one read of W, two writes.
+void multiplyInto(const Eigen::MatrixXd& w, const Eigen::MatrixXd& r, const Eigen::VectorXd& mass,
+                  Eigen::Ref<Eigen::MatrixXd> out, Eigen::MatrixXd& weighted, int threads);
+
 /// Wᵀ·diag(mass)·W (b × b). Cost: one read of W.
 Eigen::MatrixXd massGram(const Eigen::MatrixXd& w, const Eigen::VectorXd& mass, int threads);
 

@@ -61,7 +61,6 @@ class KrylovBasis {
   /// mapped. Safe on another thread before any other member is called.
   void touch(Eigen::Index columns) { m_q.leftCols(std::min(columns, capacity())).setZero(); }
   auto columns() const { return m_q.leftCols(m_size); }
-  auto lastBlock() const { return m_q.middleCols(m_size - kLanczosBlock, kLanczosBlock); }
   const Eigen::MatrixXd& projected() const { return m_t; }
 
   /// Makes W orthogonal to the last two blocks (the block three-term recurrence), with a second pass for a column the
@@ -139,13 +138,20 @@ class KrylovBasis {
     return (w.array().square().colwise() * m_mass.array()).colwise().sum().transpose().cwiseMax(0.0).cwiseSqrt();
   }
 
-  /// Makes W (already orthogonal to Q; `product` = WᵀMW) M-orthonormal: by choleskyQr() when its columns are well
-  /// apart, else column by column (Gram–Schmidt twice within the block), where a column that vanishes is replaced by
-  /// a random one orthogonalised against Q and the block. Returns R = W_newᵀ M W_old, the coupling of the new block
-  /// to the last one. `scale`: the columns' norms before orthogonalisation against Q.
-  Eigen::MatrixXd orthonormalise(Eigen::MatrixXd& w, const Eigen::MatrixXd& product, Eigen::VectorXd& scale,
+  /// An orthonormalised block: W·pending is M-orthonormal (the last Cholesky QR pass, applied by appendTimes() as it
+  /// writes the block into the basis), and coupling = (W·pending)ᵀ M W_old, the coupling to the last block.
+  struct Orthonormalised {
+    Eigen::MatrixXd coupling;
+    Eigen::MatrixXd pending;
+  };
+
+  /// Makes W (already orthogonal to Q; `product` = WᵀMW) M-orthonormal but for the returned `pending` factor: by
+  /// choleskyQr() when its columns are well apart, else column by column (Gram–Schmidt twice within the block; then
+  /// pending = I), where a column that vanishes is replaced by a random one orthogonalised against Q and the block.
+  /// `scale`: the columns' norms before orthogonalisation against Q.
+  Orthonormalised orthonormalise(Eigen::MatrixXd& w, const Eigen::MatrixXd& product, Eigen::VectorXd& scale,
                                  std::mt19937& random) {
-    if (std::optional<Eigen::MatrixXd> coupling = choleskyQr(w, product, scale)) return *std::move(coupling);
+    if (std::optional<Orthonormalised> done = choleskyQr(w, product, scale)) return *std::move(done);
     const Eigen::MatrixXd original = w;
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (Eigen::Index c = 0; c < w.cols(); ++c) {
@@ -166,14 +172,16 @@ class KrylovBasis {
         scale[c] = std::sqrt(fresh.col(0).dot(m_mass.cwiseProduct(fresh.col(0))));
       }
     }
-    return w.transpose() * (m_mass.asDiagonal() * original);
+    return {w.transpose() * (m_mass.asDiagonal() * original), Eigen::MatrixXd::Identity(w.cols(), w.cols())};
   }
 
   /// W = W_new·R by Cholesky QR in the M inner product, twice (the second pass restores the orthonormality the first
   /// loses to W's conditioning), R upper triangular; or nullopt, W untouched, when a column is within a factor
   /// kCholeskyConditioning of the span of the others or below the deflation threshold: orthonormalise() then takes
-  /// the column-by-column route. Cost: two sweeps over W (the first Gram matrix is the caller's).
-  std::optional<Eigen::MatrixXd> choleskyQr(Eigen::MatrixXd& w, const Eigen::MatrixXd& product,
+  /// the column-by-column route. The first pass is applied to W; the second is returned as `pending` (R₂⁻¹), which
+  /// appendTimes() applies as it writes the block into the basis. Cost: one sweep over W (the first Gram matrix is
+  /// the caller's).
+  std::optional<Orthonormalised> choleskyQr(Eigen::MatrixXd& w, const Eigen::MatrixXd& product,
                                             const Eigen::VectorXd& scale) const {
     const Eigen::Index b = w.cols();
     Eigen::MatrixXd coupling = Eigen::MatrixXd::Identity(b, b);
@@ -192,11 +200,12 @@ class KrylovBasis {
             return std::nullopt;
         }
       }
-      const Eigen::MatrixXd inverse = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
-      g = multiplyWithGram(w, inverse, m_mass, m_threads);
+      Eigen::MatrixXd inverse = r.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
       coupling = r * coupling;
+      if (pass == 1) return Orthonormalised{std::move(coupling), std::move(inverse)};
+      g = multiplyWithGram(w, inverse, m_mass, m_threads);
     }
-    return coupling;
+    return std::nullopt;  // not reached
   }
 
   /// Q·C for C of size() rows and at most size() columns, computed in place in Q's leading columns one band of rows
@@ -221,9 +230,11 @@ class KrylovBasis {
     return std::move(m_q);
   }
 
-  /// Appends an M-orthonormal block; its coupling R to the previous block goes below that block in T.
-  void append(const Eigen::MatrixXd& block, const Eigen::MatrixXd& coupling) {
-    m_q.middleCols(m_size, kLanczosBlock) = block;
+  /// Appends the M-orthonormal block W·block.pending, and sets `rightHandSides` to M times it (the next solve's),
+  /// in one sweep; its coupling goes below the previous block in T. Requires room for a block (size() < capacity()).
+  void appendTimes(const Eigen::MatrixXd& w, const Orthonormalised& block, Eigen::MatrixXd& rightHandSides) {
+    multiplyInto(w, block.pending, m_mass, m_q.middleCols(m_size, kLanczosBlock), rightHandSides, m_threads);
+    const Eigen::MatrixXd& coupling = block.coupling;
     if (m_size > 0) m_t.block(m_size, m_size - kLanczosBlock, kLanczosBlock, kLanczosBlock) = coupling;
     m_size += kLanczosBlock;
   }
@@ -371,12 +382,11 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       w.array().rowwise() /= krylov.mNorms(w).transpose().array().max(std::numeric_limits<double>::min());
     }
     Eigen::VectorXd scale = krylov.mNorms(w);
-    krylov.append(w, krylov.orthonormalise(w, krylov.gram(w), scale, random));
+    krylov.appendTimes(w, krylov.orthonormalise(w, krylov.gram(w), scale, random), rightHandSides);
     const int checkEvery = ritzCheckInterval(n, pairs);
     ReorthogonalisationSchedule schedule;
     for (int block = 0;; ++block) {
-      rightHandSides.noalias() = orderedMass.asDiagonal() * krylov.lastBlock();
-      op.solveInFactorOrder(rightHandSides, w);
+      op.solveInFactorOrder(rightHandSides, w);  // M times the last block, from appendTimes()
       krylov.deflate(w);
       scale = krylov.mNorms(w);
       Eigen::MatrixXd product = krylov.orthogonaliseLocally(w, scale);
@@ -393,7 +403,8 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       } else {
         schedule.recordSkipped();
       }
-      const Eigen::MatrixXd coupling = krylov.orthonormalise(w, product, scale, random);
+      const KrylovBasis::Orthonormalised next = krylov.orthonormalise(w, product, scale, random);
+      const Eigen::MatrixXd& coupling = next.coupling;
       const bool full = krylov.size() + kLanczosBlock > krylov.capacity();
       if (krylov.size() >= least && (block % checkEvery == 0 || full)) {
         const RitzCheck check = checkRitzPairs(krylov, coupling, pairs, options.tolerance);
@@ -403,7 +414,7 @@ BasisResult blockLanczosNearestPairs(ShiftInvertOperator& op, const Eigen::Vecto
       if (full)
         return failure(BasisStatus::NotConverged,
                        "block Lanczos did not converge in " + std::to_string(krylov.size()) + " columns", op);
-      krylov.append(w, coupling);
+      krylov.appendTimes(w, next, rightHandSides);
     }
   } catch (const SolveCancelled&) {
     return failure(BasisStatus::Cancelled, "cancelled", op);

@@ -60,6 +60,20 @@ TEST_P(BandedProducts, ASubtractionAlsoGivesTheProjectionOfWhatItLeaves) {
   EXPECT_LE(maxDifference(result.projection, q.transpose() * mass.asDiagonal() * subtracted), 1e-9);
 }
 
+TEST_P(BandedProducts, AProductWrittenIntoColumnsOfAWiderMatrixAlsoGivesItsMassWeighting) {
+  const int threads = GetParam();
+  const Operands x;
+  const Eigen::MatrixXd r = Eigen::MatrixXd::Random(4, 4);
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Constant(2777, 12, 7.0);
+  Eigen::MatrixXd weighted(2777, 4);
+  detail::multiplyInto(x.w, r, x.mass, basis.middleCols(5, 4), weighted, threads);
+  const Eigen::MatrixXd product = x.w * r;
+  EXPECT_LE(maxDifference(basis.middleCols(5, 4), product), 1e-12);
+  EXPECT_LE(maxDifference(weighted, x.mass.asDiagonal() * product), 1e-12);
+  EXPECT_TRUE((basis.leftCols(5).array() == 7.0).all() && (basis.rightCols(3).array() == 7.0).all())
+      << "columns outside the target were written";
+}
+
 TEST_P(BandedProducts, SameBitsOnEveryRun) {
   const Operands x;
   const Eigen::MatrixXd first = detail::massProjection(x.q, x.mass, x.w, GetParam());
