@@ -17,7 +17,7 @@ inline constexpr int kLanczosBlock = 4;
 /// M-orthogonal to the last two blocks (the recurrence) and M-orthonormal by Cholesky QR; against every earlier
 /// column (classical Gram–Schmidt as two banded sweeps, each a read of the basis) only as partial re-orthogonalisation
 /// decides: in pairs of blocks, as often as the drift each full pass measures asks, so that the basis stays
-/// semi-orthogonal (drift ≤ 10⁻⁹ < √ε; Simon 1984), the second of a pair only against the leading columns where the
+/// semi-orthogonal (drift ≤ 3·10⁻⁹ < √ε; Simon 1984), the second of a pair only against the leading columns where the
 /// first found the drift (reorthogonalisation_schedule.h). The projected block-tridiagonal matrix is solved densely
 /// after every block where that costs little beside the block's solves (large meshes), else every few blocks; a Ritz
 /// pair (θ, y) counts as converged when ‖(S − σM)⁻¹M y − θ y‖_M ≤ tolerance·max(|θ|, ε^{2/3}) (Spectra's test), which

@@ -34,10 +34,11 @@ TEST(ReorthogonalisationSchedule, StartsWithEveryBlockAndGrowsByOneAfterSmallDri
 
 TEST(ReorthogonalisationSchedule, KeepsItsIntervalBetweenTheBoundsAndShrinksAboveTheTarget) {
   detail::ReorthogonalisationSchedule schedule;
+  constexpr double target = detail::ReorthogonalisationSchedule::kDriftTarget;
   for (int i = 0; i < 3; ++i) pairThenSkipped(schedule, 1e-15);  // interval 3
-  EXPECT_EQ(pairThenSkipped(schedule, 1e-10), 3) << "between target/50 and the target: unchanged";
-  EXPECT_EQ(pairThenSkipped(schedule, 2e-9), 2) << "above the target: one block fewer";
-  EXPECT_EQ(pairThenSkipped(schedule, 2e-8), 0) << "above ten times the target: every block again";
+  EXPECT_EQ(pairThenSkipped(schedule, target / 10), 3) << "between target/50 and the target: unchanged";
+  EXPECT_EQ(pairThenSkipped(schedule, 2 * target), 2) << "above the target: one block fewer";
+  EXPECT_EQ(pairThenSkipped(schedule, 20 * target), 0) << "above ten times the target: every block again";
 }
 
 TEST(ReorthogonalisationSchedule, NeverSkipsMoreThanEightBlocks) {
