@@ -143,6 +143,8 @@ ShiftInvertOperator::ShiftInvertOperator(const SparseMatrix& S, const Eigen::Vec
 void ShiftInvertOperator::set_shift(const double& sigma) {
   if (m_factored && sigma == m_sigma) return;
   m_factored = false;
+  m_subtrees.reset();
+  m_subtreesFor = 0;
   SparseMatrix shifted;
   shiftedStiffness(m_S, m_mass, sigma, shifted);
   if (!m_analysed) {
@@ -173,7 +175,14 @@ void ShiftInvertOperator::solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) co
 }
 
 void ShiftInvertOperator::solveInFactorOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
-  m_factor.solveColumnsInOrder(x, y, m_solveThreads);
+  if (m_subtreesFor != m_solveThreads) {
+    m_subtrees = SubtreeLdltSolve::split(m_factor.factor(), m_solveThreads);
+    m_subtreesFor = m_solveThreads;
+  }
+  if (m_subtrees)
+    m_subtrees->solve(x, y);
+  else
+    m_factor.solveColumnsInOrder(x, y, m_solveThreads);
   countSolves(x.cols());
 }
 

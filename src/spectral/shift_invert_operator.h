@@ -3,10 +3,12 @@
 // Internal to src/spectral (used by lanczos_solver.cpp, spectrum_slices.cpp and the benchmarks).
 
 #include "spectral/laplace_operators.h"
+#include "spectral/subtree_ldlt_solve.h"
 
 #include <Eigen/CholmodSupport>
 
 #include <functional>
+#include <optional>
 #include <span>
 
 namespace sc::spectral::detail {
@@ -31,6 +33,9 @@ class InertiaLdlt : public Eigen::CholmodSimplicialLDLT<SparseMatrix, Eigen::Low
   /// The factor's fill-reducing vertex order: LDLᵀ = P A Pᵀ with (P x)[i] = x[order[i]], #V entries (a
   /// permutation). Requires analyzePattern().
   std::span<const int> order() const;
+
+  /// CHOLMOD's factor, for solvers that read it (SubtreeLdltSolve). Requires factorize().
+  const cholmod_factor& factor() const { return *m_cholmodFactor; }
 
   /// solveColumns() on X and Y in order() (P X and P Y): the two permutations cholmod_solve does otherwise are
   /// gathers and scatters of random rows (a four-column solve at 437k vertices on two threads, the factor on huge
@@ -73,8 +78,9 @@ class ShiftInvertOperator {
   /// The factor's vertex order (InertiaLdlt::order()): solveInFactorOrder() takes and gives vectors permuted by it,
   /// x̃[i] = x[order[i]]. The same for every shift (the analysis is done once). Requires set_shift().
   std::span<const int> factorOrder() const { return m_factor.order(); }
-  /// solve() on X and Y in factorOrder(), without CHOLMOD's two permutations (InertiaLdlt::solveColumnsInOrder());
-  /// for a solver that keeps its vectors in that order throughout (block_lanczos.h).
+  /// solve() on X and Y in factorOrder(), without CHOLMOD's two permutations, for a solver that keeps its vectors in
+  /// that order throughout (block_lanczos.h): by SubtreeLdltSolve on solveThreads() threads (split on the first
+  /// call after a factorisation), or where it cannot read the factor by InertiaLdlt::solveColumnsInOrder().
   void solveInFactorOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
 
   int solveCount() const { return m_solves; }
@@ -94,6 +100,9 @@ class ShiftInvertOperator {
   double m_sigma = 0.0;
   mutable int m_solves = 0;
   int m_solveThreads = 1;
+  /// solveInFactorOrder()'s solver for the current factor, split for m_subtreesFor threads (0: not yet tried).
+  mutable std::optional<SubtreeLdltSolve> m_subtrees;
+  mutable int m_subtreesFor = 0;
 
   /// Counts `columns` solves, telling the observer after each; throws SolveCancelled when it returns false.
   void countSolves(Eigen::Index columns) const;
