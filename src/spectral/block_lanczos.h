@@ -4,13 +4,10 @@
 // band, repeated_eigenvalues.cpp deflated; lanczos_solver.cpp is the fallback).
 
 #include "spectral/basis_types.h"
+#include "spectral/lanczos_block.h"
 #include "spectral/shift_invert_operator.h"
 
 namespace sc::spectral::detail {
-
-/// Right-hand sides per block: CHOLMOD's simplicial solve unrolls up to four columns, which measured 3.3 ms per
-/// right-hand side against 6.4 ms for one at a time on the 100k dragon.
-inline constexpr int kLanczosBlock = 4;
 
 /// The `pairs` eigenpairs of S h = λ M h whose eigenvalues are nearest σ, sorted ascending, M-orthonormal, by block
 /// Lanczos on (S − σM)⁻¹M in the M inner product, without restarts: blocks of kLanczosBlock columns, each made

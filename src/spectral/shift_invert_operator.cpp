@@ -120,13 +120,8 @@ void InertiaLdlt::solveColumns(int system, const Eigen::MatrixXd& x, Eigen::Matr
     cholmod_dense* solved = &into;
     cholmod_dense* workspace = nullptr;
     cholmod_dense* entries = nullptr;
-    if (!cholmod_solve2(system, m_cholmodFactor, &columns, nullptr, &solved, nullptr, &workspace, &entries, &common)) {
+    if (!cholmod_solve2(system, m_cholmodFactor, &columns, nullptr, &solved, nullptr, &workspace, &entries, &common))
       failed = true;
-    } else if (solved != &into) {  // not expected: CHOLMOD allocated a solution of its own
-      y.middleCols(begin, end - begin) =
-          Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(solved->x), x.rows(), end - begin);
-      cholmod_free_dense(&solved, &common);
-    }
     cholmod_free_dense(&workspace, &common);
     cholmod_free_dense(&entries, &common);
     cholmod_finish(&common);
