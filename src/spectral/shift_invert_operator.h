@@ -80,7 +80,9 @@ class ShiftInvertOperator {
   std::span<const int> factorOrder() const { return m_factor.order(); }
   /// solve() on X and Y in factorOrder(), without CHOLMOD's two permutations, for a solver that keeps its vectors in
   /// that order throughout (block_lanczos.h): by SubtreeLdltSolve on solveThreads() threads (split on the first
-  /// call after a factorisation), or where it cannot read the factor by InertiaLdlt::solveColumnsInOrder().
+  /// call after a factorisation), or where it cannot read the factor by InertiaLdlt::solveColumnsInOrder(). Not
+  /// safe from two threads at once on one operator (that solver's buffers are the operator's; each spectrum slice
+  /// has an operator of its own).
   void solveInFactorOrder(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
 
   int solveCount() const { return m_solves; }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <barrier>
+#include <cassert>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -206,6 +207,7 @@ std::vector<std::int64_t> SubtreeLdltSolve::sweptEntries() const {
 }
 
 void SubtreeLdltSolve::solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
+  assert(x.rows() == m_n && "X must have the factor's #V rows");
   y.resize(x.rows(), x.cols());
   for (Eigen::Index first = 0; first < x.cols(); first += 4) {
     switch (std::min<Eigen::Index>(4, x.cols() - first)) {

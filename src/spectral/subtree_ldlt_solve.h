@@ -35,9 +35,9 @@ class SubtreeLdltSolve {
   /// plus O(t·c log c) for t expansions of the tree's top among c candidate subtrees (0.02–0.2 s at 0.1–1M vertices).
   static std::optional<SubtreeLdltSolve> split(const cholmod_factor& factor, int threads);
 
-  /// Y = (L D Lᵀ)⁻¹ X, X and Y #V × k in the factor's order (Y resized), in groups of four columns. Cost per group:
-  /// one read of L per sweep, shared by the threads, plus a transposition of the group into and out of a row-major
-  /// buffer.
+  /// Y = (L D Lᵀ)⁻¹ X, X and Y #V × k in the factor's order (X must have #V rows; Y resized), in groups of four. Cost
+  /// per group: one read of L per sweep, shared by the threads, plus a transposition of the group into and out of a
+  /// row-major buffer.
   void solve(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const;
 
   int threads() const { return static_cast<int>(m_columns.size()); }
