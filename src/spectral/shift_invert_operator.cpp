@@ -2,6 +2,7 @@
 
 #include "spectral/huge_pages.h"
 #include "spectral/parallel_ranges.h"
+#include "spectral/up_looking_ldlt.h"
 
 #include <algorithm>
 #include <atomic>
@@ -72,6 +73,16 @@ void shiftedStiffness(const SparseMatrix& S, const Eigen::VectorXd& mass, double
 }
 
 }  // namespace
+
+void InertiaLdlt::factorizeOnThreads(const SparseMatrix& a, int threads) {
+  eigen_assert(m_analysisIsOk && "analyzePattern() first");
+  if (!factorUpLooking(a, *m_cholmodFactor, threads, cholmod())) {
+    factorize(a);
+    return;
+  }
+  m_info = m_cholmodFactor->minor == m_cholmodFactor->n ? Eigen::Success : Eigen::NumericalIssue;
+  m_factorizationIsOk = true;
+}
 
 int InertiaLdlt::negativePivots() const {
   // A simplicial LDLᵀ factor keeps D on L's diagonal: the first entry of each column (cholmod_factor, is_ll false).
@@ -146,7 +157,7 @@ void ShiftInvertOperator::set_shift(const double& sigma) {
     m_factor.analyzePattern(shifted);
     m_analysed = true;
   }
-  m_factor.factorize(shifted);
+  m_factor.factorizeOnThreads(shifted, m_solveThreads);
   if (m_factor.info() != Eigen::Success)
     throw std::runtime_error("LDL' factorisation of S - sigma*M failed (a zero pivot: sigma is an eigenvalue)");
   if (sigma < 0.0 && m_factor.negativePivots() > 0)

@@ -19,6 +19,11 @@ struct SolveCancelled {};
 /// CHOLMOD's simplicial LDLᵀ (no pivoting) that also reports the inertia of the factored matrix.
 class InertiaLdlt : public Eigen::CholmodSimplicialLDLT<SparseMatrix, Eigen::Lower> {
  public:
+  /// The numeric factorisation of `a` (same pattern as analyzePattern()'s) by factorUpLooking() on `threads` threads
+  /// (up_looking_ldlt.h: the same factor as factorize(), CHOLMOD's, which remains the fallback for an analysis that
+  /// function declines). info() tells whether a pivot was zero.
+  void factorizeOnThreads(const SparseMatrix& a, int threads);
+
   /// Negative entries of D. For A = S − σM this is, by Sylvester's law of inertia, the number of eigenvalues of
   /// S h = λ M h below σ (exact whenever the factorisation succeeded: no zero pivot). Cost: O(#V).
   int negativePivots() const;

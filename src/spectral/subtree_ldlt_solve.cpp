@@ -1,5 +1,6 @@
 #include "spectral/subtree_ldlt_solve.h"
 
+#include "spectral/elimination_tree.h"
 #include "spectral/huge_pages.h"
 #include "spectral/parallel_ranges.h"
 
@@ -7,17 +8,10 @@
 #include <barrier>
 #include <cassert>
 #include <cstdint>
-#include <functional>
-#include <limits>
-#include <numeric>
-#include <queue>
 #include <utility>
 
 namespace sc::spectral::detail {
 namespace {
-
-/// A thread's share may exceed an even split by this factor before the tree's top is cut further.
-constexpr double kBalance = 1.05;
 
 /// Whether the sweeps can read `factor` as they do: simplicial real LDLᵀ with int indices, D first in each column
 /// and the rows below it ascending. Cost: one read of L's row indices.
@@ -38,116 +32,16 @@ bool sweepable(const cholmod_factor& factor) {
   return true;
 }
 
-/// Subtrees (by root) dealt to `threads` bins, largest first onto the lightest bin (LPT); the heaviest bin's weight.
-std::int64_t deal(std::vector<std::pair<std::int64_t, int>> candidates, int threads,
-                  std::vector<std::vector<int>>& bins) {
-  std::sort(candidates.begin(), candidates.end(), std::greater<>());
-  std::vector<std::int64_t> load(static_cast<std::size_t>(threads), 0);
-  bins.assign(static_cast<std::size_t>(threads), {});
-  for (const auto& [weight, root] : candidates) {
-    const auto lightest = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
-    load[lightest] += weight;
-    bins[lightest].push_back(root);
-  }
-  return *std::max_element(load.begin(), load.end());
-}
-
-/// The elimination tree of a sweepable factor: parent(j) = the first row below the diagonal (−1 at a root), each
-/// subtree's weight (the entries of L in its columns) and each column's children (children[childStart[j] ...
-/// childStart[j + 1]]).
-struct EliminationTree {
-  std::vector<int> parent;
-  std::vector<std::int64_t> weight;
-  std::vector<int> childStart;
-  std::vector<int> children;
-
-  EliminationTree(const int* starts, const int* counts, const int* rows, int n)
-      : parent(static_cast<std::size_t>(n), -1),
-        weight(static_cast<std::size_t>(n)),
-        childStart(static_cast<std::size_t>(n) + 1, 0),
-        children(static_cast<std::size_t>(n)) {
-    for (int j = 0; j < n; ++j) {
-      weight[static_cast<std::size_t>(j)] += counts[j];
-      if (counts[j] < 2) continue;
-      const int up = rows[starts[j] + 1];  // a parent's index is larger: its weight is complete when it is reached
-      parent[static_cast<std::size_t>(j)] = up;
-      weight[static_cast<std::size_t>(up)] += weight[static_cast<std::size_t>(j)];
-      ++childStart[static_cast<std::size_t>(up) + 1];
-    }
-    std::partial_sum(childStart.begin(), childStart.end(), childStart.begin());
-    std::vector<int> next(childStart.begin(), childStart.end() - 1);
-    for (int j = 0; j < n; ++j)
-      if (const int up = parent[static_cast<std::size_t>(j)]; up >= 0)
-        children[static_cast<std::size_t>(next[static_cast<std::size_t>(up)]++)] = j;
-  }
-};
-
-/// Each column's owner: the thread (0 … threads − 1) that sweeps its subtree, or −1 for the top.
-/// The top is cut from the roots down: the heaviest candidate subtree moves to the top and its children become
-/// candidates, for as long as that can still shorten the estimated sweep, the heaviest thread's share of the
-/// subtrees (dealt by deal()) plus the top (which one thread sweeps); the cut with the shortest estimate is kept.
-/// Ends early once the shares are within kBalance of even, and at a leaf (which cannot be cut).
-std::vector<int> owners(const EliminationTree& tree, const int* counts, int threads) {
-  const auto n = static_cast<int>(tree.parent.size());
-  const auto at = [](int j) { return static_cast<std::size_t>(j); };
-  std::priority_queue<std::pair<std::int64_t, int>> candidates;
-  std::int64_t candidateWeight = 0;
-  for (int j = 0; j < n; ++j)
-    if (tree.parent[at(j)] < 0) {
-      candidates.emplace(tree.weight[at(j)], j);
-      candidateWeight += tree.weight[at(j)];
-    }
-  std::vector<std::vector<int>> bins;
-  const auto all = [&candidates] {
-    auto copy = candidates;
-    std::vector<std::pair<std::int64_t, int>> list;
-    list.reserve(copy.size());
-    for (; !copy.empty(); copy.pop()) list.push_back(copy.top());
-    return list;
-  };
-  std::vector<int> cut;  // the columns moved to the top, in order
-  std::int64_t topWeight = 0;
-  std::int64_t best = std::numeric_limits<std::int64_t>::max();
-  std::size_t bestCut = 0;
-  while (threads > 1 && topWeight < best) {
-    const auto [heaviest, root] = candidates.top();
-    const std::int64_t even = (candidateWeight + threads - 1) / threads;
-    if (std::max(heaviest, even) + topWeight < best) {
-      const std::int64_t share = deal(all(), threads, bins);
-      if (share + topWeight < best) {
-        best = share + topWeight;
-        bestCut = cut.size();
-      }
-      if (static_cast<double>(share) <= kBalance * static_cast<double>(even)) break;
-    }
-    const int from = tree.childStart[at(root)];
-    const int to = tree.childStart[at(root) + 1];
-    if (from == to) break;
-    candidates.pop();
-    cut.push_back(root);
-    topWeight += counts[root];
-    candidateWeight -= heaviest;
-    for (int c = from; c < to; ++c) {
-      const int child = tree.children[at(c)];
-      candidates.emplace(tree.weight[at(child)], child);
-      candidateWeight += tree.weight[at(child)];
-    }
-  }
-  constexpr int kTop = -1;
-  constexpr int kUnset = -2;
-  std::vector<int> owner(at(n), kUnset);
-  for (std::size_t c = 0; c < bestCut; ++c) owner[at(cut[c])] = kTop;
-  std::vector<std::pair<std::int64_t, int>> subtrees;  // the best cut's: roots and the top's children
+/// The elimination tree of a sweepable factor (parent(j) = the first row below the diagonal), weighted by the
+/// entries of each column, which is what both sweeps read.
+EliminationTree sweepTree(const int* starts, const int* counts, const int* rows, int n) {
+  std::vector<int> parent(static_cast<std::size_t>(n), -1);
+  std::vector<std::int64_t> entries(static_cast<std::size_t>(n));
   for (int j = 0; j < n; ++j) {
-    const int up = tree.parent[at(j)];
-    if (owner[at(j)] != kTop && (up < 0 || owner[at(up)] == kTop)) subtrees.emplace_back(tree.weight[at(j)], j);
+    entries[static_cast<std::size_t>(j)] = counts[j];
+    if (counts[j] >= 2) parent[static_cast<std::size_t>(j)] = rows[starts[j] + 1];
   }
-  deal(std::move(subtrees), threads, bins);
-  for (std::size_t t = 0; t < bins.size(); ++t)
-    for (const int root : bins[t]) owner[at(root)] = static_cast<int>(t);
-  for (int j = n - 1; j >= 0; --j)  // a column's parent comes first, descending
-    if (owner[at(j)] == kUnset) owner[at(j)] = owner[at(tree.parent[at(j)])];
-  return owner;
+  return {std::move(parent), std::move(entries)};
 }
 
 }  // namespace
@@ -162,8 +56,7 @@ std::optional<SubtreeLdltSolve> SubtreeLdltSolve::split(const cholmod_factor& fa
   solver.m_values = static_cast<const double*>(factor.x);
   const int n = solver.m_n = static_cast<int>(factor.n);
   const auto size = static_cast<std::size_t>(n);
-  const std::vector<int> owner =
-      owners(EliminationTree(solver.m_starts, solver.m_counts, solver.m_rows, n), solver.m_counts, threads);
+  const std::vector<int> owner = subtreeOwners(sweepTree(solver.m_starts, solver.m_counts, solver.m_rows, n), threads);
   solver.m_columns.assign(static_cast<std::size_t>(threads), {});
   solver.m_topSlot.assign(size, -1);
   solver.m_topFrom.resize(size);
