@@ -1,5 +1,7 @@
 #include "spectral/elimination_tree.h"
 
+#include "spectral/huge_pages.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <functional>
@@ -88,10 +90,11 @@ TopCut cutTop(const EliminationTree& tree, int threads) {
 EliminationTree::EliminationTree(std::vector<int> parents, std::vector<std::int64_t> ownWeights)
     : parent(std::move(parents)),
       own(std::move(ownWeights)),
-      weight(own),
-      childStart(parent.size() + 1, 0),
-      children(parent.size()) {
+      weight(hugePageVector(own.size(), std::int64_t{0})),
+      childStart(hugePageVector(parent.size() + 1, 0)),
+      children(hugePageVector(parent.size(), 0)) {
   const auto n = static_cast<int>(parent.size());
+  std::copy(own.begin(), own.end(), weight.begin());
   for (int j = 0; j < n; ++j)
     if (const int up = parent[at(j)]; up >= 0) {
       weight[at(up)] += weight[at(j)];  // a parent's index is larger: its weight is complete when it is reached
@@ -109,7 +112,7 @@ std::vector<int> subtreeOwners(const EliminationTree& tree, int threads) {
   const TopCut top = cutTop(tree, threads);
   constexpr int kTop = -1;
   constexpr int kUnset = -2;
-  std::vector<int> owner(at(n), kUnset);
+  std::vector<int> owner = hugePageVector(at(n), kUnset);
   for (std::size_t c = 0; c < top.kept; ++c) owner[at(top.cut[c])] = kTop;
   std::vector<std::pair<std::int64_t, int>> subtrees;  // the best cut's: roots and the top's children
   for (int j = 0; j < n; ++j) {

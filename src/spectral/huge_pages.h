@@ -2,6 +2,7 @@
 // Private helper of src/spectral: ask the kernel to back a large buffer with transparent huge pages.
 
 #include <cstddef>
+#include <vector>
 
 namespace sc::spectral::detail {
 
@@ -13,5 +14,16 @@ namespace sc::spectral::detail {
 /// A hint only: does nothing on other systems, where THP is off, or for buffers under 2 MiB; never fails.
 /// Cost: one system call.
 void adviseHugePages(void* data, std::size_t bytes);
+
+/// `count` copies of `value` in a vector whose buffer was advised onto huge pages before its first write (a
+/// std::vector's constructor writes every element at once: 4 KiB faults, about 14 µs each on the measuring VM).
+template <class T>
+std::vector<T> hugePageVector(std::size_t count, const T& value) {
+  std::vector<T> v;
+  v.reserve(count);
+  adviseHugePages(v.data(), count * sizeof(T));
+  v.assign(count, value);
+  return v;
+}
 
 }  // namespace sc::spectral::detail

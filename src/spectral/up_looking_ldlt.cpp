@@ -1,11 +1,13 @@
 #include "spectral/up_looking_ldlt.h"
 
 #include "spectral/elimination_tree.h"
+#include "spectral/huge_pages.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <numeric>
 #include <thread>
 #include <vector>
@@ -21,9 +23,10 @@ struct PermutedUpper {
   std::vector<int> rows;
   std::vector<double> values;
 
-  PermutedUpper(const SparseMatrix& a, const int* order) : starts(static_cast<std::size_t>(a.cols()) + 1, 0) {
+  PermutedUpper(const SparseMatrix& a, const int* order)
+      : starts(hugePageVector(static_cast<std::size_t>(a.cols()) + 1, 0)) {
     const auto n = static_cast<int>(a.cols());
-    std::vector<int> inverse(at(n));
+    std::vector<int> inverse = hugePageVector(at(n), 0);
     for (int i = 0; i < n; ++i) inverse[at(order[i])] = i;
     const auto forEach = [&](auto&& visit) {
       for (int c = 0; c < n; ++c)
@@ -36,9 +39,10 @@ struct PermutedUpper {
     };
     forEach([&](int, int column, double) { ++starts[at(column) + 1]; });
     std::partial_sum(starts.begin(), starts.end(), starts.begin());
-    rows.resize(at(starts.back()));
-    values.resize(at(starts.back()));
-    std::vector<int> next(starts.begin(), starts.end() - 1);
+    rows = hugePageVector(at(starts.back()), 0);
+    values = hugePageVector(at(starts.back()), 0.0);
+    std::vector<int> next = hugePageVector(at(n), 0);  // where each column's next entry goes
+    std::copy(starts.begin(), starts.end() - 1, next.begin());
     forEach([&](int row, int column, double value) {
       const auto slot = at(next[at(column)]++);
       rows[slot] = row;
@@ -50,8 +54,8 @@ struct PermutedUpper {
 /// parent(j) = the smallest k > j with L(k, j) ≠ 0 (Liu's algorithm, without path compression: the same paths the
 /// numeric rows walk). Cost: O(nnz(L)).
 std::vector<int> eliminationParents(const PermutedUpper& c, int n) {
-  std::vector<int> parent(at(n), -1);
-  std::vector<int> flag(at(n));
+  std::vector<int> parent = hugePageVector(at(n), -1);
+  std::vector<int> flag = hugePageVector(at(n), 0);
   for (int k = 0; k < n; ++k) {
     flag[at(k)] = k;
     for (int p = c.starts[at(k)]; p < c.starts[at(k) + 1]; ++p)
@@ -78,7 +82,7 @@ struct UpLooking {
   /// Rows `ks` (ascending, each one's descendants already done or among them). Returns the first whose pivot is zero
   /// or not finite, else n.
   int factorRows(const std::vector<int>& ks) {
-    std::vector<int> pattern(at(n));
+    const auto pattern = std::make_unique_for_overwrite<int[]>(at(n));  // filled from the end: few pages touched
     for (const int k : ks) {
       int top = n;
       flag[at(k)] = k;
@@ -151,14 +155,18 @@ bool factorUpLooking(const SparseMatrix& a, cholmod_factor& factor, int threads,
                  static_cast<int*>(factor.i),
                  static_cast<double*>(factor.x),
                  n,
-                 std::vector<double>(at(n), 0.0),
-                 std::vector<int>(at(n), -1)};
-  std::vector<std::int64_t> flops(at(n));
+                 hugePageVector(at(n), 0.0),
+                 hugePageVector(at(n), -1)};
+  std::vector<std::int64_t> flops = hugePageVector(at(n), std::int64_t{0});
   for (int j = 0; j < n; ++j) flops[at(j)] = static_cast<std::int64_t>(columnCounts[j]) * columnCounts[j];
   const std::vector<int> owner = subtreeOwners(EliminationTree(parent, std::move(flops)), threads);
   const int shares = std::max(1, threads);
+  const auto share = [&owner, shares](int k) { return owner[at(k)] < 0 ? at(shares) : at(owner[at(k)]); };
+  std::vector<std::size_t> sizes(at(shares) + 1, 0);
+  for (int k = 0; k < n; ++k) ++sizes[share(k)];
   std::vector<std::vector<int>> rowsOf(at(shares) + 1);  // each thread's, then the top's
-  for (int k = 0; k < n; ++k) rowsOf[owner[at(k)] < 0 ? at(shares) : at(owner[at(k)])].push_back(k);
+  for (std::size_t s = 0; s < rowsOf.size(); ++s) rowsOf[s].reserve(sizes[s]);
+  for (int k = 0; k < n; ++k) rowsOf[share(k)].push_back(k);
   std::vector<int> failed(at(shares) + 1, n);
   {
     std::vector<std::jthread> others;
